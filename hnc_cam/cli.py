@@ -1,0 +1,107 @@
+"""The ``hnc-cam`` command. Thin: parse arguments, call the API, print, exit.
+
+Exit codes: 0 ok, 1 verification failed or collision, 2 bad input (one line, no traceback).
+Each sub-command's work lives in the module that owns it; this file only wires them.
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+from typing import Callable, Sequence
+
+
+def _add_set(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--set", dest="params", action="append", default=[], metavar="NAME=VALUE",
+                   help="part parameter (repeatable)")
+
+
+def _add_gen_options(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--stock", metavar="SPEC", help="stock: DxL, DxL+F, D/dxL[+F] or offset:A "
+                   "(default: the part file's STOCK)")
+    p.add_argument("--tools", metavar="FILE", help="tool library TOML (default: bundled)")
+    p.add_argument("--machine", metavar="FILE", help="machine TOML (default: bundled)")
+    p.add_argument("--comp", choices=["cam", "control"], default="cam",
+                   help="cam: compensated tip path with G40; control: part profile with G41/G42")
+    p.add_argument("--templates", metavar="DIR", help="folder of templates overriding the defaults")
+    p.add_argument("--program-number", type=int, metavar="N", help="program number (%%nnnn)")
+    p.add_argument("--no-verify", action="store_true", help="do not simulate and verify")
+    p.add_argument("--tol", type=float, default=0.01, metavar="MM", help="verification tolerance")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    ap = argparse.ArgumentParser(prog="hnc-cam", description="HNC-21/22T lathe programs: "
+                                 "generate from CAD, run, simulate, verify")
+    from . import __version__
+    ap.add_argument("--version", action="version", version=f"hnc-cam {__version__}")
+    sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    p = sub.add_parser("run", help="interpret a program and print its toolpath summary")
+    p.add_argument("program")
+    p.add_argument("--machine", metavar="FILE")
+    p.add_argument("--json", metavar="OUT", help="write the toolpath as JSON (- = stdout)")
+    p.set_defaults(func=("hnc_cam.nc.command", "run_command"))
+
+    p = sub.add_parser("simulate", help="remove material along a program's toolpath")
+    p.add_argument("program")
+    p.add_argument("--stock", required=True, metavar="SPEC")
+    p.add_argument("--model", metavar="PART", help="part (needed only for an offset:A stock)")
+    _add_set(p)
+    p.add_argument("--machine", metavar="FILE")
+    p.add_argument("--tools", metavar="FILE")
+    p.add_argument("--json", metavar="OUT")
+    p.add_argument("--plot", metavar="OUT", help="PNG or SVG")
+    p.set_defaults(func=("hnc_cam.sim.command", "simulate_command"))
+
+    p = sub.add_parser("verify", help="simulate a program and compare the result with the model")
+    p.add_argument("program")
+    p.add_argument("--model", required=True, metavar="PART")
+    _add_set(p)
+    p.add_argument("--stock", required=True, metavar="SPEC")
+    p.add_argument("--tol", type=float, default=0.01, metavar="MM")
+    p.add_argument("--strict", action="store_true",
+                   help="count unreachable leftover as a failure too")
+    p.add_argument("--machine", metavar="FILE")
+    p.add_argument("--tools", metavar="FILE")
+    p.add_argument("--json", metavar="OUT")
+    p.add_argument("--plot", metavar="OUT")
+    p.set_defaults(func=("hnc_cam.sim.command", "verify_command"))
+
+    p = sub.add_parser("generate", help="plan and write an HNC-21T program for a part")
+    p.add_argument("part", help="part file (parts/....py) or .step/.stp file")
+    _add_set(p)
+    _add_gen_options(p)
+    p.add_argument("-o", "--output", metavar="OUT", help="program file (default: stdout)")
+    p.set_defaults(func=("hnc_cam.plan.command", "generate_command"))
+
+    p = sub.add_parser("family", help="one program per row of a CSV table")
+    p.add_argument("part")
+    p.add_argument("--table", required=True, metavar="FILE.csv")
+    p.add_argument("--out", required=True, metavar="DIR")
+    p.add_argument("--jobs", type=int, default=0, metavar="N", help="worker processes (0 = all cores)")
+    _add_set(p)
+    _add_gen_options(p)
+    p.set_defaults(func=("hnc_cam.plan.command", "family_command"))
+    return ap
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    ap = build_parser()
+    args = ap.parse_args(argv)
+    from .errors import HncError
+    modname, fname = args.func
+    try:
+        import importlib
+        func: Callable[[argparse.Namespace], int] = getattr(importlib.import_module(modname), fname)
+        return int(func(args) or 0)
+    except HncError as e:
+        print(e.one_line(), file=sys.stderr)
+        return e.exit_code
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 130
+    except BrokenPipeError:
+        return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

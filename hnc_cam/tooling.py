@@ -1,0 +1,430 @@
+"""Tools, inserts, stock and the machine: the tables every stage reads.
+
+No heavy imports here: the interpreter and the simulator load this on their fast path.
+
+Files (TOML, documented in README):
+
+* the **machine file** (``--machine``): rapid rates, reference point, spindle limit, default
+  feed, step limit, G54-G59 origins and offset registers;
+* the **tool library** (``--tools``): tools with their ISO insert, holder, tip code and cutting
+  data. The default library ships in ``hnc_cam/data/tools.toml`` and also fills the default
+  machine's offset registers, so programs we generate simulate with the right radii.
+
+Units: mm, mm/min, rpm, seconds. X values in the files are **diameters** (as on the control's
+offset page); internally everything is radius.
+"""
+from __future__ import annotations
+
+import math
+import re
+import tomllib
+from dataclasses import dataclass, field, replace
+from importlib import resources
+from pathlib import Path
+from typing import Any, Mapping
+
+from .errors import StockError, ToolError
+
+# --------------------------------------------------------------------------------------------
+# ISO 1832 turning inserts
+# --------------------------------------------------------------------------------------------
+
+#: shape letter -> (included nose angle in degrees, description)
+ISO_SHAPES: dict[str, tuple[float, str]] = {
+    "C": (80.0, "80 deg rhombic"),
+    "D": (55.0, "55 deg rhombic"),
+    "E": (75.0, "75 deg rhombic"),
+    "M": (86.0, "86 deg rhombic"),
+    "V": (35.0, "35 deg rhombic"),
+    "K": (55.0, "55 deg parallelogram"),
+    "T": (60.0, "triangle"),
+    "W": (80.0, "80 deg trigon"),
+    "S": (90.0, "square"),
+    "R": (360.0, "round"),
+}
+#: clearance letter -> normal clearance angle in degrees
+ISO_CLEARANCE: dict[str, float] = {"A": 3, "B": 5, "C": 7, "D": 15, "E": 20, "F": 25, "G": 30,
+                                   "N": 0, "P": 11}
+
+_ISO_RE = re.compile(r"^([A-Z])([A-Z])([A-Z])([A-Z])(\d{2})(\d{2}|T\d)(\d{2}|M0)([A-Z0-9-]*)$")
+
+
+@dataclass(frozen=True)
+class Insert:
+    """The cutting part of a tool.
+
+    ``kind`` is ``turn`` (ISO turning insert), ``thread`` (a profile insert with ``angle``)
+    or ``groove`` (a square-ended grooving insert of ``width``).
+    """
+    code: str
+    kind: str = "turn"
+    shape: str = "C"
+    nose_angle: float = 80.0  # included angle of the cutting corner, deg
+    clearance: float = 0.0  # deg
+    edge_length: float = 12.0  # mm, length of each cutting edge
+    nose_radius: float = 0.8  # mm
+    angle: float = 60.0  # thread profile angle (thread inserts), deg
+    width: float = 0.0  # groove width (grooving inserts), mm
+
+    @staticmethod
+    def parse(code: str, nose_radius: float | None = None) -> "Insert":
+        """Parse an ISO turning insert code (``CNMG120408``), or a threading (``16ER1.5ISO``,
+        ``16IR1.5ISO``, ``16ERA60``) or grooving (``GROOVE3.0`` / ``N123G2-0300``) code.
+
+        An explicit ``nose_radius`` overrides the code's.
+        """
+        c = code.strip().upper().replace(" ", "")
+        m = _ISO_RE.match(c)
+        if m:
+            shape, clr, _tol, _typ, size, _thick, rad, _rest = m.groups()
+            if shape not in ISO_SHAPES:
+                raise ToolError(f"insert {code!r}: unknown ISO shape letter {shape!r}")
+            if clr not in ISO_CLEARANCE:
+                raise ToolError(f"insert {code!r}: unknown ISO clearance letter {clr!r}")
+            r = 0.0 if rad == "M0" else int(rad) / 10.0
+            if nose_radius is not None:
+                r = float(nose_radius)
+            return Insert(code=c, kind="turn", shape=shape, nose_angle=ISO_SHAPES[shape][0],
+                          clearance=ISO_CLEARANCE[clr], edge_length=float(int(size)),
+                          nose_radius=r)
+        m = re.match(r"^(\d{2})([EI])R(?:(\d+(?:\.\d+)?)(ISO|UN|W)?|A(\d+))$", c)
+        if m:
+            size, _ei, pitch, std, ang = m.groups()
+            angle = 55.0 if std == "W" else float(ang) if ang else 60.0
+            r = 0.125 * float(pitch) if pitch else 0.05  # ISO 68 root radius ~ P/8
+            if nose_radius is not None:
+                r = float(nose_radius)
+            return Insert(code=c, kind="thread", shape="T", nose_angle=angle, clearance=0.0,
+                          edge_length=float(size), nose_radius=r, angle=angle)
+        m = re.match(r"^(?:GROOVE(\d+(?:\.\d+)?)|N\d{3}[A-Z]\d?-(\d{4}))", c)
+        if m:
+            w = float(m.group(1)) if m.group(1) else int(m.group(2)) / 100.0
+            r = 0.2 if nose_radius is None else float(nose_radius)
+            return Insert(code=c, kind="groove", shape="G", nose_angle=90.0, clearance=0.0,
+                          edge_length=max(10.0, w), nose_radius=r, width=w)
+        raise ToolError(f"insert {code!r}: not an ISO turning insert code (like CNMG120408), "
+                        f"a threading insert (like 16ER1.5ISO) or a grooving insert (like GROOVE3.0)")
+
+
+#: holder ISO code letter 3 (style) -> approach (lead) angle kappa_r in degrees
+HOLDER_APPROACH: dict[str, float] = {"A": 90, "B": 75, "D": 45, "F": 90, "G": 90, "J": 93,
+                                     "K": 75, "L": 95, "N": 63, "Q": 107.5, "S": 45, "T": 60,
+                                     "U": 93, "V": 72.5}
+
+
+@dataclass(frozen=True)
+class Tool:
+    """A tool in the library: where it sits (number, offset register), what cuts, how."""
+    number: int
+    register: int
+    name: str
+    insert: Insert
+    tip: int = 3  # tip direction code 0-9 (fig. 3.3.44)
+    hand: str = "R"
+    holder: str = ""
+    approach: float = 95.0  # holder approach angle kappa_r, deg
+    kind: str = "turn"  # turn | bore | thread | groove
+    uses: tuple[str, ...] = ("rough", "finish")
+    depth: float = 1.5  # roughing depth of cut per side, mm
+    feed_rough: float = 0.25  # mm/rev
+    feed_finish: float = 0.1  # mm/rev
+    vc_rough: float = 180.0  # m/min
+    vc_finish: float = 220.0  # m/min
+    rpm: float = 0.0  # fixed speed (threading), rpm
+    min_bore: float = 0.0  # smallest bore diameter a boring bar enters, mm
+    x_offset: float = 0.0  # diameter
+    z_offset: float = 0.0
+
+    @property
+    def nose_radius(self) -> float:
+        return self.insert.nose_radius
+
+
+# --------------------------------------------------------------------------------------------
+# Offset registers and the machine
+# --------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class Register:
+    """One offset register as on the control's offset page (X values as diameters)."""
+    number: int
+    x: float = 0.0  # geometry offset, diameter
+    z: float = 0.0
+    x_wear: float = 0.0  # diameter
+    z_wear: float = 0.0
+    radius: float = 0.0  # nose radius
+    tip: int = 0  # tip direction code 0-9
+    insert: Insert | None = None  # for the simulator's tool outline, when known
+    approach: float = 95.0
+    kind: str = "turn"
+
+    @property
+    def x_total_radius(self) -> float:
+        return (self.x + self.x_wear) / 2.0
+
+    @property
+    def z_total(self) -> float:
+        return self.z + self.z_wear
+
+
+SHARP = Register(number=0)
+
+
+@dataclass(frozen=True)
+class Machine:
+    """Machine parameters. Rapid rates are per axis in mm/min (X as radius motion)."""
+    name: str = "HNC-21T"
+    rapid_x: float = 4000.0
+    rapid_z: float = 8000.0
+    reference: tuple[float, float] = (100.0, 150.0)  # (x radius, z) machine coordinates
+    max_rpm: float = 3000.0
+    default_feed: float = 100.0  # mm/min, used (with a warning) before any F
+    step_limit: int = 10_000_000
+    tool_change: tuple[float, float] = (50.0, 100.0)  # (x radius, z) work coordinates
+    work_offsets: dict[str, tuple[float, float]] = field(
+        default_factory=lambda: {f"G{n}": (0.0, 0.0) for n in range(54, 60)})
+    registers: dict[int, Register] = field(default_factory=dict)
+
+    def register(self, number: int) -> Register:
+        """Offset register ``number``; one absent from the table is a sharp point."""
+        if number == 0:
+            return SHARP
+        return self.registers.get(number) or Register(number=number)
+
+    def with_registers(self, regs: Mapping[int, Register]) -> "Machine":
+        merged = dict(self.registers)
+        merged.update(regs)
+        return replace(self, registers=merged)
+
+
+def _num(tbl: Mapping[str, Any], key: str, default: float, where: str) -> float:
+    v = tbl.get(key, default)
+    if isinstance(v, bool) or not isinstance(v, (int, float)):
+        raise ToolError(f"{where}: {key} must be a number, got {v!r}")
+    return float(v)
+
+
+def _xz(tbl: Mapping[str, Any], key: str, default: tuple[float, float], where: str,
+        x_is_diameter: bool = True) -> tuple[float, float]:
+    v = tbl.get(key)
+    if v is None:
+        return default
+    if not isinstance(v, Mapping):
+        raise ToolError(f"{where}: {key} must be a table {{x = .., z = ..}}")
+    x = _num(v, "x", default[0] * (2 if x_is_diameter else 1), f"{where}.{key}")
+    z = _num(v, "z", default[1], f"{where}.{key}")
+    return (x / 2 if x_is_diameter else x, z)
+
+
+def _load_toml(path: str | Path | None, default_name: str) -> tuple[dict, str]:
+    if path is None:
+        text = resources.files("hnc_cam").joinpath("data", default_name).read_text("utf-8")
+        where = f"<default {default_name}>"
+    else:
+        p = Path(path)
+        try:
+            text = p.read_text("utf-8")
+        except OSError as e:
+            raise ToolError(f"{path}: cannot read: {e.strerror or e}") from None
+        where = str(path)
+    try:
+        return tomllib.loads(text), where
+    except tomllib.TOMLDecodeError as e:
+        raise ToolError(f"{where}: not valid TOML: {e}") from None
+
+
+def parse_register(tbl: Mapping[str, Any], where: str) -> Register:
+    n = tbl.get("number")
+    if not isinstance(n, int) or not 0 < n < 100:
+        raise ToolError(f"{where}: register number must be an integer 1-99, got {n!r}")
+    tip = tbl.get("tip", 0)
+    if not isinstance(tip, int) or not 0 <= tip <= 9:
+        raise ToolError(f"{where}: tip direction code must be 0-9, got {tip!r}")
+    ins = None
+    if "insert" in tbl:
+        ins = Insert.parse(str(tbl["insert"]), tbl.get("radius"))
+    radius = _num(tbl, "radius", ins.nose_radius if ins else 0.0, where)
+    if radius < 0:
+        raise ToolError(f"{where}: nose radius must not be negative")
+    return Register(number=n, x=_num(tbl, "x", 0.0, where), z=_num(tbl, "z", 0.0, where),
+                    x_wear=_num(tbl, "x_wear", 0.0, where), z_wear=_num(tbl, "z_wear", 0.0, where),
+                    radius=radius, tip=tip, insert=ins,
+                    approach=_num(tbl, "approach", 95.0, where),
+                    kind=str(tbl.get("kind", ins.kind if ins else "turn")))
+
+
+def load_machine(path: str | Path | None = None, tools: "ToolLibrary | None" = None) -> Machine:
+    """Load a machine file (or the embedded default).
+
+    Offset registers: those of the tool library (the default library when ``tools`` is None)
+    first, then the machine file's own ``[[register]]`` entries, which win.
+    """
+    data, where = _load_toml(path, "machine.toml")
+    m = data.get("machine", {})
+    if not isinstance(m, Mapping):
+        raise ToolError(f"{where}: [machine] must be a table")
+    base = Machine()
+    offsets = dict(base.work_offsets)
+    for k, v in (data.get("work_offsets") or {}).items():
+        key = k.upper()
+        if key not in offsets:
+            raise ToolError(f"{where}: work_offsets.{k}: only G54-G59 exist")
+        offsets[key] = _xz({"o": v}, "o", (0.0, 0.0), f"{where}.work_offsets.{k}")
+    step_limit = m.get("step_limit", base.step_limit)
+    if not isinstance(step_limit, int) or step_limit <= 0:
+        raise ToolError(f"{where}: step_limit must be a positive integer")
+    mach = Machine(
+        name=str(m.get("name", base.name)),
+        rapid_x=_num(m, "rapid_x", base.rapid_x, where),
+        rapid_z=_num(m, "rapid_z", base.rapid_z, where),
+        reference=_xz(m, "reference", base.reference, where),
+        max_rpm=_num(m, "max_rpm", base.max_rpm, where),
+        default_feed=_num(m, "default_feed", base.default_feed, where),
+        step_limit=step_limit,
+        tool_change=_xz(m, "tool_change", base.tool_change, where),
+        work_offsets=offsets,
+    )
+    for k in ("rapid_x", "rapid_z", "max_rpm", "default_feed"):
+        if getattr(mach, k) <= 0:
+            raise ToolError(f"{where}: {k} must be positive")
+    regs: dict[int, Register] = {}
+    use_lib = data.get("use_tool_library", True)
+    if use_lib:
+        lib = tools if tools is not None else load_tools(None)
+        regs.update(lib.registers())
+    for i, r in enumerate(data.get("register", []) or []):
+        reg = parse_register(r, f"{where}: register[{i}]")
+        regs[reg.number] = reg
+    return mach.with_registers(regs)
+
+
+@dataclass(frozen=True)
+class ToolLibrary:
+    tools: tuple[Tool, ...]
+    source: str = "<default tools.toml>"
+
+    def registers(self) -> dict[int, Register]:
+        out: dict[int, Register] = {}
+        for t in self.tools:
+            out[t.register] = Register(number=t.register, x=t.x_offset, z=t.z_offset,
+                                       radius=t.nose_radius, tip=t.tip, insert=t.insert,
+                                       approach=t.approach, kind=t.kind)
+        return out
+
+    def by_number(self, number: int) -> Tool | None:
+        for t in self.tools:
+            if t.number == number:
+                return t
+        return None
+
+    def for_use(self, use: str, kind: str | None = None) -> list[Tool]:
+        return [t for t in self.tools if use in t.uses and (kind is None or t.kind == kind)]
+
+
+def load_tools(path: str | Path | None = None) -> ToolLibrary:
+    data, where = _load_toml(path, "tools.toml")
+    entries = data.get("tool")
+    if not isinstance(entries, list) or not entries:
+        raise ToolError(f"{where}: no [[tool]] entries")
+    tools: list[Tool] = []
+    seen: set[int] = set()
+    for i, t in enumerate(entries):
+        w = f"{where}: tool[{i}]"
+        num = t.get("number")
+        if not isinstance(num, int) or not 0 < num < 100:
+            raise ToolError(f"{w}: number must be an integer 1-99, got {num!r}")
+        if num in seen:
+            raise ToolError(f"{w}: tool number {num} appears twice")
+        seen.add(num)
+        w = f"{where}: tool T{num:02d}"
+        reg = t.get("register", num)
+        if not isinstance(reg, int) or not 0 < reg < 100:
+            raise ToolError(f"{w}: register must be an integer 1-99")
+        if "insert" not in t:
+            raise ToolError(f"{w}: insert code missing")
+        ins = Insert.parse(str(t["insert"]), t.get("radius"))
+        tip = t.get("tip", 3)
+        if not isinstance(tip, int) or not 0 <= tip <= 9:
+            raise ToolError(f"{w}: tip direction code must be 0-9, got {tip!r}")
+        holder = str(t.get("holder", ""))
+        approach = t.get("approach")
+        if approach is None:
+            approach = HOLDER_APPROACH.get(holder[2:3].upper(), 95.0) if len(holder) >= 3 else 95.0
+        uses = t.get("uses", ["rough", "finish"])
+        if isinstance(uses, str):
+            uses = [uses]
+        tools.append(Tool(
+            number=num, register=reg, name=str(t.get("name", f"T{num:02d}")), insert=ins,
+            tip=tip, hand=str(t.get("hand", "R")).upper(), holder=holder,
+            approach=float(approach), kind=str(t.get("kind", ins.kind)),
+            uses=tuple(str(u) for u in uses), depth=_num(t, "depth", 1.5, w),
+            feed_rough=_num(t, "feed_rough", 0.25, w), feed_finish=_num(t, "feed_finish", 0.1, w),
+            vc_rough=_num(t, "vc_rough", 180.0, w), vc_finish=_num(t, "vc_finish", 220.0, w),
+            rpm=_num(t, "rpm", 0.0, w), min_bore=_num(t, "min_bore", 0.0, w),
+            x_offset=_num(t, "x", 0.0, w), z_offset=_num(t, "z", 0.0, w)))
+    return ToolLibrary(tuple(tools), where)
+
+
+# --------------------------------------------------------------------------------------------
+# Stock
+# --------------------------------------------------------------------------------------------
+
+_NUM = r"(\d+(?:\.\d*)?|\.\d+)"
+_STOCK_RE = re.compile(rf"^{_NUM}(?:/{_NUM})?[xX*]{_NUM}(?:\+{_NUM})?$")
+
+
+@dataclass(frozen=True)
+class Stock:
+    """The raw material.
+
+    * ``DxL``: bar of diameter D, length L, right face at Z0, spanning Z in [-L, 0];
+    * ``DxL+F``: the same bar with F mm of face stock: right face at Z=+F, spanning [F-L, F]
+      (L is the whole length of the piece);
+    * ``D/dxL[+F]``: a tube with bore diameter d;
+    * ``offset:A``: a near-net blank, the part grown by A mm all round (for G73).
+    """
+    kind: str  # bar | tube | offset
+    diameter: float = 0.0
+    bore: float = 0.0
+    length: float = 0.0
+    face: float = 0.0
+    allowance: float = 0.0
+    spec: str = ""
+
+    @property
+    def z_right(self) -> float:
+        return self.face
+
+    @property
+    def z_left(self) -> float:
+        return self.face - self.length
+
+    @staticmethod
+    def parse(spec: str) -> "Stock":
+        s = spec.strip()
+        if s.lower().startswith("offset:"):
+            val = s[7:].strip()
+            try:
+                a = float(val)
+            except ValueError:
+                raise StockError(f"stock {spec!r}: offset:A needs a number of mm, got {val!r}") from None
+            if not a > 0 or not math.isfinite(a):
+                raise StockError(f"stock {spec!r}: the offset must be a positive number of mm")
+            return Stock(kind="offset", allowance=a, spec=s)
+        m = _STOCK_RE.match(s.replace(" ", ""))
+        if not m:
+            raise StockError(f"stock {spec!r}: expected DxL, DxL+F, D/dxL[+F] or offset:A "
+                             f"(e.g. 50x120+2, 60/20x80, offset:2)")
+        d, bore, length, face = m.groups()
+        D, L = float(d), float(length)
+        b = float(bore) if bore else 0.0
+        F = float(face) if face else 0.0
+        if D <= 0:
+            raise StockError(f"stock {spec!r}: diameter must be positive")
+        if L <= 0:
+            raise StockError(f"stock {spec!r}: length must be positive")
+        if bore is not None and not 0 < b < D:
+            raise StockError(f"stock {spec!r}: bore {b:g} must be between 0 and the diameter {D:g}")
+        if F >= L:
+            raise StockError(f"stock {spec!r}: face stock {F:g} must be less than the length {L:g}")
+        return Stock(kind="tube" if bore else "bar", diameter=D, bore=b, length=L, face=F, spec=s)
