@@ -50,7 +50,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--tools", metavar="FILE")
     p.add_argument("--json", metavar="OUT")
     p.add_argument("--plot", metavar="OUT", help="PNG or SVG")
-    p.set_defaults(func=("hnc_cam.sim.command", "simulate_command"))
+    p.set_defaults(func=("hnc_cam.check", "simulate_command"))
 
     p = sub.add_parser("verify", help="simulate a program and compare the result with the model")
     p.add_argument("program")
@@ -64,7 +64,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--tools", metavar="FILE")
     p.add_argument("--json", metavar="OUT")
     p.add_argument("--plot", metavar="OUT")
-    p.set_defaults(func=("hnc_cam.sim.command", "verify_command"))
+    p.set_defaults(func=("hnc_cam.check", "verify_command"))
 
     p = sub.add_parser("generate", help="plan and write an HNC-21T program for a part")
     p.add_argument("part", help="part file (parts/....py) or .step/.stp file")

@@ -1,0 +1,57 @@
+"""What a cycle may ask of the interpreter (implemented by the interpreter, used by the
+cycle modules). All coordinates are **programmed work coordinates, X as radius**; the
+interpreter applies tool offsets and nose-radius compensation, computes durations, and
+stamps each move with the cycle block's line, tool and spindle state.
+"""
+from __future__ import annotations
+
+from typing import NoReturn, Optional, Protocol
+
+from ..geometry import Point, Segment
+
+
+class CycleContext(Protocol):
+    code: int  # the cycle's G code (32, 71, 72, 73, 76, 80, 81, 82)
+    line: int  # 1-based source line of the cycle block
+    incremental: bool  # G91 active
+    diameter_mode: bool  # G36 active (X words are diameters)
+
+    @property
+    def pos(self) -> Point:
+        """Current programmed position (x radius, z): the cycle start point A."""
+
+    def word(self, letter: str) -> Optional[float]:
+        """Evaluated value of a word in the cycle block exactly as programmed
+        (X still a diameter in G36, still incremental in G91), or None when absent.
+        For the modal G80/G81/G82, words not in this block come from the previous
+        block of the same cycle (the interpreter keeps them)."""
+
+    def has(self, letter: str) -> bool: ...
+
+    def alarm(self, message: str, letter: Optional[str] = None) -> NoReturn:
+        """Raise NCError at the cycle block (at the column of word ``letter`` if given)."""
+
+    def warn(self, message: str) -> None: ...
+
+    def profile(self, ns: int, nf: int) -> list[tuple[Segment, int, str]]:
+        """The programmed path of the blocks N``ns``..N``nf`` (in file order, in the current
+        program), starting from ``pos``: (segment, source line, motion 'rapid'|'feed').
+        Chamfer C / round R words are resolved; G41/G42/G40 and F/S/T words are accepted and
+        ignored for the geometry. Alarms: P/Q not found, ns not G00/G01, M98/M99 inside.
+        Does not change the interpreter's state."""
+
+    def rapid(self, x: float, z: float) -> None:
+        """G00 to (x, z): emitted as the real dog-leg."""
+
+    def feed(self, x: float, z: float, feed: Optional[float] = None) -> None:
+        """G01 to (x, z) at ``feed`` (F units as programmed, G94/G95 resolved by the
+        interpreter; None = the cycle's F or the modal F)."""
+
+    def arc(self, x: float, z: float, center: Point, cw: bool, feed: Optional[float] = None) -> None: ...
+
+    def thread(self, x: float, z: float, lead: float, angle: float = 0.0,
+               thread_angle: float = 0.0) -> None:
+        """A threading move to (x, z), synchronised with the spindle: ``lead`` mm/rev along the
+        thread, spindle start angle ``angle`` deg, tool profile angle ``thread_angle``."""
+
+    def dwell(self, seconds: float) -> None: ...
