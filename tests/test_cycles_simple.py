@@ -1,0 +1,378 @@
+"""G80, G81, G82, G32 and G76 (hnc_cam.nc.cycles_simple).
+
+The unit tests drive ``execute`` through a small fake of the interpreter's CycleContext and
+check every leg (type, end point, lead, spindle angle) against the figures of the manual
+(figs. 3.3.15–3.3.23, 3.3.36–3.3.38). The end-to-end tests at the bottom run the manual's
+example programs through the interpreter when it is available.
+"""
+from __future__ import annotations
+
+import math
+from typing import Optional
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from hnc_cam.errors import NCError
+from hnc_cam.nc import cycles_simple
+from hnc_cam.nc.cycles_simple import execute, g76_depths, start_angles
+
+
+class FakeCtx:
+    """The CycleContext protocol, recording the legs as tuples."""
+
+    def __init__(self, code: int, words: dict[str, float], pos=(0.0, 0.0), *,
+                 incremental: bool = False, diameter_mode: bool = True):
+        self.code = code
+        self.line = 7
+        self.incremental = incremental
+        self.diameter_mode = diameter_mode
+        self.words = dict(words)
+        self._pos = (float(pos[0]), float(pos[1]))
+        self.moves: list[tuple] = []
+        self.warnings: list[str] = []
+
+    @property
+    def pos(self):
+        return self._pos
+
+    def word(self, letter: str) -> Optional[float]:
+        return self.words.get(letter)
+
+    def has(self, letter: str) -> bool:
+        return letter in self.words
+
+    def alarm(self, message: str, letter: Optional[str] = None):
+        raise NCError(message, line=self.line, col=0)
+
+    def warn(self, message: str) -> None:
+        self.warnings.append(message)
+
+    def rapid(self, x, z):
+        self.moves.append(("rapid", (x, z)))
+        self._pos = (x, z)
+
+    def feed(self, x, z, feed=None):
+        self.moves.append(("feed", (x, z)))
+        self._pos = (x, z)
+
+    def arc(self, *a, **k):  # pragma: no cover - not used by these cycles
+        raise AssertionError("no arcs in simple cycles")
+
+    def thread(self, x, z, lead, angle=0.0, thread_angle=0.0):
+        self.moves.append(("thread", (x, z), lead, angle, thread_angle))
+        self._pos = (x, z)
+
+    def dwell(self, seconds):  # pragma: no cover
+        raise AssertionError
+
+
+def run(code, words, pos, **kw) -> FakeCtx:
+    ctx = FakeCtx(code, words, pos, **kw)
+    execute(code, ctx)
+    return ctx
+
+
+def approx_path(moves, expected):
+    """Compare recorded legs with [(kind, (x, z)[, lead, angle, thread_angle])]."""
+    assert len(moves) == len(expected), moves
+    for got, exp in zip(moves, expected):
+        assert got[0] == exp[0], (got, exp)
+        assert got[1] == pytest.approx(exp[1], abs=1e-9), (got, exp)
+        if len(exp) > 2:
+            assert got[2:] == pytest.approx(exp[2:], abs=1e-9), (got, exp)
+
+
+def alarm(code, words, pos=(20.0, 5.0), match="", **kw):
+    with pytest.raises(NCError, match=match):
+        run(code, words, pos, **kw)
+
+
+# ----------------------------------------------------------------------------- G80
+
+
+def test_g80_straight_absolute_fig_3_3_15():
+    ctx = run(80, {"X": 30, "Z": -20, "F": 100}, (20.0, 2.0))  # A = X40 Z2
+    approx_path(ctx.moves, [("rapid", (15, 2)), ("feed", (15, -20)),
+                            ("feed", (20, -20)), ("rapid", (20, 2))])
+    assert ctx.pos == (20, 2)
+
+
+def test_g80_taper_incremental_3317_first_pass():
+    # A = X40 Z3; G91 G80 X-10 Z-33 I-5.5: C = X30 Z-30, B = radius 15 - 5.5 at Z3
+    ctx = run(80, {"X": -10, "Z": -33, "I": -5.5, "F": 100}, (20.0, 3.0), incremental=True)
+    approx_path(ctx.moves, [("rapid", (9.5, 3)), ("feed", (15, -30)),
+                            ("feed", (20, -30)), ("rapid", (20, 3))])
+
+
+def test_g80_radius_mode_and_inside():
+    # G37: X words are radii; a bore (C above the axis, A inside): same leg order
+    ctx = run(80, {"X": 12, "Z": -15, "I": 1}, (8.0, 2.0), diameter_mode=False)
+    approx_path(ctx.moves, [("rapid", (13, 2)), ("feed", (12, -15)),
+                            ("feed", (8, -15)), ("rapid", (8, 2))])
+
+
+def test_g80_alarms():
+    alarm(80, {"Z": -20}, match="missing word X")
+    alarm(80, {"X": 30}, match="missing word Z")
+    alarm(80, {"X": 30, "W": -20}, match="incremental W")
+    alarm(80, {"U": -2, "Z": -20, "X": 30}, match="incremental U")
+
+
+# ----------------------------------------------------------------------------- G81
+
+
+def test_g81_face_fig_3_3_18():
+    ctx = run(81, {"X": 0, "Z": 1.5, "F": 100}, (30.0, 5.0))  # 3346 N5, A = X60 Z5
+    approx_path(ctx.moves, [("rapid", (30, 1.5)), ("feed", (0, 1.5)),
+                            ("feed", (0, 5)), ("rapid", (30, 5))])
+
+
+def test_g81_taper_3320_last_pass_matches_the_figure():
+    # A = X60 Z45; X25 Z25.5 K-3.5: B = (radius 30, Z22), C = (12.5, 25.5)
+    ctx = run(81, {"X": 25, "Z": 25.5, "K": -3.5, "F": 100}, (30.0, 45.0))
+    approx_path(ctx.moves, [("rapid", (30, 22)), ("feed", (12.5, 25.5)),
+                            ("feed", (12.5, 45)), ("rapid", (30, 45))])
+    # the cone passes dia 55 at Z22.5 (fig. 3.3.20: "3 mm lower" than Z25.5)
+    (_, b), (_, c) = ctx.moves[0], ctx.moves[1]
+    z_at_55 = b[1] + (c[1] - b[1]) * (b[0] - 27.5) / (b[0] - c[0])
+    assert z_at_55 == pytest.approx(22.5)
+
+
+def test_g81_incremental():
+    ctx = run(81, {"X": -50, "Z": -4, "K": -1}, (30.0, 5.0), incremental=True)
+    approx_path(ctx.moves, [("rapid", (30, 0)), ("feed", (5, 1)),
+                            ("feed", (5, 5)), ("rapid", (30, 5))])
+
+
+def test_g81_refuses_u():
+    alarm(81, {"X": 0, "Z": 0, "U": 1}, match="incremental U")
+
+
+# ----------------------------------------------------------------------------- G82
+
+
+def test_g82_straight_single_start():
+    ctx = run(82, {"X": 29.2, "Z": 18.5, "F": 3, "P": 45}, (17.5, 104.0))
+    approx_path(ctx.moves, [("rapid", (14.6, 104)), ("thread", (14.6, 18.5), 3, 45, 60),
+                            ("rapid", (17.5, 18.5)), ("rapid", (17.5, 104))])
+
+
+def test_g82_multi_start_3323():
+    # N3 G82 X29.2 Z18.5 C2 P180 F3 from A = X35 Z104: the loop twice, angles 0 and 180
+    ctx = run(82, {"X": 29.2, "Z": 18.5, "C": 2, "P": 180, "F": 3}, (17.5, 104.0))
+    one = [("rapid", (14.6, 104)), None, ("rapid", (17.5, 18.5)), ("rapid", (17.5, 104))]
+    exp = []
+    for ang in (0, 180):
+        exp += [one[0], ("thread", (14.6, 18.5), 3, ang, 60), one[2], one[3]]
+    approx_path(ctx.moves, exp)
+
+
+def test_g82_runout_and_taper_3346():
+    # N38 G82 X19.3 Z-20 R-3 E1 C2 P120 F3 from A = X30 Z5
+    ctx = run(82, {"X": 19.3, "Z": -20, "R": -3, "E": 1, "C": 2, "P": 120, "F": 3}, (15.0, 5.0))
+    exp = []
+    for ang in (0, 120):
+        exp += [("rapid", (9.65, 5)), ("thread", (9.65, -20), 3, ang, 60),
+                ("thread", (10.65, -23), 3, ang, 60), ("rapid", (15, -23)), ("rapid", (15, 5))]
+    approx_path(ctx.moves, exp)
+    assert not ctx.warnings
+    # taper, G91: C = A + (-5, -30) radius, B = C.x + I
+    ctx = run(82, {"X": -10, "Z": -30, "I": -1, "F": 2}, (15.0, 5.0), incremental=True)
+    approx_path(ctx.moves, [("rapid", (9, 5)), ("thread", (10, -25), 2, 0, 60),
+                            ("rapid", (15, -25)), ("rapid", (15, 5))])
+
+
+def test_g82_inward_runout_warns():
+    ctx = run(82, {"X": 19.3, "Z": -20, "E": -1, "F": 1}, (15.0, 5.0))
+    assert ctx.warnings and "into the work" in ctx.warnings[0]
+
+
+def test_g82_multi_start_without_p_warns_and_follows_the_macro():
+    ctx = run(82, {"X": 19.3, "Z": -20, "C": 3, "F": 3}, (15.0, 5.0))
+    assert [m[3] for m in ctx.moves if m[0] == "thread"] == [0, 0, 0]
+    assert "P120" in ctx.warnings[0]
+
+
+def test_start_angles():
+    assert start_angles(0, 30) == [30]
+    assert start_angles(1, 400) == [40]
+    assert start_angles(4, 90) == [0, 90, 180, 270]
+    assert start_angles(3, 180) == [0, 180, 0]
+
+
+def test_g82_alarms():
+    alarm(82, {"X": 19, "Z": -20}, match="missing word F")
+    alarm(82, {"X": 19, "Z": -20, "F": 0}, match="lead 0")
+    alarm(82, {"X": 19, "Z": -20, "F": -1}, match="negative")
+    alarm(82, {"X": 19, "F": 1}, match="missing word Z")
+    alarm(82, {"X": 19, "Z": -20, "F": 1, "C": 1.5}, match="whole number")
+    alarm(82, {"X": 19, "Z": -20, "F": 1, "C": 100}, match="whole number")
+    alarm(82, {"X": 19, "Z": -20, "F": 1, "W": 2}, match="incremental W")
+    alarm(82, {"X": 19, "Z": 5, "F": 1}, pos=(15.0, 5.0), match="no length")
+
+
+# ----------------------------------------------------------------------------- G32
+
+
+def test_g32_straight_3312_n4():
+    # N3 G00 X29.2 Z101.5; N4 G32 Z19 F1.5
+    ctx = run(32, {"Z": 19, "F": 1.5}, (14.6, 101.5))
+    approx_path(ctx.moves, [("thread", (14.6, 19), 1.5, 0, 60)])
+
+
+def test_g32_incremental_u_w_3312_n16():
+    # N15 U-11.96 from X40 -> X28.04; N16 G32 W-82.5 F1.5
+    ctx = run(32, {"W": -82.5, "F": 1.5}, (14.02, 101.5))
+    approx_path(ctx.moves, [("thread", (14.02, 19), 1.5, 0, 60)])
+    ctx = run(32, {"U": -1, "W": -10, "F": 2, "P": 90}, (15.0, 0.0))
+    approx_path(ctx.moves, [("thread", (14.5, -10), 2, 90, 60)])
+
+
+def test_g32_taper_face_runout_and_g91():
+    ctx = run(32, {"X": 20, "Z": -30, "R": -2, "E": 1.5, "F": 2, "P": 370}, (9.0, 2.0))
+    approx_path(ctx.moves, [("thread", (10, -30), 2, 10, 60), ("thread", (11.5, -32), 2, 10, 60)])
+    ctx = run(32, {"X": 10, "F": 1}, (25.0, 0.0))  # face thread
+    approx_path(ctx.moves, [("thread", (5, 0), 1, 0, 60)])
+    ctx = run(32, {"X": -2, "Z": -20, "F": 1}, (10.0, 0.0), incremental=True)
+    approx_path(ctx.moves, [("thread", (9, -20), 1, 0, 60)])
+    ctx = run(32, {"X": 10, "Z": -20, "F": 1}, (10.0, 0.0), diameter_mode=False)
+    approx_path(ctx.moves, [("thread", (10, -20), 1, 0, 60)])
+
+
+def test_g32_alarms():
+    alarm(32, {"F": 1}, match="missing end point")
+    alarm(32, {"Z": -20}, match="missing word F")
+    alarm(32, {"Z": -20, "F": 0}, match="lead 0")
+    alarm(32, {"X": 20, "U": 1, "Z": -20, "F": 1}, match="both X and U")
+    alarm(32, {"Z": 5, "F": 1}, pos=(10.0, 5.0), match="no length")
+
+
+# ----------------------------------------------------------------------------- G76
+
+G3338 = {"C": 2, "R": -3, "E": 1.3, "A": 60, "X": 58.15, "Z": -24, "I": -0.94, "K": 1.299,
+         "U": 0.1, "V": 0.1, "Q": 0.9, "F": 2}
+
+
+def test_g76_depth_rule():
+    # sqrt rule: Q1, K10, no allowance: 1, 1.414, 1.732, 2, ... until K, then K finishing
+    dep = g76_depths(10, 0, 1, 0, 1)
+    rough = [t for t, f in dep if not f]
+    assert rough == pytest.approx([math.sqrt(n) for n in range(1, 100)])
+    assert dep[-1] == (10, True) and sum(f for _, f in dep) == 1
+    # Δdmin floor: increments never below V once the sqrt increments shrink
+    dep = g76_depths(3, 0.1, 0.5, 0.2, 2)
+    rough = [t for t, f in dep if not f]
+    # 0.5·√3 - 0.5·√2 = 0.159 < V: the third pass is floored to 0.5·√2 + 0.2
+    assert rough[:3] == pytest.approx([0.5, 0.5 * math.sqrt(2), 0.5 * math.sqrt(2) + 0.2])
+    steps = [b - a for a, b in zip(rough, rough[1:])]
+    assert all(s >= 0.2 - 1e-12 for s in steps[:-1])
+    assert rough[-1] == pytest.approx(2.9)  # the last roughing pass lies on K - d
+    assert [t for t, f in dep if f] == [3, 3]
+    # C0 is read as one finishing pass
+    assert [t for t, f in g76_depths(1, 0, 0.3, 0, 0) if f] == [1]
+
+
+@settings(max_examples=200, deadline=None)
+@given(k=st.floats(0.2, 5), dfrac=st.floats(0, 0.5), qfrac=st.floats(0.04, 1.5),
+       ddmin=st.floats(0, 0.5), c=st.integers(0, 5))
+def test_g76_depth_properties(k, dfrac, qfrac, ddmin, c):
+    d, dd = k * dfrac, k * qfrac
+    dep = g76_depths(k, d, dd, ddmin, c)
+    depths = [t for t, _ in dep]
+    assert all(b >= a - 1e-12 for a, b in zip(depths, depths[1:]))  # never shallower
+    rough = [t for t, f in dep if not f]
+    assert all(t <= k - d + 1e-9 for t in rough)
+    assert rough and rough[0] == pytest.approx(min(dd, k - d)) or not rough
+    if d > 1e-9:
+        assert rough[-1] == pytest.approx(k - d)
+    for n, t in enumerate(rough[:-1], start=1):
+        assert t >= dd * math.sqrt(n) - 1e-9  # at least the sqrt depth (the floor only adds)
+    assert [t for t, f in dep if f] == [k] * max(c, 1)
+
+
+def test_g76_3338_passes():
+    # N9 G00 X90 Z4; N10 G76 C2 R-3 E1.3 A60 X58.15 Z-24 I-0.94 K1.299 U0.1 V0.1 Q0.9 F2
+    a = (45.0, 4.0)
+    ctx = run(76, G3338, a)
+    threads = [m for m in ctx.moves if m[0] == "thread"]
+    # main legs (odd ones are the run-outs)
+    mains, runs = threads[0::2], threads[1::2]
+    depths = [0.9, 1.199, 1.299, 1.299]  # Δd·√1; √2·0.9 = 1.27 > K-d -> K-d; then C2 at K
+    assert len(mains) == len(runs) == 4
+    tan30 = math.tan(math.radians(30))
+    root = 58.15 / 2
+    for m, r, t in zip(mains, runs, depths):
+        h = -t * tan30  # cutting toward -Z: the infeed shifts toward -Z
+        assert m[1] == pytest.approx((root + 1.299 - t, -24 + h))
+        assert m[2:] == pytest.approx((2, 0, 60))
+        assert r[1] == pytest.approx((root + 1.299 - t + 1.3, -24 + h - 3))
+    # the pass sequence of the macro: A -> (A.x - t, A.z + h) -> B -> C -> run-out -> A
+    t, h = 0.9, -0.9 * tan30
+    approx_path(ctx.moves[:5], [("rapid", (45 - t, 4 + h)), ("rapid", (root + 1.299 - t - 0.94, 4 + h)),
+                                ("thread", (root + 1.299 - t, -24 + h), 2, 0, 60),
+                                ("thread", (root + 1.299 - t + 1.3, -24 + h - 3), 2, 0, 60),
+                                ("rapid", a)])
+    assert ctx.moves[-1] == ("rapid", a)
+    assert not ctx.warnings
+
+
+def test_g76_single_flank_infeed():
+    # successive thread starts lie on a line at A/2 from the radial direction
+    ctx = run(76, {**G3338, "Q": 0.2, "V": 0.05, "A": 55}, (45.0, 4.0))
+    mains = [m[1] for m in ctx.moves if m[0] == "thread"][0::2]
+    for p, q in zip(mains, mains[1:]):
+        dx, dz = q[0] - p[0], q[1] - p[1]
+        if abs(dx) > 1e-12:
+            assert abs(dz / dx) == pytest.approx(math.tan(math.radians(27.5)))
+    ctx = run(76, {**G3338, "A": 0}, (45.0, 4.0))  # radial infeed
+    assert {round(m[1][1], 9) for m in ctx.moves if m[0] == "thread"} <= {-24.0, -27.0}
+
+
+def test_g76_inside_thread_toward_plus_z_incremental_with_start_angle():
+    # a bore thread cut away from the chuck, G91: C = A + (X+4 dia, Z+20)
+    words = {"A": 60, "X": 4, "Z": 20, "K": 0.6, "U": 0.05, "V": 0.05, "Q": 0.3, "F": 1,
+             "P": 240, "R": 1}
+    a = (8.0, -25.0)
+    ctx = run(76, words, a, incremental=True)
+    c = (10.0, -5.0)
+    mains = [m for m in ctx.moves if m[0] == "thread"][0::2]
+    runs = [m for m in ctx.moves if m[0] == "thread"][1::2]
+    last = mains[-1]
+    assert last[1] == pytest.approx((c[0], c[1] + 0.6 * math.tan(math.radians(30))))
+    assert runs[-1][1] == pytest.approx((c[0] - 0.6, last[1][1] + 1))  # default E = K outward (-X)
+    assert {m[3] for m in mains} == {240}
+    first = mains[0]
+    assert first[1][0] == pytest.approx(c[0] - 0.6 + 0.3)  # crest (C.x - K) + Δd
+    assert not ctx.warnings
+
+
+def test_g76_alarms():
+    alarm(76, {**G3338, "A": 45}, match="angle A45")
+    for letter in "AXZKUVQF":
+        w = dict(G3338)
+        del w[letter]
+        alarm(76, w, pos=(45.0, 4.0), match=f"missing word {letter}")
+    alarm(76, {**G3338, "Q": 0}, pos=(45.0, 4.0), match="Q0")
+    alarm(76, {**G3338, "Q": -0.2}, pos=(45.0, 4.0), match="must be > 0")
+    alarm(76, {**G3338, "F": 0}, pos=(45.0, 4.0), match="lead 0")
+    alarm(76, {**G3338, "W": -3}, pos=(45.0, 4.0), match="incremental W")
+    alarm(76, {**G3338, "U": 1.3}, pos=(45.0, 4.0), match="allowance")
+    alarm(76, {**G3338, "K": 0}, pos=(45.0, 4.0), match="height")
+    alarm(76, {**G3338, "C": 120}, pos=(45.0, 4.0), match="whole number")
+    alarm(76, {**G3338, "Q": 0.001, "V": 0}, pos=(45.0, 4.0), match="more than 1000 passes")
+    alarm(76, G3338, pos=(45.0, -24.0), match="no length")
+
+
+def test_g76_start_inside_crest_warns():
+    ctx = run(76, G3338, (29.2, 4.0))  # crest at B: 29.075 - 0.94 + 1.299
+    assert any("inside the thread crest" in w for w in ctx.warnings)
+
+
+def test_dispatch_through_cycles_module():
+    from hnc_cam.nc import cycles
+    ctx = FakeCtx(80, {"X": 30, "Z": -20}, (20.0, 2.0))
+    cycles.execute(80, ctx)
+    assert len(ctx.moves) == 4
+    assert cycles_simple.THREAD_ANGLES == (80, 60, 55, 30, 29, 0)
