@@ -1,0 +1,311 @@
+"""Profile extraction: a turned solid -> :class:`~hnc_cam.geometry.TurnedProfile`.
+
+How (and the choices made):
+
+1. The object becomes one OCP shape (build123d, CadQuery, OCP or a STEP/BREP file) and is
+   placed so that the turning axis is Z (``axis``).
+2. Validation: exactly one solid with one shell (no internal void); every face a surface of
+   revolution about the axis (see :func:`hnc_cam.cad.occ.classify_faces`). A face that is not
+   (flat, keyway, hex, cross hole, off-axis hole) raises :class:`ProfileError` naming the face
+   type, the feature it probably is and where it is. With ``envelope=True`` such faces are
+   ignored: the profile is taken in a meridian half-plane that does not cut them on the
+   outline (the turned envelope the lathe makes before milling), and ``notes`` lists them.
+3. The solid's boundary is cut with the half-plane {y' = 0, x' >= 0} through the axis at a
+   fixed polar angle (0.3 rad, clear of the seams that revolves put at angle 0). OpenCascade
+   returns the cuts of planes, cylinders and cones as lines and of spheres and tori as
+   circles: they become exact ``Line``/``Arc`` (radius, Z). Any other curve (B-spline,
+   ellipse, the cut of a revolved spline) is fitted with arcs within ``fit_tol`` and noted.
+4. The pieces are chained; split pieces are merged (collinear lines, co-circular arcs).
+5. The section's boundary is split into chains:
+
+   * ``outside`` starts at the **innermost point of the right end** (largest Z): on the
+     axis for a part without a bore opening on the right face, else at the bore edge of the
+     right face (the inner end of the bore chamfer, if any). It includes the right face,
+     runs along the outside toward -Z and **includes the left face**, ending at the
+     innermost point of the left end (the axis, or the edge of a through bore).
+   * ``bore`` runs from the same right-face point into the bore toward -Z: to the left face
+     for a through bore, to the axis (the bottom of the hole) for a blind bore. ``None`` for
+     a part without a bore opening on the right. A cavity opening only on the left face
+     (e.g. a centre hole) is not part of either chain; ``notes`` says so.
+6. Program zero: ``zero="right"`` (default) puts the right face at Z0, the part toward -Z;
+   ``"left"`` puts the left face at Z0 (part toward +Z); a number ``a`` puts model Z = a (on
+   the turning axis) at Z0.
+"""
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from ..errors import ProfileError
+from ..geometry.primitives import Arc, Line, Point, Segment, dist, reverse_chain
+from ..geometry.profile import TurnedProfile
+from . import occ
+from .fit import fit_curve, merge_segments
+
+#: polar angle of the default meridian half-plane (radians): away from the seam at 0
+THETA = 0.3
+#: end points closer than this are joined when chaining (mm; STEP files carry ~1e-7 gaps)
+JOIN_TOL = 1e-4
+#: coordinates are rounded to this many decimals (1e-9 mm) to drop floating noise
+DECIMALS = 9
+
+
+def profile(obj: Any, axis: Any = "Z", zero: str | float = "right", envelope: bool = False,
+            fit_tol: float = 0.001, name: str | None = None) -> TurnedProfile:
+    """The exact turned profile of ``obj`` (see the module docstring for the conventions).
+
+    ``obj``: build123d Part/Solid/Compound/BuildPart, CadQuery Workplane/Shape, OCP
+    TopoDS_Shape or a path to .step/.stp/.brep. ``axis``: "Z" (default), "X", "Y" or
+    ``((px, py, pz), (dx, dy, dz))``. ``zero``: "right", "left" or a model Z. ``envelope``:
+    profile the turned envelope of a part with milled features. ``fit_tol``: arc-fitting
+    tolerance for free-form curves (mm).
+    """
+    if not fit_tol > 0:
+        raise ProfileError(f"fit_tol must be positive, got {fit_tol!r}")
+    shape = occ.axis_transform(occ.to_shape(obj), axis)
+    if shape.IsNull():
+        raise ProfileError("empty geometry: the shape is null")
+    notes: list[str] = []
+    sol = occ.solids(shape)
+    if not sol:
+        nf = len(occ.faces(shape))
+        if nf == 0:
+            raise ProfileError("empty geometry: the shape holds no solid and no face")
+        raise ProfileError(f"not a solid: the shape holds {nf} face(s) but no closed solid "
+                           f"(an open shell or a surface model)")
+    if len(sol) > 1:
+        where = "; ".join(f"solid {i + 1}: z {b[2]:.3f}..{b[5]:.3f}"
+                          for i, b in enumerate(occ.bbox(s) for s in sol[:4]))
+        raise ProfileError(f"several disconnected solids ({len(sol)}): fuse them into one part "
+                           f"or profile them one by one ({where})")
+    solid = sol[0]
+    if len(occ.shells(solid)) > 1:
+        raise ProfileError("the solid has an internal void (more than one shell): a closed "
+                           "cavity cannot be turned")
+    bb = occ.bbox(solid)
+    if min(bb[3] - bb[0], bb[4] - bb[1], bb[5] - bb[2]) < 1e-6 or occ.volume(solid) < 1e-9:
+        raise ProfileError(f"degenerate geometry: the solid has no volume "
+                           f"(extent {bb[3] - bb[0]:.3g} x {bb[4] - bb[1]:.3g} x {bb[5] - bb[2]:.3g} mm)")
+
+    problems, fnotes = occ.classify_faces(solid)
+    notes += fnotes
+    theta = THETA
+    if problems:
+        if not envelope:
+            first = problems[0].describe()
+            more = f" (and {len(problems) - 1} more such face(s))" if len(problems) > 1 else ""
+            raise ProfileError(f"not a body of revolution about the {_axis_name(axis)} axis: "
+                               f"{first}{more}; use envelope=True to profile the turned envelope")
+        for p in problems:
+            notes.append(f"ignored (envelope): {p.describe()}")
+        chains, theta, islands = _envelope_section(solid, bb, problems, fit_tol, notes)
+        if islands:
+            notes.append(f"ignored (envelope): {islands} inner loop(s) of the section cut by "
+                         f"non-turned faces")
+    else:
+        chains = _chains(occ.meridian_section(solid, theta, bb), fit_tol, notes)
+        if len(chains) != 1:
+            raise ProfileError(f"the meridian section has {len(chains)} separate boundaries: "
+                               f"the part is not one connected turned body")
+    main = chains[0]
+    outside, bore, left = _split(main)
+    if left:
+        notes.append(f"a cavity opening on the left face ({len(left)} segment(s), down to "
+                     f"z={min(min(s.start[1], s.end[1]) for s in left):.3f} model) is not part "
+                     f"of the outside or bore chain")
+    outside = merge_segments(outside)
+    bore = merge_segments(bore) if bore else None
+    zmax = max(max(s.bbox()[3] for s in outside), max((s.bbox()[3] for s in bore or []), default=-1e300))
+    zmin = min(min(s.bbox()[1] for s in outside), min((s.bbox()[1] for s in bore or []), default=1e300))
+    if isinstance(zero, str):
+        z0 = {"right": zmax, "left": zmin}.get(zero.lower())
+        if z0 is None:
+            raise ProfileError(f"zero {zero!r}: expected 'right', 'left' or a number")
+    else:
+        z0 = float(zero)
+    outside = [_clean(s.translated(0.0, -z0)) for s in outside]
+    bore = [_clean(s.translated(0.0, -z0)) for s in bore] if bore else None
+    prof = TurnedProfile(outside=outside, bore=bore, name=name or "part", notes=notes)
+    if prof.length < 1e-6 or prof.max_radius < 1e-6:
+        raise ProfileError("degenerate geometry: zero length or zero diameter")
+    return prof
+
+
+def _axis_name(axis: Any) -> str:
+    return axis.upper() if isinstance(axis, str) else "given"
+
+
+def _clean(s: Segment) -> Segment:
+    def c(p: Point) -> Point:
+        x, z = round(p[0], DECIMALS), round(p[1], DECIMALS)
+        return (0.0 if x == 0 else x, 0.0 if z == 0 else z)
+    if isinstance(s, Line):
+        return Line(c(s.start), c(s.end))
+    return Arc(c(s.start), c(s.end), c(s.center), s.cw)
+
+
+# ---------------------------------------------------------------------------- edges -> chains
+def _edge_segments(e: occ.SectionEdge, fit_tol: float, notes: list[str]) -> list[Segment]:
+    p0, p1 = e.rz(e.first), e.rz(e.last)
+    p0 = (0.0 if abs(p0[0]) < 1e-9 else p0[0], p0[1])
+    p1 = (0.0 if abs(p1[0]) < 1e-9 else p1[0], p1[1])
+    if e.kind == "line":
+        return [Line(p0, p1)] if dist(p0, p1) > 1e-9 else []
+    if e.kind == "circle":
+        c, r = e.circle()
+        pm = e.rz((e.first + e.last) / 2)
+        if dist(p0, p1) < 1e-9:  # full circle (a toroidal ring cut through): two halves
+            pq = e.rz(e.first + (e.last - e.first) / 4)
+            cw = _turn(p0, pq, pm) < 0
+            return [Arc(p0, pm, c, cw), Arc(pm, p1, c, cw)]
+        cw = _turn(p0, pm, p1) < 0
+        return [Arc(p0, p1, c, cw)]
+    try:
+        segs = fit_curve(e.rz_d1, e.first, e.last, fit_tol)
+    except ValueError as ex:
+        raise ProfileError(f"{e.curve_type} edge from (r={p0[0]:.4f}, z={p0[1]:.4f}) to "
+                           f"(r={p1[0]:.4f}, z={p1[1]:.4f}): {ex}") from None
+    notes.append(f"{e.curve_type} edge from (r={p0[0]:.4f}, z={p0[1]:.4f}) to "
+                 f"(r={p1[0]:.4f}, z={p1[1]:.4f}) (model) fitted with {len(segs)} "
+                 f"arc/line segment(s) within {fit_tol:g} mm")
+    return segs
+
+
+def _turn(a: Point, b: Point, c: Point) -> float:
+    """> 0 when a->b->c turns counter-clockwise in the z-right/x-up view."""
+    u = (b[1] - a[1], b[0] - a[0])  # (dz, dx)
+    v = (c[1] - b[1], c[0] - b[0])
+    return u[0] * v[1] - u[1] * v[0]
+
+
+def _with_start(s: Segment, p: Point) -> Segment:
+    return Line(p, s.end) if isinstance(s, Line) else Arc(p, s.end, s.center, s.cw)
+
+
+def _chains(edges: list[occ.SectionEdge], fit_tol: float, notes: list[str]) -> list[list[Segment]]:
+    """Connected chains of the section, the one reaching the largest radius first. Each chain
+    is either closed (a loop) or open with both ends on the axis."""
+    segs: list[Segment] = []
+    for e in edges:
+        segs += _edge_segments(e, fit_tol, notes)
+    if not segs:
+        raise ProfileError("empty section: the meridian half-plane does not cut the solid "
+                           "(is the part on the axis?)")
+    unused = list(segs)
+    chains: list[list[Segment]] = []
+    while unused:
+        chain = [unused.pop(0)]
+        for _front in (False, True):
+            grown = True
+            while grown:
+                grown = False
+                end = chain[-1].end
+                for i, s in enumerate(unused):
+                    if dist(s.start, end) <= JOIN_TOL:
+                        chain.append(_with_start(s, end))
+                    elif dist(s.end, end) <= JOIN_TOL:
+                        chain.append(_with_start(s.reversed(), end))
+                    else:
+                        continue
+                    unused.pop(i)
+                    grown = True
+                    break
+                if dist(chain[-1].end, chain[0].start) <= JOIN_TOL and len(chain) > 1:
+                    break
+            if dist(chain[-1].end, chain[0].start) <= JOIN_TOL and len(chain) > 1:
+                last = chain[-1]
+                chain[-1] = (Line(last.start, chain[0].start) if isinstance(last, Line)
+                             else Arc(last.start, chain[0].start, last.center, last.cw))
+                break
+            chain = [s.reversed() for s in reversed(chain)]
+        chains.append(chain)
+    for ch in chains:
+        closed = dist(ch[-1].end, ch[0].start) <= JOIN_TOL
+        if not closed and not (abs(ch[0].start[0]) < 1e-6 and abs(ch[-1].end[0]) < 1e-6):
+            raise ProfileError(f"the section boundary is open between (r={ch[-1].end[0]:.4f}, "
+                               f"z={ch[-1].end[1]:.4f}) and (r={ch[0].start[0]:.4f}, "
+                               f"z={ch[0].start[1]:.4f}): invalid or non-closed solid")
+    chains.sort(key=lambda ch: -max(s.bbox()[2] for s in ch))
+    return chains
+
+
+def _signed_area(ch: list[Segment]) -> float:
+    """Signed area in the (u = z, v = r) view, closing open chains along the axis."""
+    pts: list[Point] = []
+    for s in ch:
+        pts += s.sample(0.05)[:-1] if isinstance(s, Arc) else [s.start]
+    pts.append(ch[-1].end)
+    a = 0.0
+    for (r0, z0), (r1, z1) in zip(pts, pts[1:] + pts[:1]):
+        a += z0 * r1 - z1 * r0
+    return a / 2
+
+
+AXIS = "axis"  # marker in a loop for the closing run along the axis
+
+
+def _split(ch: list[Segment]) -> tuple[list[Segment], list[Segment] | None, list[Segment]]:
+    """(outside, bore or None, left cavity) of a section boundary (see module docstring)."""
+    if _signed_area(ch) < 0:
+        ch = reverse_chain(ch)
+    closed = dist(ch[-1].end, ch[0].start) <= JOIN_TOL
+    loop: list[Any] = list(ch) + ([] if closed else [AXIS])
+    n = len(loop)
+
+    def start_of(i: int) -> Point:
+        s = loop[i]
+        return loop[i - 1].end if s is AXIS else s.start
+
+    zs = [start_of(i)[1] for i in range(n)]
+    zmax, zmin = max(zs), min(zs)
+    right = min((i for i in range(n) if zs[i] >= zmax - 1e-7), key=lambda i: start_of(i)[0])
+    left = min((i for i in range(n) if zs[i] <= zmin + 1e-7), key=lambda i: start_of(i)[0])
+    # loop is counter-clockwise in the (z, r) view: from the right face it runs outward first
+    outside = []
+    i = right
+    while i != left:
+        if loop[i] is AXIS:
+            raise ProfileError("cannot find the outside contour between the end faces")
+        outside.append(loop[i])
+        i = (i + 1) % n
+    back = []
+    while i != right:
+        back.append(loop[i])
+        i = (i + 1) % n
+    # back runs from the left point around the bore side to the right point
+    if AXIS in back:
+        k = back.index(AXIS)
+        left_cavity, bore_rev = back[:k], back[k + 1:]
+    else:
+        left_cavity, bore_rev = [], back
+    bore = reverse_chain(bore_rev) if bore_rev else None
+    return outside, bore, left_cavity
+
+
+# ---------------------------------------------------------------------------- envelope
+def _envelope_section(solid, bb, problems, fit_tol: float, notes: list[str]):
+    """The first meridian half-plane whose outline (main chain) no non-turned face touches."""
+    bad = occ.face_compound([p.face for p in problems])
+    for k in range(72):
+        theta = THETA + k * 2 * math.pi / 72
+        trial: list[str] = []
+        try:
+            chains = _chains(occ.meridian_section(solid, theta, bb), fit_tol, trial)
+        except ProfileError:
+            continue
+        main = chains[0]
+        if not (dist(main[-1].end, main[0].start) <= JOIN_TOL
+                or (abs(main[0].start[0]) < 1e-6 and abs(main[-1].end[0]) < 1e-6)):
+            continue
+        bad_pts: list[Point] = []
+        for e in occ.meridian_section(bad, theta, bb):
+            for j in range(5):
+                bad_pts.append(e.rz(e.first + (e.last - e.first) * j / 4))
+        if any(min(s.distance_to(p) for s in main) < 1e-4 for p in bad_pts):
+            continue
+        notes += trial
+        notes.append(f"envelope taken in the meridian half-plane at {math.degrees(theta):.1f} deg")
+        return chains, theta, len(chains) - 1
+    raise ProfileError("envelope: every meridian half-plane cuts a non-turned face on the "
+                       "outline (a hex or a flat along the whole part?); cannot find the turned "
+                       "envelope")

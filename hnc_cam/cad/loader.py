@@ -1,0 +1,245 @@
+"""Part files: a Python module (``parts/*.py``) or a STEP/BREP file -> :class:`LoadedPart`.
+
+The part-file contract (what users write)::
+
+    '''Docstring: what the part is; each parameter with its unit.'''
+    from build123d import ...           # or cadquery; imported by the file itself
+
+    STOCK = "40x110+2"                   # optional: str, or a callable(**params) -> str
+    THREADS = [Thread(...)]              # optional: list of hnc_cam.geometry.Thread,
+                                         #   or a callable(**params) -> list[Thread]
+
+    def part(length: float = 100.0, diameter: float = 30.0):   # keyword args with defaults
+        ...                                                       # = the family's parameters
+        return solid                     # build123d/CadQuery/OCP solid (one solid)
+
+* Parameters are the keyword arguments of ``part`` that have defaults. Values given on the
+  command line (``--set NAME=VALUE``) are parsed as numbers: an int when the default is an
+  int and the value is integral, else a float. ``params`` holds every parameter, given or
+  defaulted.
+* ``STOCK`` uses the stock notation (``DxL``, ``DxL+F``, ``D/dxL[+F]``, ``offset:A``); it is
+  checked with :meth:`hnc_cam.tooling.Stock.parse` when the part is loaded.
+* ``THREADS`` Z values are in the part's own program coordinates: program zero on the right
+  face (Z0), the part toward -Z (``z_start`` the end nearer the right face).
+* The module is run in a fresh namespace each time the file is loaded (so one process can load
+  many variants); ``part()`` is called once per load.
+"""
+from __future__ import annotations
+
+import importlib.util
+import inspect
+import dataclasses
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from types import ModuleType
+from typing import Any, Iterable
+
+from ..errors import HncError, PartError, ProfileError, StockError
+from ..geometry.profile import Thread, TurnedProfile
+
+CAD_SUFFIXES = (".step", ".stp", ".brep")
+
+
+@dataclass
+class LoadedPart:
+    """A part ready for planning: its profile, default stock, declared threads."""
+    profile: TurnedProfile
+    stock: str | None
+    threads: list[Thread]
+    name: str
+    params: dict[str, Any] = field(default_factory=dict)
+    module: ModuleType | None = None
+    path: Path | None = None
+
+
+def parse_set(items: Iterable[str] | None) -> dict[str, str]:
+    """``["NAME=VALUE", ...]`` (the CLI's ``--set``) -> ``{"NAME": "VALUE"}``."""
+    out: dict[str, str] = {}
+    for it in items or []:
+        if "=" not in it:
+            raise PartError(f"--set {it!r}: expected NAME=VALUE")
+        k, v = it.split("=", 1)
+        k, v = k.strip(), v.strip()
+        if not k.isidentifier():
+            raise PartError(f"--set {it!r}: {k!r} is not a parameter name")
+        if not v:
+            raise PartError(f"--set {it!r}: no value for {k}")
+        out[k] = v
+    return out
+
+
+def _import_file(path: Path) -> ModuleType:
+    modname = f"hnc_part_{path.stem}_{abs(hash(str(path.resolve()))) & 0xFFFFFF:x}"
+    spec = importlib.util.spec_from_file_location(modname, path)
+    if spec is None or spec.loader is None:
+        raise PartError(f"{path}: not importable as a Python module")
+    mod = importlib.util.module_from_spec(spec)
+    try:
+        spec.loader.exec_module(mod)
+    except HncError:
+        raise
+    except Exception as e:  # noqa: BLE001 - any error in a user's file is reported as its own
+        raise PartError(f"{path}: import failed: {type(e).__name__}: {e}") from e
+    return mod
+
+
+_MODULE_CACHE: dict[tuple[str, float], ModuleType] = {}
+
+
+def load_module(path: str | Path) -> ModuleType:
+    """The part module at ``path`` (imported once per modification time)."""
+    p = Path(path)
+    if not p.exists():
+        raise PartError(f"{p}: no such part file")
+    if p.suffix != ".py":
+        raise PartError(f"{p}: a part file is a .py module (or a .step/.stp/.brep file)")
+    key = (str(p.resolve()), p.stat().st_mtime)
+    mod = _MODULE_CACHE.get(key)
+    if mod is None:
+        mod = _import_file(p)
+        if not callable(getattr(mod, "part", None)):
+            raise PartError(f"{p}: defines no function part(**params)")
+        _MODULE_CACHE[key] = mod
+    return mod
+
+
+def family_parameters(mod: ModuleType) -> dict[str, Any]:
+    """The family's parameters: ``part``'s keyword arguments with their defaults."""
+    sig = inspect.signature(mod.part)
+    return {n: p.default for n, p in sig.parameters.items()
+            if p.default is not inspect.Parameter.empty
+            and p.kind in (p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY)}
+
+
+def _number(name: str, value: Any, default: Any, where: str) -> Any:
+    if isinstance(value, bool):
+        raise PartError(f"{where}: parameter {name}={value!r} is not a number")
+    if isinstance(value, (int, float)):
+        v = value
+    else:
+        s = str(value).strip()
+        try:
+            v = float(s)
+        except ValueError:
+            raise PartError(f"{where}: parameter {name}={s!r} is not a number") from None
+    if not math.isfinite(v):
+        raise PartError(f"{where}: parameter {name}={value!r} is not a finite number")
+    if isinstance(default, int) and not isinstance(default, bool):
+        if float(v) != int(v):
+            raise PartError(f"{where}: parameter {name}={value!r} must be a whole number")
+        return int(v)
+    return float(v)
+
+
+def resolve_params(mod: ModuleType, params: dict[str, Any] | None, where: str) -> dict[str, Any]:
+    known = family_parameters(mod)
+    params = dict(params or {})
+    unknown = [k for k in params if k not in known]
+    if unknown:
+        raise PartError(f"{where}: unknown parameter{'s' if len(unknown) > 1 else ''} "
+                        f"{', '.join(unknown)}; known: {', '.join(known) or '(none)'}")
+    out = dict(known)
+    for k, v in params.items():
+        out[k] = _number(k, v, known[k], where)
+    return out
+
+
+def _stock(mod: ModuleType, params: dict[str, Any], where: str) -> str | None:
+    st = getattr(mod, "STOCK", None)
+    if st is None:
+        return None
+    if callable(st):
+        try:
+            st = st(**params)
+        except Exception as e:  # noqa: BLE001
+            raise PartError(f"{where}: STOCK({_fmt(params)}) raised {type(e).__name__}: {e}") from e
+    if not isinstance(st, str):
+        raise PartError(f"{where}: STOCK must be a string in the stock notation, got {st!r}")
+    from ..tooling import Stock
+    try:
+        Stock.parse(st)
+    except StockError as e:
+        raise PartError(f"{where}: STOCK: {e}") from None
+    return st
+
+
+def _threads(mod: ModuleType, params: dict[str, Any], where: str) -> list[Thread]:
+    th = getattr(mod, "THREADS", None)
+    if th is None:
+        return []
+    if callable(th):
+        try:
+            th = th(**params)
+        except Exception as e:  # noqa: BLE001
+            raise PartError(f"{where}: THREADS({_fmt(params)}) raised {type(e).__name__}: {e}") from e
+    th = list(th or [])
+    for t in th:
+        if not isinstance(t, Thread):
+            raise PartError(f"{where}: THREADS must hold hnc_cam.geometry.Thread, got {t!r}")
+        if not (t.pitch > 0 and t.diameter > 0 and t.starts >= 1 and t.z_start > t.z_end):
+            raise PartError(f"{where}: thread {t}: needs pitch > 0, diameter > 0, starts >= 1 "
+                            f"and z_start > z_end (z_start is the end nearer the right face)")
+    return th
+
+
+def _fmt(params: dict[str, Any]) -> str:
+    return ", ".join(f"{k}={v:g}" if isinstance(v, (int, float)) else f"{k}={v!r}"
+                     for k, v in params.items())
+
+
+def load_part(path: str | Path, params: dict[str, Any] | None = None,
+              **profile_kwargs: Any) -> LoadedPart:
+    """Load a part file (or a STEP/BREP file) and profile it.
+
+    ``params``: ``{"NAME": "VALUE"}`` (strings as from ``--set``, or numbers).
+    ``profile_kwargs`` go to :func:`hnc_cam.cad.profile` (``axis``, ``zero``, ``envelope``,
+    ``fit_tol``). Raises :class:`PartError` for the file and its parameters and
+    :class:`ProfileError` when the solid cannot be profiled.
+    """
+    from .extract import profile
+
+    p = Path(path)
+    if p.suffix.lower() in CAD_SUFFIXES:
+        if params:
+            raise PartError(f"{p}: a CAD file has no parameters (got {', '.join(params)})")
+        if not p.exists():
+            raise PartError(f"{p}: no such file")
+        prof = profile(p, name=p.stem, **profile_kwargs)
+        return LoadedPart(profile=prof, stock=None, threads=[], name=p.stem, params={},
+                          module=None, path=p)
+    mod = load_module(p)
+    where = str(p)
+    full = resolve_params(mod, params, where)
+    try:
+        solid = mod.part(**full)
+    except HncError:
+        raise
+    except Exception as e:  # noqa: BLE001 - the user's geometry failed: say which and with what
+        raise PartError(f"{where}: part({_fmt(full)}) raised {type(e).__name__}: {e}") from e
+    if solid is None:
+        raise PartError(f"{where}: part({_fmt(full)}) returned None instead of a solid")
+    stock = _stock(mod, full, where)
+    threads = _threads(mod, full, where)
+    try:
+        prof = profile(solid, name=p.stem, **profile_kwargs)
+    except ProfileError as e:
+        raise ProfileError(f"{where} ({_fmt(full)}): {e}") from None
+    prof.params = dict(full)
+    shift = prof.z_max  # THREADS are declared with the right face at Z0
+    if abs(shift) > 1e-9:
+        threads = [dataclasses.replace(t, z_start=t.z_start + shift, z_end=t.z_end + shift)
+                   for t in threads]
+    prof.threads = list(threads)
+    _check_threads(prof, threads, where)
+    return LoadedPart(profile=prof, stock=stock, threads=threads, name=p.stem, params=full,
+                      module=mod, path=p)
+
+
+def _check_threads(prof: TurnedProfile, threads: list[Thread], where: str) -> None:
+    """A declared thread must lie on the part (within its Z span)."""
+    for t in threads:
+        if t.z_start > prof.z_max + 1e-6 or t.z_end < prof.z_min - 1e-6:
+            raise PartError(f"{where}: thread Z{t.z_start:g}..Z{t.z_end:g} lies outside the part "
+                            f"(Z{prof.z_max:g}..Z{prof.z_min:g})")
+

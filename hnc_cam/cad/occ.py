@@ -1,0 +1,367 @@
+"""The thin layer over OCP (OpenCascade): shapes from every front end, file reading,
+axis placement, face classification and the meridian section.
+
+Everything that touches OCP lives here, so the rest of :mod:`hnc_cam.cad` reads like
+geometry. OCP is imported when this module is imported; :mod:`hnc_cam.cad` imports it lazily.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Iterator
+
+from OCP.BRep import BRep_Builder
+from OCP.BRepAdaptor import BRepAdaptor_Curve, BRepAdaptor_Surface
+from OCP.BRepAlgoAPI import BRepAlgoAPI_Section
+from OCP.BRepBndLib import BRepBndLib
+from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace, BRepBuilderAPI_Transform
+from OCP.BRepGProp import BRepGProp
+from OCP.BRepLProp import BRepLProp_SLProps
+from OCP.BRepTools import BRepTools
+from OCP.Bnd import Bnd_Box
+from OCP.GeomAbs import (GeomAbs_Circle, GeomAbs_Cone, GeomAbs_Cylinder, GeomAbs_Line,
+                         GeomAbs_Plane, GeomAbs_Sphere, GeomAbs_SurfaceOfRevolution,
+                         GeomAbs_Torus)
+from OCP.GProp import GProp_GProps
+from OCP.IFSelect import IFSelect_RetDone
+from OCP.STEPControl import STEPControl_Reader
+from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE, TopAbs_SHELL, TopAbs_SOLID
+from OCP.TopExp import TopExp_Explorer
+from OCP.TopoDS import TopoDS, TopoDS_Compound, TopoDS_Shape
+from OCP.gp import gp_Ax1, gp_Ax3, gp_Dir, gp_Pln, gp_Pnt, gp_Trsf
+
+from ..errors import ProfileError
+
+#: angular tolerance for "parallel to / perpendicular to the axis" (radians)
+ANG_TOL = 1e-6
+#: distance tolerance for "on the axis" (mm)
+POS_TOL = 1e-5
+
+_SURF_NAMES = {
+    GeomAbs_Plane: "planar", GeomAbs_Cylinder: "cylindrical", GeomAbs_Cone: "conical",
+    GeomAbs_Sphere: "spherical", GeomAbs_Torus: "toroidal",
+    GeomAbs_SurfaceOfRevolution: "revolved",
+}
+
+
+# ---------------------------------------------------------------------------- input
+def read_file(path: str | Path) -> TopoDS_Shape:
+    """Read a .step/.stp or .brep file into one shape (ProfileError on failure)."""
+    p = Path(path)
+    if not p.exists():
+        raise ProfileError(f"{p}: no such file")
+    ext = p.suffix.lower()
+    if ext in (".step", ".stp"):
+        r = STEPControl_Reader()
+        if r.ReadFile(str(p)) != IFSelect_RetDone:
+            raise ProfileError(f"{p}: not a readable STEP file")
+        r.TransferRoots()
+        shape = r.OneShape()
+        if shape is None or shape.IsNull():
+            raise ProfileError(f"{p}: the STEP file holds no shape")
+        return shape
+    if ext == ".brep":
+        shape = TopoDS_Shape()
+        ok = BRepTools.Read_s(shape, str(p), BRep_Builder())
+        if not ok or shape.IsNull():
+            raise ProfileError(f"{p}: not a readable BREP file")
+        return shape
+    raise ProfileError(f"{p}: unknown CAD file type {ext!r} (expected .step, .stp or .brep)")
+
+
+def to_shape(obj: Any) -> TopoDS_Shape:
+    """An OCP shape from a build123d/CadQuery object, an OCP shape or a file path."""
+    if isinstance(obj, (str, Path)):
+        return read_file(obj)
+    if isinstance(obj, TopoDS_Shape):
+        return obj
+    # build123d BuildPart (builder): its result is .part
+    if hasattr(obj, "part") and not hasattr(obj, "wrapped") and hasattr(obj, "builder_parent"):
+        obj = obj.part
+    # CadQuery Workplane: its objects (solids) on the stack
+    if hasattr(obj, "vals") and hasattr(obj, "objects") and not hasattr(obj, "wrapped"):
+        vals = [v for v in obj.vals() if hasattr(v, "wrapped")]
+        if not vals:
+            raise ProfileError("the CadQuery Workplane holds no shape")
+        if len(vals) == 1:
+            return vals[0].wrapped
+        return compound([v.wrapped for v in vals])
+    w = getattr(obj, "wrapped", None)
+    if isinstance(w, TopoDS_Shape):
+        return w
+    if isinstance(obj, (list, tuple)) and obj and all(hasattr(o, "wrapped") for o in obj):
+        return compound([o.wrapped for o in obj])
+    raise ProfileError(f"cannot profile a {type(obj).__name__}: expected a build123d or CadQuery "
+                       f"shape, an OCP TopoDS_Shape or a .step/.stp/.brep path")
+
+
+def compound(shapes: list[TopoDS_Shape]) -> TopoDS_Compound:
+    c = TopoDS_Compound()
+    b = BRep_Builder()
+    b.MakeCompound(c)
+    for s in shapes:
+        b.Add(c, s)
+    return c
+
+
+def axis_transform(shape: TopoDS_Shape, axis: Any) -> TopoDS_Shape:
+    """The shape in a frame whose Z axis is the turning axis.
+
+    ``axis``: "Z" (default), "X", "Y" (the model axes through the origin; a leading "-"
+    flips the direction) or ``((px, py, pz), (dx, dy, dz))``.
+    """
+    if isinstance(axis, str):
+        a = axis.strip().upper()
+        sign = -1.0 if a.startswith("-") else 1.0
+        a = a.lstrip("+-")
+        dirs = {"X": (1, 0, 0), "Y": (0, 1, 0), "Z": (0, 0, 1)}
+        if a not in dirs:
+            raise ProfileError(f"axis {axis!r}: expected X, Y, Z or ((px,py,pz),(dx,dy,dz))")
+        origin, d = (0.0, 0.0, 0.0), tuple(sign * v for v in dirs[a])
+    else:
+        try:
+            origin, d = tuple(map(float, axis[0])), tuple(map(float, axis[1]))
+            assert len(origin) == 3 and len(d) == 3 and math.hypot(*d) > 0
+        except Exception:
+            raise ProfileError(f"axis {axis!r}: expected X, Y, Z or ((px,py,pz),(dx,dy,dz))") from None
+    if origin == (0.0, 0.0, 0.0) and d == (0, 0, 1):
+        return shape
+    t = gp_Trsf()
+    t.SetTransformation(gp_Ax3(gp_Pnt(*origin), gp_Dir(*d)))
+    return BRepBuilderAPI_Transform(shape, t, True).Shape()
+
+
+# ---------------------------------------------------------------------------- topology
+def sub_shapes(shape: TopoDS_Shape, kind) -> Iterator[TopoDS_Shape]:
+    ex = TopExp_Explorer(shape, kind)
+    seen: list[TopoDS_Shape] = []
+    while ex.More():
+        s = ex.Current()
+        if not any(s.IsSame(o) for o in seen):
+            seen.append(s)
+            yield s
+        ex.Next()
+
+
+def solids(shape: TopoDS_Shape) -> list[TopoDS_Shape]:
+    return [TopoDS.Solid_s(s) for s in sub_shapes(shape, TopAbs_SOLID)]
+
+
+def faces(shape: TopoDS_Shape) -> list[TopoDS_Shape]:
+    return [TopoDS.Face_s(s) for s in sub_shapes(shape, TopAbs_FACE)]
+
+
+def shells(shape: TopoDS_Shape) -> list[TopoDS_Shape]:
+    return list(sub_shapes(shape, TopAbs_SHELL))
+
+
+def bbox(shape: TopoDS_Shape) -> tuple[float, float, float, float, float, float]:
+    b = Bnd_Box()
+    BRepBndLib.Add_s(shape, b, False)
+    if b.IsVoid():
+        raise ProfileError("empty geometry: the shape has no extent")
+    return b.Get()
+
+
+def volume(shape: TopoDS_Shape) -> float:
+    g = GProp_GProps()
+    BRepGProp.VolumeProperties_s(shape, g)
+    return g.Mass()
+
+
+# ---------------------------------------------------------------------------- validation
+@dataclass(frozen=True)
+class FaceProblem:
+    """A face that is not a surface of revolution about the turning axis."""
+    face: Any
+    kind: str      # e.g. "planar face parallel to the axis"
+    feature: str   # what it probably is: "flat/keyway/hex", "cross hole", ...
+    where: tuple[float, float, float]  # a point on the face (turning frame, mm)
+
+    def describe(self) -> str:
+        x, y, z = self.where
+        return (f"{self.kind} ({self.feature}) at x={x:.3f} y={y:.3f} z={z:.3f}, "
+                f"radius {math.hypot(x, y):.3f}")
+
+
+def _coaxial(ax: gp_Ax1) -> tuple[bool, bool]:
+    """(direction parallel to Z, line through the Z axis)."""
+    d = ax.Direction()
+    par = abs(abs(d.Z()) - 1.0) < ANG_TOL
+    p = ax.Location()
+    if par:
+        on = math.hypot(p.X(), p.Y()) < POS_TOL
+    else:
+        on = False
+    return par, on
+
+
+def _face_point(ad: BRepAdaptor_Surface) -> tuple[float, float, float]:
+    u = (ad.FirstUParameter() + ad.LastUParameter()) / 2
+    v = (ad.FirstVParameter() + ad.LastVParameter()) / 2
+    if not all(math.isfinite(t) and abs(t) < 1e7 for t in (u, v)):
+        u = v = 0.0
+    p = ad.Value(u, v)
+    return (p.X(), p.Y(), p.Z())
+
+
+def _face_centre(face) -> tuple[float, float, float]:
+    g = GProp_GProps()
+    BRepGProp.SurfaceProperties_s(face, g)
+    c = g.CentreOfMass()
+    return (c.X(), c.Y(), c.Z())
+
+
+def _sampled_revolution(ad: BRepAdaptor_Surface, n: int = 5) -> bool:
+    """True when the surface normal lies in the meridian plane at n x n sample points (a
+    surface of revolution about Z, e.g. a B-spline surface written by another CAD system)."""
+    u0, u1 = ad.FirstUParameter(), ad.LastUParameter()
+    v0, v1 = ad.FirstVParameter(), ad.LastVParameter()
+    for i in range(n):
+        for j in range(n):
+            u = u0 + (u1 - u0) * (i + 0.5) / n
+            v = v0 + (v1 - v0) * (j + 0.5) / n
+            props = BRepLProp_SLProps(ad, u, v, 1, 1e-9)
+            if not props.IsNormalDefined():
+                continue
+            p, nv = props.Value(), props.Normal()
+            r = math.hypot(p.X(), p.Y())
+            if r < 1e-6:
+                continue
+            et = (-p.Y() / r, p.X() / r)
+            if abs(nv.X() * et[0] + nv.Y() * et[1]) > 1e-5:
+                return False
+    return True
+
+
+def classify_faces(shape: TopoDS_Shape) -> tuple[list[FaceProblem], list[str]]:
+    """Check that every face is a surface of revolution about the Z axis.
+
+    Returns the problems (faces that are not) and notes (faces accepted only by sampling).
+    Accepted: planes perpendicular to the axis; cylinders, cones, tori and revolved surfaces
+    coaxial with it; spheres centred on it; any other surface whose normal lies in the
+    meridian plane everywhere (checked on a 5 x 5 grid).
+    """
+    problems: list[FaceProblem] = []
+    notes: list[str] = []
+    bb = bbox(shape)
+    rmax = max(math.hypot(bb[0], bb[1]), math.hypot(bb[3], bb[4]), abs(bb[0]), abs(bb[3]),
+               abs(bb[1]), abs(bb[4]))
+    for f in faces(shape):
+        ad = BRepAdaptor_Surface(f, True)
+        t = ad.GetType()
+        name = _SURF_NAMES.get(t, "free-form")
+        if t == GeomAbs_Plane:
+            n = ad.Plane().Axis().Direction()
+            if abs(abs(n.Z()) - 1.0) < ANG_TOL:
+                continue
+            if abs(n.Z()) < ANG_TOL:
+                problems.append(FaceProblem(f, "planar face parallel to the axis",
+                                            "a flat, keyway, slot or hex", _face_centre(f)))
+            else:
+                problems.append(FaceProblem(f, "planar face oblique to the axis",
+                                            "a bevel or cut not turned about the axis",
+                                            _face_centre(f)))
+            continue
+        if t in (GeomAbs_Cylinder, GeomAbs_Cone, GeomAbs_Torus, GeomAbs_SurfaceOfRevolution):
+            if t == GeomAbs_Cylinder:
+                ax = ad.Cylinder().Axis()
+            elif t == GeomAbs_Cone:
+                ax = ad.Cone().Axis()
+            elif t == GeomAbs_Torus:
+                ax = ad.Torus().Axis()
+            else:
+                ax = ad.AxeOfRevolution()
+            par, on = _coaxial(ax)
+            if par and on:
+                continue
+            if t == GeomAbs_Cylinder:
+                r = ad.Cylinder().Radius()
+                if not par and abs(ax.Direction().Z()) < ANG_TOL:
+                    feat = f"a cross hole or cross pin of diameter {2 * r:.3f}"
+                elif par:
+                    p = ax.Location()
+                    feat = (f"an off-axis (eccentric) cylinder or axial hole of diameter "
+                            f"{2 * r:.3f}, axis {math.hypot(p.X(), p.Y()):.3f} mm off centre")
+                else:
+                    feat = f"an inclined hole or boss of diameter {2 * r:.3f}"
+                problems.append(FaceProblem(f, f"cylindrical face not coaxial with the axis",
+                                            feat, _face_centre(f)))
+            else:
+                problems.append(FaceProblem(f, f"{name} face not coaxial with the axis",
+                                            "an off-axis feature", _face_centre(f)))
+            continue
+        if t == GeomAbs_Sphere:
+            c = ad.Sphere().Location()
+            if math.hypot(c.X(), c.Y()) < POS_TOL:
+                continue
+            problems.append(FaceProblem(f, "spherical face not centred on the axis",
+                                        "an off-axis feature", _face_centre(f)))
+            continue
+        if _sampled_revolution(ad):
+            notes.append(f"{name} face at z={_face_centre(f)[2]:.3f} accepted as a surface of "
+                         f"revolution by sampling its normals")
+            continue
+        problems.append(FaceProblem(f, f"{name} face that is not a surface of revolution",
+                                    "a milled or free-form feature", _face_centre(f)))
+    del rmax
+    return problems, notes
+
+
+# ---------------------------------------------------------------------------- section
+@dataclass
+class SectionEdge:
+    """One edge of the meridian section, as a curve in (radius, Z)."""
+    kind: str  # "line" | "circle" | "other"
+    curve_type: str
+    first: float
+    last: float
+    adaptor: Any
+    u: tuple[float, float]  # unit direction of the half-plane (x, y)
+
+    def rz(self, t: float) -> tuple[float, float]:
+        p = self.adaptor.Value(t)
+        return (p.X() * self.u[0] + p.Y() * self.u[1], p.Z())
+
+    def rz_d1(self, t: float):
+        p = gp_Pnt()
+        from OCP.gp import gp_Vec
+        v = gp_Vec()
+        self.adaptor.D1(t, p, v)
+        return ((p.X() * self.u[0] + p.Y() * self.u[1], p.Z()),
+                (v.X() * self.u[0] + v.Y() * self.u[1], v.Z()))
+
+    def circle(self) -> tuple[tuple[float, float], float]:
+        c = self.adaptor.Circle()
+        loc = c.Location()
+        return (loc.X() * self.u[0] + loc.Y() * self.u[1], loc.Z()), c.Radius()
+
+
+def meridian_section(shape: TopoDS_Shape, theta: float,
+                     bb: tuple[float, float, float, float, float, float]) -> list[SectionEdge]:
+    """Edges of the intersection of the shape's boundary with the half-plane through the Z
+    axis at polar angle ``theta`` (radians from +X toward +Y)."""
+    rmax = max(abs(v) for v in (bb[0], bb[1], bb[3], bb[4])) * 1.5 + 10.0
+    zlo, zhi = bb[2] - 10.0, bb[5] + 10.0
+    ux, uy = math.cos(theta), math.sin(theta)
+    ax3 = gp_Ax3(gp_Pnt(0, 0, 0), gp_Dir(uy, -ux, 0), gp_Dir(ux, uy, 0))  # v along +Z
+    face = BRepBuilderAPI_MakeFace(gp_Pln(ax3), 0.0, rmax, zlo, zhi).Face()
+    sec = BRepAlgoAPI_Section(shape, face, False)
+    sec.Approximation(True)
+    sec.ComputePCurveOn1(False)
+    sec.Build()
+    if not sec.IsDone():
+        raise ProfileError("the meridian section of the solid failed (invalid geometry?)")
+    out: list[SectionEdge] = []
+    for e in sub_shapes(sec.Shape(), TopAbs_EDGE):
+        ad = BRepAdaptor_Curve(TopoDS.Edge_s(e))
+        t = ad.GetType()
+        kind = "line" if t == GeomAbs_Line else "circle" if t == GeomAbs_Circle else "other"
+        out.append(SectionEdge(kind, str(t).split(".")[-1].replace("GeomAbs_", ""),
+                               ad.FirstParameter(), ad.LastParameter(), ad, (ux, uy)))
+    return out
+
+
+def face_compound(fs: list) -> TopoDS_Compound:
+    return compound(list(fs))

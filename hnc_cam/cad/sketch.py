@@ -1,0 +1,186 @@
+"""Helpers for part authors: write the half-section of a turned part as exact lines and arcs
+in (radius, Z), with chamfers and fillets at line-line corners, and revolve it.
+
+    s = Outline((0, 0))                       # start on the axis at the right face
+    s.line_to(9, 0, chamfer=1)                # corner at (9, 0) gets a 1 mm chamfer
+    s.line_to(9, -20, fillet=0.5)             # corner at (9, -20) gets an R0.5 fillet
+    s.line_to(15, -20)
+    s.arc_to(15, -30, radius=5, cw=True)      # G02-sense arc (view Z right, X up)
+    s.line_to(15, -40)
+    s.line_to(0, -40)                         # back to the axis: the left face
+    segs = s.segments()                       # list[Line | Arc]
+    solid = revolve(segs)                     # build123d Solid about the Z axis
+
+The same segment list is what :func:`hnc_cam.cad.profile` returns for the revolved solid
+(after merging), which is how ``tests/test_parts.py`` checks each family.
+
+Conventions: points are (radius, Z); the outline either starts and ends on the axis (a solid
+part, closed along the axis) or is a closed loop (a part with a through bore). Chamfers are
+equal-leg (``c`` along each of the two lines), fillets are tangent arcs; both only at corners
+between two lines.
+"""
+from __future__ import annotations
+
+import math
+from typing import Any, Sequence
+
+from ..geometry.primitives import Arc, Line, Point, Segment, cross, dist, left_normal
+
+
+class Outline:
+    """Builds a chain of exact Line/Arc segments with optional corner chamfers/fillets."""
+
+    def __init__(self, start: Point):
+        self._segs: list[Segment] = []
+        self._pos: Point = (float(start[0]), float(start[1]))
+        self._corner: tuple[str, float] | None = None
+
+    @property
+    def pos(self) -> Point:
+        return self._pos
+
+    def line_to(self, x: float, z: float, chamfer: float = 0.0, fillet: float = 0.0) -> "Outline":
+        """Line to (x, z); ``chamfer``/``fillet`` apply at (x, z) with the next segment."""
+        end = (float(x), float(z))
+        if dist(self._pos, end) < 1e-12:
+            raise ValueError(f"zero-length line at {end}")
+        self._add(Line(self._pos, end))
+        self._corner = ("C", chamfer) if chamfer > 0 else ("R", fillet) if fillet > 0 else None
+        return self
+
+    def arc_to(self, x: float, z: float, radius: float | None = None, cw: bool = True,
+               center: Point | None = None) -> "Outline":
+        """Arc to (x, z): either about ``center`` or with ``radius`` (> 0 the short arc,
+        < 0 the long one), clockwise (G02 sense) when ``cw``."""
+        end = (float(x), float(z))
+        if center is not None:
+            arc = Arc(self._pos, end, (float(center[0]), float(center[1])), cw)
+            if abs(dist(arc.center, end) - arc.radius) > 1e-9:
+                raise ValueError(f"arc end {end} is not on the circle about {center}")
+        elif radius is not None:
+            arc = Arc.from_radius(self._pos, end, radius, cw)
+        else:
+            raise ValueError("arc_to needs radius or center")
+        self._add(arc)
+        self._corner = None
+        return self
+
+    def _add(self, seg: Segment) -> None:
+        if self._corner and self._segs and isinstance(self._segs[-1], Line) and isinstance(seg, Line):
+            kind, size = self._corner
+            prev = self._segs.pop()
+            a, b, mid = corner(prev, seg, kind, size)
+            self._segs += [a, mid]
+            seg = b
+        elif self._corner:
+            raise ValueError("chamfers and fillets are supported only between two lines")
+        self._segs.append(seg)
+        self._pos = seg.end
+
+    def close(self) -> "Outline":
+        """Close a loop back to the start point with a line (a part with a bore)."""
+        start = self._segs[0].start
+        if dist(self._pos, start) > 1e-12:
+            self.line_to(*start)
+        return self
+
+    def segments(self) -> list[Segment]:
+        if self._corner:
+            raise ValueError("a chamfer/fillet at the last point has no next segment")
+        return list(self._segs)
+
+
+def corner(l1: Line, l2: Line, kind: str, size: float) -> tuple[Line, Line, Segment]:
+    """Trim the corner l1.end == l2.start with a chamfer ("C", equal legs) or a fillet ("R").
+    Returns (l1 trimmed, l2 trimmed, the corner segment)."""
+    d1, d2 = l1.direction, l2.direction
+    c = l1.end
+    turn = cross(d1, d2)
+    if abs(turn) < 1e-12:
+        raise ValueError(f"no corner at {c}: the lines are collinear")
+    if kind == "C":
+        t = size
+    else:
+        phi = math.acos(max(-1.0, min(1.0, d1[0] * d2[0] + d1[1] * d2[1])))
+        t = size * math.tan(phi / 2)
+    if t >= l1.length - 1e-12 or t >= l2.length - 1e-12:
+        raise ValueError(f"{'chamfer' if kind == 'C' else 'fillet'} {size:g} at {c} is too large "
+                         f"for the adjacent lines")
+    p1 = (c[0] - d1[0] * t, c[1] - d1[1] * t)
+    p2 = (c[0] + d2[0] * t, c[1] + d2[1] * t)
+    if kind == "C":
+        mid: Segment = Line(p1, p2)
+    else:
+        n = left_normal(d1)
+        s = 1.0 if turn > 0 else -1.0  # turning left: the centre is on the left
+        centre = (p1[0] + s * n[0] * size, p1[1] + s * n[1] * size)
+        mid = Arc(p1, p2, centre, cw=turn < 0)
+    return Line(l1.start, p1), Line(p2, l2.end), mid
+
+
+def _arc_mid(a: Arc) -> Point:
+    return a.point_at(0.5)
+
+
+def closed_outline(segs: Sequence[Segment]) -> list[Segment]:
+    """The segments plus the closing line along the axis when the outline is open."""
+    segs = list(segs)
+    if dist(segs[-1].end, segs[0].start) > 1e-9:
+        if abs(segs[0].start[0]) > 1e-9 or abs(segs[-1].end[0]) > 1e-9:
+            raise ValueError("an open outline must start and end on the axis (x = 0)")
+        segs.append(Line(segs[-1].end, segs[0].start))
+    return segs
+
+
+def revolve(segs: Sequence[Segment]) -> Any:
+    """build123d Solid: the outline (radius, Z) placed in the XZ plane (X = radius) and
+    revolved a full turn about the Z axis."""
+    from build123d import Axis, Edge, Face, Wire
+    from build123d import revolve as b3d_revolve
+
+    def p3(p: Point) -> tuple[float, float, float]:
+        return (p[0], 0.0, p[1])
+
+    edges = []
+    for s in closed_outline(segs):
+        if isinstance(s, Line):
+            edges.append(Edge.make_line(p3(s.start), p3(s.end)))
+        else:
+            edges.append(Edge.make_three_point_arc(p3(s.start), p3(_arc_mid(s)), p3(s.end)))
+    face = Face(Wire(edges))
+    part = b3d_revolve(face, Axis.Z)
+    solids = part.solids()
+    return solids[0] if len(solids) == 1 else part
+
+
+#: standard bright/hot-rolled round bar diameters (mm) used for default stock
+BAR_SIZES = (6, 8, 10, 12, 14, 16, 18, 20, 22, 25, 28, 30, 32, 35, 36, 40, 45, 50, 55, 60, 65,
+             70, 75, 80, 85, 90, 95, 100, 110, 120, 125, 130, 140, 150, 160, 170, 180, 190, 200,
+             220, 250, 280, 300)
+
+
+def bar_size(diameter: float, allowance: float = 2.0) -> float:
+    """The smallest standard bar at least ``allowance`` mm (on the diameter) above ``diameter``."""
+    need = diameter + allowance
+    for d in BAR_SIZES:
+        if d >= need - 1e-9:
+            return float(d)
+    return float(math.ceil(need / 10.0) * 10)
+
+
+def _g(v: float) -> str:
+    return f"{v:.3f}".rstrip("0").rstrip(".")
+
+
+def bar_stock(max_diameter: float, length: float, face: float = 2.0, grip: float = 15.0) -> str:
+    """Stock string ``DxL+F`` for a part of ``length`` and ``max_diameter``: a standard bar,
+    ``face`` mm of face stock on the right, ``grip`` mm beyond the left end for the chuck."""
+    return f"{_g(bar_size(max_diameter))}x{_g(length + face + grip)}+{_g(face)}"
+
+
+def tube_stock(max_diameter: float, bore_diameter: float, length: float, face: float = 2.0,
+               grip: float = 15.0, bore_allowance: float = 3.0) -> str:
+    """Stock string ``D/dxL+F``: a tube whose bore is ``bore_allowance`` mm (diameter) under
+    the part's smallest bore."""
+    d = max(bore_diameter - bore_allowance, 1.0)
+    return f"{_g(bar_size(max_diameter))}/{_g(d)}x{_g(length + face + grip)}+{_g(face)}"
