@@ -1,0 +1,559 @@
+"""Exact offset of an open chain of lines and arcs: the path of a round nose of radius ``r``
+that rolls along one side of a contour. The one offset routine of the package: the CAM side
+(:func:`hnc_cam.compensate.compensate`) and the interpreter's G41/G42
+(:func:`hnc_cam.nc.compensation.compensate_moves`) both call :func:`offset_chain`.
+
+Method (exact, no sampling of the path):
+
+1. *Raw offset.* Every segment is offset to the tool side at distance ``r``: a line is
+   translated along its normal, an arc keeps its centre and gets radius ``R + r`` (tool on its
+   convex side) or ``R - r`` (concave side; when ``R - r <= 0`` the arc **vanishes**: the nose
+   cannot follow it). At each joint the turn of the contour decides: a **convex** corner
+   (the contour turns away from the tool, or reverses) gets an arc of radius ``r`` centred on
+   the corner, from the offset end of one segment to the offset start of the next; a
+   **concave** corner gets nothing, its two offsets cross and are trimmed below; a tangent
+   joint needs nothing.
+2. *Split.* Every raw element is cut where it crosses the boundary of the ``r``-neighbourhood
+   of any contour segment within the lookahead window (the carriers of both offset lines or
+   circles ``R + r`` and ``|R - r|``, and the circles of radius ``r`` about its end points).
+   Between two cuts a piece is either wholly at distance ``>= r`` from the contour or wholly
+   closer.
+3. *Validate.* A piece is kept when its midpoint is at least ``r`` from every segment of the
+   window (exact ``distance_to``). Concave corners are thereby trimmed exactly at the
+   intersection of the two offsets; short segments between corners, arcs that vanish and
+   grooves narrower than ``2r`` lose all pieces that would gouge.
+4. *Walk.* From the first valid piece the path follows, at each end point, the valid piece
+   starting there that lies furthest along the raw offset (this skips any loop); contiguous
+   pieces of one element are merged back into one line or arc.
+5. *Report.* Each output segment carries its :class:`Origin` (offset of input segment ``i``
+   or corner arc at the joint ``i``/``k``). From these, the stretches of the contour the nose
+   never touches are collected into :class:`Departure` records: kind ``corner`` (the nose
+   radius left in a sharp concave corner, inherent to a round nose), ``radius`` (an inside
+   arc smaller than ``r``), ``groove`` (a concave step or groove the nose cannot enter: a
+   whole segment or several concave corners not touched), ``end`` (a stretch at an open end
+   of the chain the nose cannot touch, e.g. a final face shorter than ``r`` after a concave
+   corner). ``departure`` is the largest distance from that stretch of the part to the
+   reachable contour (the envelope of the nose along the path), measured by evaluating the
+   exact distance densely along the stretch (step <= 0.02 mm, at most 400 points per
+   segment piece) and refining the maximum by golden-section search to 1e-7 mm.
+
+``lookahead`` limits steps 2-4 to segments at most that many positions away in the chain
+(``None``: the whole chain). The CAM side offsets whole part contours and uses ``None``; the
+interpreter uses a small window like a controller's block buffer, so that a program that
+comes back with compensation active over regions cut earlier is not trimmed against them.
+
+Conventions: points are ``(x radius, z)``; sides are judged looking along the motion in the
+view Z right / X up (``side=+1`` left = G41, ``-1`` right = G42).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Iterable, Sequence
+
+from .intersect import circle_circle_carriers, line_circle_carriers, line_line_carriers
+from .primitives import EPS, TOL, Arc, Line, Point, Segment, cross, dist, left_normal, polar_angle
+
+LEFT = 1
+RIGHT = -1
+
+#: a piece is valid when its distance to the contour is at least r - VALID_TOL
+VALID_TOL = 1e-7
+#: end points closer than this are joined when walking the pieces
+MATCH_TOL = 1e-6
+#: untouched stretches shorter than this (mm) are ignored
+GAP_TOL = 1e-6
+#: departures below this (mm) are not reported
+DEPARTURE_TOL = 1e-6
+
+
+def side_sign(side) -> int:
+    """+1 for the left side (``"left"``, ``41``, ``+1``), -1 for the right (``"right"``, 42, -1)."""
+    if isinstance(side, str):
+        s = side.strip().lower()
+        if s in ("left", "l", "g41", "41"):
+            return LEFT
+        if s in ("right", "r", "g42", "42"):
+            return RIGHT
+    elif side in (41, 1):
+        return LEFT
+    elif side in (42, -1):
+        return RIGHT
+    raise ValueError(f"side must be 'left'/'right' or 41/42, got {side!r}")
+
+
+@dataclass(frozen=True, slots=True)
+class Origin:
+    """Where an output segment comes from: ``kind == "seg"``: the offset of input segment
+    ``before`` (== ``after``); ``kind == "corner"``: the arc about the corner between input
+    segments ``before`` and ``after`` (indices into the chain given to :func:`offset_chain`)."""
+    kind: str
+    before: int
+    after: int
+
+
+@dataclass(frozen=True)
+class Departure:
+    """A stretch of the contour the nose does not touch.
+
+    ``kind``: ``corner`` | ``radius`` | ``groove`` | ``end`` (see the module doc);
+    ``segments``: input indices of the segments the stretch covers (in order);
+    ``start``/``end``: its end points on the contour; ``departure``: largest distance (mm,
+    normal to the part) from the stretch to the reachable contour, at the contour point
+    ``at``; ``message``: one line for a human (X as diameter there).
+    """
+    kind: str
+    segments: tuple[int, ...]
+    start: Point
+    end: Point
+    departure: float
+    at: Point
+    message: str
+
+    @property
+    def unreachable(self) -> bool:
+        """True for a feature the nose cannot make (everything but the inherent corner fillet)."""
+        return self.kind != "corner"
+
+
+@dataclass
+class OffsetResult:
+    """The nose-centre path of :func:`offset_chain` with its provenance and the departures."""
+    segments: list[Segment]
+    origins: list[Origin]
+    departures: list[Departure]
+    radius: float
+    side: int
+    source: list[Segment] = field(default_factory=list)
+
+    @property
+    def unreachable(self) -> list[Departure]:
+        return [d for d in self.departures if d.unreachable]
+
+    def distance_to(self, p: Point) -> float:
+        """Exact distance from ``p`` to the offset path."""
+        return min((s.distance_to(p) for s in self.segments), default=math.inf)
+
+
+# ---------------------------------------------------------------------------------------------
+# small exact helpers
+
+def _normal(seg: Segment, at_end: bool, s: int) -> Point:
+    t = seg.tangent_at_end() if at_end else seg.tangent_at_start()
+    n = left_normal(t)
+    return (s * n[0], s * n[1])
+
+
+def _offset_radius(arc: Arc, r: float, s: int) -> float:
+    # the left normal of a ccw arc points to its centre
+    k = -1.0 if arc.cw else 1.0
+    return arc.radius - s * k * r
+
+
+def offset_segment(seg: Segment, r: float, side) -> Segment | None:
+    """The exact offset of one segment to ``side`` at distance ``r``; ``None`` when an arc
+    vanishes (radius ``<= r`` on its concave side)."""
+    s = side_sign(side)
+    if isinstance(seg, Line):
+        n = _normal(seg, False, s)
+        return seg.translated(r * n[0], r * n[1])
+    R = seg.radius
+    R2 = _offset_radius(seg, r, s)
+    if R2 <= TOL:
+        return None
+    c = seg.center
+    k = R2 / R
+    a = (c[0] + (seg.start[0] - c[0]) * k, c[1] + (seg.start[1] - c[1]) * k)
+    b = (c[0] + (seg.end[0] - c[0]) * k, c[1] + (seg.end[1] - c[1]) * k)
+    return Arc(a, b, c, seg.cw)
+
+
+def _param(e: Segment, p: Point) -> float:
+    """Parameter of a point (on the carrier of ``e``) along ``e``: 0 at start, 1 at end."""
+    if isinstance(e, Line):
+        dx, dz = e.end[0] - e.start[0], e.end[1] - e.start[1]
+        L2 = dx * dx + dz * dz
+        return ((p[0] - e.start[0]) * dx + (p[1] - e.start[1]) * dz) / L2
+    sw = e.sweep
+    d = polar_angle(e.center, p) - e.start_angle
+    if sw > 0:
+        return (d % (2 * math.pi)) / sw
+    return ((-d) % (2 * math.pi)) / (-sw)
+
+
+def _point(e: Segment, t: float) -> Point:
+    if t <= 0.0:
+        return e.start
+    if t >= 1.0:
+        return e.end
+    return e.point_at(t)
+
+
+def _sub(e: Segment, a: Point, b: Point) -> Segment:
+    if isinstance(e, Line):
+        return Line(a, b)
+    return Arc(a, b, e.center, e.cw)
+
+
+def _bbox_gap(b1, b2) -> float:
+    """Lower bound of the distance between two boxes (xmin, zmin, xmax, zmax)."""
+    dx = max(0.0, b1[0] - b2[2], b2[0] - b1[2])
+    dz = max(0.0, b1[1] - b2[3], b2[1] - b1[3])
+    return math.hypot(dx, dz)
+
+
+def _point_box_gap(p: Point, b) -> float:
+    dx = max(0.0, b[0] - p[0], p[0] - b[2])
+    dz = max(0.0, b[1] - p[1], p[1] - b[3])
+    return math.hypot(dx, dz)
+
+
+def _carriers(seg: Segment, r: float) -> list[tuple]:
+    """Carriers of the boundary of the r-neighbourhood of ``seg``: ('l', p0, p1) lines and
+    ('c', centre, radius) circles."""
+    out: list[tuple] = [("c", seg.start, r), ("c", seg.end, r)]
+    if isinstance(seg, Line):
+        n = left_normal(seg.direction)
+        for k in (r, -r):
+            out.append(("l", (seg.start[0] + k * n[0], seg.start[1] + k * n[1]),
+                        (seg.end[0] + k * n[0], seg.end[1] + k * n[1])))
+    else:
+        out.append(("c", seg.center, seg.radius + r))
+        if abs(seg.radius - r) > TOL:
+            out.append(("c", seg.center, abs(seg.radius - r)))
+    return out
+
+
+def _cuts(e: Segment, carrier: tuple) -> list[Point]:
+    if isinstance(e, Line):
+        if carrier[0] == "l":
+            p = line_line_carriers(e.start, e.end, carrier[1], carrier[2])
+            return [] if p is None else [p]
+        return line_circle_carriers(e.start, e.end, carrier[1], carrier[2])
+    if carrier[0] == "l":
+        return line_circle_carriers(carrier[1], carrier[2], e.center, e.radius)
+    return circle_circle_carriers(e.center, e.radius, carrier[1], carrier[2])
+
+
+# ---------------------------------------------------------------------------------------------
+# the offset
+
+@dataclass
+class _Elem:
+    seg: Segment
+    origin: Origin          # in input indices
+    owners: tuple[int, int]  # kept indices (lo, hi)
+
+
+@dataclass
+class _Piece:
+    elem: int
+    t0: float
+    t1: float
+    seg: Segment
+    valid: bool = False
+
+
+def offset_chain(chain: Sequence[Segment], r: float, side, lookahead: int | None = None
+                 ) -> OffsetResult:
+    """Exact offset (nose-centre path) of the open, connected chain ``chain`` at distance
+    ``r`` on ``side`` ('left'/'right', 41/42, +1/-1). See the module docstring for the method,
+    the departures and ``lookahead``.
+
+    Zero-length segments are skipped (their index never appears in the result). Raises
+    ``ValueError`` for a negative radius or a chain that is not connected.
+    """
+    s = side_sign(side)
+    if r < 0:
+        raise ValueError(f"nose radius must not be negative, got {r:g}")
+    chain = list(chain)
+    for i in range(len(chain) - 1):
+        if dist(chain[i].end, chain[i + 1].start) > 1e-5:
+            raise ValueError(f"chain is not connected between segment {i} and {i + 1}: "
+                             f"{chain[i].end} -> {chain[i + 1].start}")
+    kept = [i for i, g in enumerate(chain) if g.length > TOL]
+    part = [chain[i] for i in kept]
+    if not part:
+        return OffsetResult([], [], [], r, s, chain)
+    if r <= TOL:
+        return OffsetResult(list(part), [Origin("seg", i, i) for i in kept], [], r, s, chain)
+    K = len(part) if lookahead is None else max(1, int(lookahead))
+
+    # 1. raw offset ------------------------------------------------------------------------
+    offs = [offset_segment(g, r, s) for g in part]
+    elems: list[_Elem] = []
+    for q, g in enumerate(part):
+        if q > 0:
+            a = part[q - 1]
+            v = g.start
+            t0, t1 = a.tangent_at_end(), g.tangent_at_start()
+            n0, n1 = _normal(a, True, s), _normal(g, False, s)
+            p0 = (v[0] + r * n0[0], v[1] + r * n0[1])
+            p1 = (v[0] + r * n1[0], v[1] + r * n1[1])
+            turn = cross(t0, t1)
+            dot = t0[0] * t1[0] + t0[1] * t1[1]
+            reverse = abs(turn) < 1e-12 and dot < 0
+            if dist(p0, p1) > TOL and (s * turn < 0 or reverse):
+                elems.append(_Elem(Arc(p0, p1, v, s > 0), Origin("corner", kept[q - 1], kept[q]),
+                                   (q - 1, q)))
+        if offs[q] is not None and offs[q].length > EPS:
+            elems.append(_Elem(offs[q], Origin("seg", kept[q], kept[q]), (q, q)))
+
+    # 2. split --------------------------------------------------------------------------------
+    pboxes = [g.bbox() for g in part]
+    carriers = [None] * len(part)
+    pieces: list[_Piece] = []
+    for ei, el in enumerate(elems):
+        e = el.seg
+        eb = e.bbox()
+        lo, hi = max(0, el.owners[0] - K), min(len(part) - 1, el.owners[1] + K)
+        ts: list[float] = []
+        L = e.length
+        for j in range(lo, hi + 1):
+            if _bbox_gap(eb, pboxes[j]) > r + TOL:
+                continue
+            if carriers[j] is None:
+                carriers[j] = _carriers(part[j], r)
+            for c in carriers[j]:
+                for p in _cuts(e, c):
+                    # cuts at the element's own ends are ill-conditioned at tangent
+                    # joints and never needed: drop those within TOL of an end
+                    if dist(p, e.start) <= TOL or dist(p, e.end) <= TOL:
+                        continue
+                    t = _param(e, p)
+                    if 0.0 < t < 1.0:
+                        ts.append(t)
+        ts.sort()
+        cuts = [0.0]
+        for t in ts:
+            if (t - cuts[-1]) * L > 1e-9:
+                cuts.append(t)
+        if (1.0 - cuts[-1]) * L <= 1e-9:
+            cuts.pop()
+        cuts.append(1.0)
+        pts = [_point(e, t) for t in cuts]
+        for k in range(len(cuts) - 1):
+            pieces.append(_Piece(ei, cuts[k], cuts[k + 1], _sub(e, pts[k], pts[k + 1])))
+
+    # 3. validate -----------------------------------------------------------------------------
+    lim = r - VALID_TOL
+    for pc in pieces:
+        el = elems[pc.elem]
+        m = pc.seg.point_at(0.5)
+        lo, hi = max(0, el.owners[0] - K), min(len(part) - 1, el.owners[1] + K)
+        ok = True
+        for j in range(lo, hi + 1):
+            if _point_box_gap(m, pboxes[j]) >= lim:
+                continue
+            if part[j].distance_to(m) < lim:
+                ok = False
+                break
+        pc.valid = ok
+
+    # 4. walk ---------------------------------------------------------------------------------
+    grid: dict[tuple[int, int], list[int]] = {}
+    cell = 1e-4
+
+    def key(p: Point) -> tuple[int, int]:
+        return (int(math.floor(p[0] / cell)), int(math.floor(p[1] / cell)))
+
+    for pi, pc in enumerate(pieces):
+        if pc.valid:
+            grid.setdefault(key(pc.seg.start), []).append(pi)
+
+    def near(p: Point, after: int, owner_hi: int) -> int | None:
+        kx, kz = key(p)
+        best = None
+        for dx in (-1, 0, 1):
+            for dz in (-1, 0, 1):
+                for qi in grid.get((kx + dx, kz + dz), ()):
+                    if qi <= after or (best is not None and qi <= best):
+                        continue
+                    if elems[pieces[qi].elem].owners[0] > owner_hi + K:
+                        continue
+                    if dist(pieces[qi].seg.start, p) <= MATCH_TOL:
+                        best = qi
+        return best
+
+    route: list[int] = []
+    first = next((pi for pi, pc in enumerate(pieces) if pc.valid), None)
+    cur = first
+    while cur is not None:
+        route.append(cur)
+        pc = pieces[cur]
+        cur = near(pc.seg.end, cur, elems[pc.elem].owners[1])
+
+    # merge contiguous pieces of one element; snap ends together
+    out_segs: list[Segment] = []
+    out_orig: list[Origin] = []
+    spans: list[tuple[int, float, float]] = []  # elem, t0, t1 of each output segment
+    for pi in route:
+        pc = pieces[pi]
+        if spans and spans[-1][0] == pc.elem and abs(spans[-1][2] - pc.t0) < 1e-12:
+            e0, t0, _ = spans[-1]
+            spans[-1] = (e0, t0, pc.t1)
+            prev = out_segs[-1]
+            out_segs[-1] = _sub(elems[pc.elem].seg, prev.start, pc.seg.end)
+            continue
+        seg = pc.seg
+        if out_segs:
+            seg = _sub(seg, out_segs[-1].end, seg.end)
+        out_segs.append(seg)
+        out_orig.append(elems[pc.elem].origin)
+        spans.append((pc.elem, pc.t0, pc.t1))
+
+    res = OffsetResult(out_segs, out_orig, [], r, s, chain)
+    res.departures = _departures(res, part, kept, offs, elems, spans, s, K)
+    return res
+
+
+# ---------------------------------------------------------------------------------------------
+# departures
+
+def _touched(part, elems, spans) -> tuple[list[list[tuple[float, float]]], set[int]]:
+    """Touched parameter intervals per kept segment and the kept joints q (between q-1 and q)
+    a corner arc touches."""
+    touched: list[list[tuple[float, float]]] = [[] for _ in part]
+    corners: set[int] = set()
+    for ei, t0, t1 in spans:
+        el = elems[ei]
+        if el.origin.kind == "seg":
+            touched[el.owners[0]].append((t0, t1))
+        else:
+            corners.add(el.owners[1])
+    return touched, corners
+
+
+def _untouched(iv: list[tuple[float, float]], L: float) -> list[tuple[float, float]]:
+    gap = GAP_TOL / L if L > 0 else 0.0
+    out = []
+    t = 0.0
+    for a, b in sorted(iv):
+        if a - t > gap:
+            out.append((t, a))
+        t = max(t, b)
+    if 1.0 - t > gap:
+        out.append((t, 1.0))
+    return out
+
+
+def _fmt(p: Point) -> str:
+    return f"X{2 * p[0]:.3f} Z{p[1]:.3f}"
+
+
+def _departures(res: OffsetResult, part, kept, offs, elems, spans, s: int, K: int
+                ) -> list[Departure]:
+    touched, corners = _touched(part, elems, spans)
+    n = len(part)
+    # regions: lists of (q, a, b)
+    regions: list[list[tuple[int, float, float]]] = []
+    for q in range(n):
+        L = part[q].length
+        for a, b in _untouched(touched[q], L):
+            joins = (a * L <= GAP_TOL and regions and regions[-1][-1][0] == q - 1
+                     and (1.0 - regions[-1][-1][2]) * part[q - 1].length <= GAP_TOL
+                     and q not in corners)
+            if joins:
+                regions[-1].append((q, a, b))
+            else:
+                regions.append([(q, a, b)])
+    out: list[Departure] = []
+    r = res.radius
+    for reg in regions:
+        qs = [q for q, _, _ in reg]
+        vanished = [q for q in qs if offs[q] is None]
+        whole = [q for q, a, b in reg if a * part[q].length <= GAP_TOL
+                 and (1 - b) * part[q].length <= GAP_TOL]
+        inner_vertices = len(reg) - 1
+        at_start = reg[0][0] == 0 and reg[0][1] * part[0].length <= GAP_TOL
+        at_end = reg[-1][0] == n - 1 and (1 - reg[-1][2]) * part[-1].length <= GAP_TOL
+        if vanished:
+            kind = "radius"
+        elif at_start or at_end:
+            kind = "end"
+        elif whole or inner_vertices >= 2:
+            kind = "groove"
+        else:
+            kind = "corner"
+        dep, at = _measure(res, part, reg)
+        if dep <= DEPARTURE_TOL:
+            continue
+        p0 = _point(part[reg[0][0]], reg[0][1])
+        p1 = _point(part[reg[-1][0]], reg[-1][2])
+        segs = tuple(kept[q] for q in qs)
+        if kind == "radius":
+            R = min(part[q].radius for q in vanished)
+            msg = (f"inside arc R{R:g} is smaller than the nose radius {r:g}: the contour from "
+                   f"{_fmt(p0)} to {_fmt(p1)} is left up to {dep:.3f} mm oversize (at {_fmt(at)})")
+        elif kind == "groove":
+            msg = (f"concave step/groove from {_fmt(p0)} to {_fmt(p1)} is too narrow for the "
+                   f"nose radius {r:g} (needs width >= {2 * r:g}): left up to {dep:.3f} mm "
+                   f"oversize (at {_fmt(at)})")
+        elif kind == "end":
+            msg = (f"the nose cannot reach the contour from {_fmt(p0)} to {_fmt(p1)} at the "
+                   f"end of the chain: up to {dep:.3f} mm (at {_fmt(at)})")
+        else:
+            msg = (f"concave corner at {_fmt(at)} keeps the nose radius {r:g}: "
+                   f"{dep:.3f} mm from the sharp corner")
+        out.append(Departure(kind, segs, p0, p1, dep, at, msg))
+    return out
+
+
+def _measure(res: OffsetResult, part, reg) -> tuple[float, Point]:
+    """Largest (distance to the path - r) over the stretch, with the contour point."""
+    path = res.segments
+    r = res.radius
+    if not path:
+        p = _point(part[reg[0][0]], reg[0][1])
+        return math.inf, p
+    boxes = [g.bbox() for g in path]
+
+    def f(p: Point) -> float:
+        best = math.inf
+        for g, b in zip(path, boxes):
+            if _point_box_gap(p, b) >= best:
+                continue
+            d = g.distance_to(p)
+            if d < best:
+                best = d
+        return best - r
+
+    best_v, best_p = -math.inf, reg[0]
+    best_loc = None
+    for q, a, b in reg:
+        g = part[q]
+        L = g.length * (b - a)
+        m = max(8, min(400, int(math.ceil(L / 0.02))))
+        h = (b - a) / m
+        for k in range(m + 1):
+            t = a + h * k
+            p = _point(g, t)
+            v = f(p)
+            if v > best_v:
+                best_v, best_p, best_loc = v, p, (q, max(a, t - h), min(b, t + h))
+    if best_loc is not None:
+        q, lo, hi = best_loc
+        g = part[q]
+        gr = (math.sqrt(5) - 1) / 2
+        x1, x2 = hi - gr * (hi - lo), lo + gr * (hi - lo)
+        f1, f2 = f(_point(g, x1)), f(_point(g, x2))
+        while (hi - lo) * g.length > 1e-7:
+            if f1 > f2:
+                hi, x2, f2 = x2, x1, f1
+                x1 = hi - gr * (hi - lo)
+                f1 = f(_point(g, x1))
+            else:
+                lo, x1, f1 = x1, x2, f2
+                x2 = lo + gr * (hi - lo)
+                f2 = f(_point(g, x2))
+        t = (lo + hi) / 2
+        p = _point(g, t)
+        v = f(p)
+        if v > best_v:
+            best_v, best_p = v, p
+    return best_v, best_p
+
+
+def translate_chain(chain: Iterable[Segment], v: Point) -> list[Segment]:
+    """Every segment moved by the vector ``v`` (e.g. nose centre -> imaginary tip)."""
+    return [g.translated(v[0], v[1]) for g in chain]
