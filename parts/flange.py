@@ -1,0 +1,38 @@
+"""Flange blank: a short, wide disc with a hub on the right side (face-dominated part).
+
+From the right face (Z0): the hub face and hub of diameter ``hub_diameter`` (chamfered) to
+Z=-``hub_length``, an R``fillet`` at its root, the flange face up to ``diameter``
+(chamfered), the rim to the left face at Z=-(``hub_length`` + ``thickness``).
+
+Parameters (mm): diameter, thickness, hub_diameter, hub_length, fillet, chamfer.
+"""
+from __future__ import annotations
+
+from hnc_cam.cad.sketch import Outline, bar_stock, revolve
+
+
+def STOCK(diameter=120.0, thickness=14.0, hub_length=16.0, **_):
+    return bar_stock(diameter, thickness + hub_length)
+
+
+def sketch(diameter: float = 120.0, thickness: float = 14.0, hub_diameter: float = 50.0,
+           hub_length: float = 16.0, fillet: float = 3.0, chamfer: float = 1.5):
+    """The half-section (radius, Z) as exact lines and arcs, right face first."""
+    R, rh = diameter / 2, hub_diameter / 2
+    if not (0 < rh < R - chamfer - fillet):
+        raise ValueError("need 0 < hub_diameter < diameter")
+    if not (chamfer + fillet < hub_length and 2 * chamfer < thickness and chamfer < rh):
+        raise ValueError("chamfer/fillet too large for hub_length/thickness")
+    L = hub_length + thickness
+    s = Outline((0.0, 0.0))
+    s.line_to(rh, 0.0, chamfer=chamfer)
+    s.line_to(rh, -hub_length, fillet=fillet)
+    s.line_to(R, -hub_length, chamfer=chamfer)
+    s.line_to(R, -L, chamfer=chamfer)
+    s.line_to(0.0, -L)
+    return s.segments()
+
+
+def part(diameter: float = 120.0, thickness: float = 14.0, hub_diameter: float = 50.0,
+         hub_length: float = 16.0, fillet: float = 3.0, chamfer: float = 1.5):
+    return revolve(sketch(diameter, thickness, hub_diameter, hub_length, fillet, chamfer))
