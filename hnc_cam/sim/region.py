@@ -1,0 +1,108 @@
+"""Regions of the half-plane: the stock, the model, conversions.
+
+The simulator works in shapely coordinates ``(z, x)``: Z horizontal, X (radius) vertical, so a
+plot shows the part the way the manual's figures do. Everything else in the package uses
+``(x, z)`` tuples; :func:`zx` converts.
+
+Arcs of the model are sampled with the chord error :data:`hnc_cam.sim.tool.CHORD` (0.0005 mm)
+through the kernel's :func:`hnc_cam.geometry.sample_chain`; distances that the verifier reports
+are measured to the exact Line/Arc segments, not to this polygon.
+"""
+from __future__ import annotations
+
+from typing import Sequence
+
+import shapely
+from shapely.geometry import Polygon, box
+from shapely.geometry.base import BaseGeometry
+
+from ..errors import StockError
+from ..geometry import Point, Segment, TurnedProfile, sample_chain
+from ..tooling import Stock
+from .tool import CHORD
+
+
+def zx(p: Point) -> tuple[float, float]:
+    """(x, z) kernel point -> (z, x) simulator point."""
+    return (p[1], p[0])
+
+
+def _chain_zx(segs: Sequence[Segment]) -> list[tuple[float, float]]:
+    return [zx(p) for p in sample_chain(segs, CHORD)]
+
+
+def profile_polygon(profile: TurnedProfile) -> BaseGeometry:
+    """The part's cross-section above the axis (X >= 0) as a shapely polygon in (z, x).
+
+    The outside chain runs from the right face toward the chuck; it is closed by a line
+    down to the axis (or to the bore's left end) at its Z, and back along the axis (or the bore
+    chain) to the start.
+    """
+    if not profile.outside:
+        raise StockError(f"model {profile.name!r}: the profile has no outside contour")
+    out = _chain_zx(profile.outside)
+    if profile.bore:
+        bore = _chain_zx(profile.bore)
+        ring = out + bore[::-1]
+    else:
+        z_end, z_start = out[-1][0], out[0][0]
+        ring = out + [(z_end, 0.0), (z_start, 0.0)]
+    poly = Polygon(ring)
+    if not poly.is_valid:
+        poly = shapely.make_valid(poly)
+        poly = shapely.union_all([g for g in getattr(poly, "geoms", [poly])
+                                  if g.geom_type in ("Polygon", "MultiPolygon")])
+    half = box(-1e9, 0.0, 1e9, 1e9)
+    return poly.intersection(half)
+
+
+def stock_region(stock: Stock | BaseGeometry, model: TurnedProfile | None = None) -> BaseGeometry:
+    """The raw material as a region in (z, x).
+
+    * bar ``DxL[+F]``: Z in [F - L, F], X in [0, D/2];
+    * tube ``D/dxL[+F]``: X in [d/2, D/2];
+    * ``offset:A``: the model grown by A all round (round joins), clipped to X >= 0; needs
+      ``model``.
+    A shapely geometry is taken as the region itself.
+    """
+    if isinstance(stock, BaseGeometry):
+        return stock
+    if stock.kind == "offset":
+        if model is None:
+            raise StockError(f"stock {stock.spec!r}: an offset:A stock needs the model "
+                             f"(--model PART)")
+        grown = profile_polygon(model).buffer(stock.allowance, quad_segs=64)
+        return grown.intersection(box(-1e9, 0.0, 1e9, 1e9))
+    x0 = stock.bore / 2 if stock.kind == "tube" else 0.0
+    return box(stock.z_left, x0, stock.z_right, stock.diameter / 2)
+
+
+def chuck_zone(region: BaseGeometry, width: float = 1e-3) -> BaseGeometry:
+    """The strip at the left (chucked, minimum Z) end of a stock region: material connected to
+    it stays on the machine; material cut loose from it falls off."""
+    z0, x0, z1, x1 = region.bounds
+    return box(z0 - 1.0, x0 - 1.0, z0 + width, x1 + 1.0)
+
+
+def polygons(g: BaseGeometry) -> list[Polygon]:
+    """The polygons of a geometry (ignoring lines and points left by overlays)."""
+    if g.is_empty:
+        return []
+    if g.geom_type == "Polygon":
+        return [g]
+    if hasattr(g, "geoms"):
+        out: list[Polygon] = []
+        for p in g.geoms:
+            out.extend(polygons(p))
+        return out
+    return []
+
+
+def clean(g: BaseGeometry) -> BaseGeometry:
+    """Keep only the areal part of an overlay result."""
+    ps = [p for p in polygons(g) if p.area > 0]
+    if not ps:
+        return Polygon()
+    if len(ps) == 1:
+        return ps[0]
+    return shapely.MultiPolygon(ps)

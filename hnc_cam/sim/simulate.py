@@ -1,0 +1,409 @@
+"""Material removal: the stock minus the tool swept along every move of a toolpath.
+
+Model (the choices made where the issue leaves room):
+
+* 2-D, in the half-plane X >= 0 with true radius geometry, shapely (GEOS) polygons in ``(z, x)``
+  coordinates. A turned part is a solid of revolution, so its cross-section above the axis
+  is the whole story.
+* The tool is the convex outline of :func:`hnc_cam.sim.tool.tool_shape` for the move's offset
+  register (``Move.register`` looked up with ``machine.register(n)``); thread moves use a
+  threading profile of ``Move.thread_angle`` (else the insert's angle, else 60 deg). The move's
+  positions are the controlled point (the interpreter's contract).
+* A line move (``line``, ``thread`` and each straight piece of a G00 dog-leg ``rapid``) sweeps
+  the convex hull of the outline at its start and its end (exact for a translated convex
+  polygon). An arc is sampled with chord error <= 0.0005 mm and swept as the union of the hulls
+  of consecutive placements.
+* Union in an efficient order: moves are taken in batches of consecutive moves (a batch is
+  local, a few passes at most); each batch's sweeps are united with ``union_all`` and taken out
+  of the material once, and the per-move figures (what each move removed, for the checks and
+  the air-cut time) are computed against the material clipped to the batch's bounding box minus
+  the earlier sweeps of the same batch. Cost grows about linearly with the number of moves for a
+  given detail of the part.
+* Material that is no longer connected to the chucked end (the minimum-Z end of the stock)
+  falls off and counts as removed, checked after every batch.
+
+Checks (each an :class:`Issue` with the program line and block):
+
+* ``collision``: a rapid that removes material;
+* ``spindle``: a feed move that touches material with the spindle stopped; ``thread-spindle``: a
+  thread move with the spindle stopped (whatever it touches);
+* ``feed``: a move at zero feed that touches material;
+* ``non-cutting``: a feed move that removes material with a side of the tool that is not a
+  cutting edge (the back of a rhombic insert, the top of a grooving blade).
+
+A move "touches" material when it removes more than ``TOUCH_AREA`` (1e-4 mm^2) of a region at
+least ``TOUCH_THICK`` (5e-4 mm, the order of the chord error) thick, so that a tool gliding over a
+surface it has just cut is not a collision.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, Iterable
+
+import numpy as np
+import shapely
+from shapely.geometry import Polygon, box
+from shapely.geometry.base import BaseGeometry
+
+from ..geometry import Arc
+from ..nc.toolpath import Move, Toolpath
+from ..tooling import Machine, Stock, ToolLibrary, load_machine
+from .region import chuck_zone, clean, polygons, stock_region
+from .tool import CHORD, ToolShape, tool_shape
+
+FEED_KINDS = ("line", "arc", "thread")
+#: a move that removes less than this area (mm^2) removed nothing (air cut)
+AIR_AREA = 1e-5
+#: thresholds for "touches material" in the checks
+TOUCH_AREA = 1e-4
+TOUCH_THICK = 5e-4
+#: consecutive moves united and removed together
+BATCH = 48
+
+
+@dataclass
+class Issue:
+    """A finding of the checks, with the program line (1-based) and the block text."""
+    line: int
+    block: str
+    message: str
+    kind: str = "collision"
+
+    def to_json(self) -> dict[str, Any]:
+        return {"line": self.line, "block": self.block, "message": self.message}
+
+    def __str__(self) -> str:
+        return f"line {self.line}: {self.message}  [{self.block}]"
+
+
+@dataclass
+class ThreadSpan:
+    """Where a program cut threads: Z range and X (radius) range of its thread moves."""
+    z_min: float
+    z_max: float
+    x_min: float
+    x_max: float
+    inside: bool
+    lead: float
+    angle: float
+
+
+@dataclass
+class Machined:
+    """The result of :func:`simulate`.
+
+    ``material``: what is left on the machine, in (z, x) shapely coordinates; ``stock``: the raw
+    material; ``removed_area[i]``: mm^2 the i-th move removed (falling pieces not included);
+    ``issues``: the checks' findings; ``shapes``: the tool outline of each register used.
+    """
+    material: BaseGeometry
+    stock: BaseGeometry
+    toolpath: Toolpath
+    issues: list[Issue] = field(default_factory=list)
+    removed_area: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    shapes: dict[tuple[int, float | None], ToolShape] = field(default_factory=dict)
+    thread_spans: list[ThreadSpan] = field(default_factory=list)
+    fallen: list[BaseGeometry] = field(default_factory=list)
+    machine: Machine | None = None
+
+    @property
+    def collisions(self) -> list[Issue]:
+        return self.issues
+
+    @property
+    def cycle_time_s(self) -> float:
+        return self.toolpath.cycle_time_s
+
+    @property
+    def removed(self) -> BaseGeometry:
+        return clean(self.stock.difference(self.material))
+
+    @property
+    def removed_volume_mm3(self) -> float:
+        """Volume of the removed material by Pappus: 2 pi * sum(area * centroid radius)."""
+        return pappus_volume(self.removed)
+
+    @property
+    def feed_time_s(self) -> float:
+        return sum(m.duration for m in self.toolpath.moves if m.kind in FEED_KINDS)
+
+    @property
+    def air_cut_time_s(self) -> float:
+        return sum(m.duration for i, m in enumerate(self.toolpath.moves)
+                   if m.kind in FEED_KINDS and self.removed_area[i] <= AIR_AREA)
+
+    @property
+    def air_cut_fraction(self) -> float:
+        """Share of the feed time in which the tool removed nothing."""
+        ft = self.feed_time_s
+        return self.air_cut_time_s / ft if ft > 0 else 0.0
+
+    def rings(self) -> list[list[list[float]]]:
+        """Boundary rings of the remaining material, points ``[X diameter, Z]``."""
+        out = []
+        for p in polygons(self.material):
+            for ring in [p.exterior, *p.interiors]:
+                out.append([[_r(2 * x), _r(z)] for z, x in ring.coords])
+        return out
+
+    def to_json(self) -> dict[str, Any]:
+        return {"machined": self.rings(),
+                "collisions": [i.to_json() for i in self.issues],
+                "cycle_time_s": _r(self.cycle_time_s),
+                "removed_volume_mm3": _r(self.removed_volume_mm3, 3)}
+
+    def summary(self) -> str:
+        t = self.cycle_time_s
+        z0, x0, z1, x1 = self.material.bounds if not self.material.is_empty else (0, 0, 0, 0)
+        lines = [f"{self.toolpath.file}: {len(self.toolpath.moves)} moves simulated, "
+                 f"removed {self.removed_volume_mm3:.1f} mm^3, cycle time {t:.1f} s "
+                 f"({int(t // 60)}:{t % 60:04.1f}), air cut {100 * self.air_cut_fraction:.1f} % "
+                 f"of feed time",
+                 f"remaining material: X {2 * x0:.3f}..{2 * x1:.3f} (dia), Z {z0:.3f}..{z1:.3f}"
+                 + (f", {len(self.fallen)} piece(s) fell off" if self.fallen else "")]
+        if self.issues:
+            lines.append(f"{len(self.issues)} collision(s)/check finding(s):")
+            lines += [f"  {i}" for i in self.issues]
+        else:
+            lines.append("no collisions")
+        return "\n".join(lines)
+
+
+def _r(v: float, nd: int = 4) -> float:
+    v = round(float(v), nd)
+    return 0.0 if v == 0 else v
+
+
+def pappus_volume(region: BaseGeometry) -> float:
+    """Volume of revolution of a region of the (z, x) half-plane about the Z axis."""
+    return float(sum(2 * math.pi * p.area * p.centroid.y for p in polygons(region)))
+
+
+def _thickness(g: BaseGeometry) -> float:
+    """Rough thickness of a thin region: 2 area / perimeter (exact for a long strip)."""
+    L = g.length
+    return 2 * g.area / L if L > 0 else 0.0
+
+
+def _resolve_machine(machine: Machine | None, tools: ToolLibrary | None) -> Machine:
+    if machine is None:
+        return load_machine(None, tools)
+    if tools is not None:
+        return machine.with_registers(tools.registers())
+    return machine
+
+
+class _Sweeper:
+    """Builds the swept region of each move (cached tool shapes)."""
+
+    def __init__(self, machine: Machine):
+        self.machine = machine
+        self.shapes: dict[tuple[int, float | None], ToolShape] = {}
+
+    def shape(self, m: Move) -> ToolShape:
+        ta = None
+        if m.kind == "thread":
+            ta = m.thread_angle if m.thread_angle and m.thread_angle > 0 else None
+            reg = self.machine.register(m.register)
+            if ta is None:
+                ta = reg.insert.angle if reg.insert is not None and reg.insert.kind == "thread" else 60.0
+        key = (m.register, ta)
+        s = self.shapes.get(key)
+        if s is None:
+            s = tool_shape(self.machine.register(m.register), ta)
+            self.shapes[key] = s
+        return s
+
+    @staticmethod
+    def path_points(m: Move) -> np.ndarray:
+        """Controlled-point path of a move as (z, x) points (arcs sampled at CHORD)."""
+        if m.kind == "arc":
+            pts = Arc(m.start, m.end, m.center, bool(m.cw)).sample(CHORD)
+        else:
+            pts = [m.start, m.end]
+        return np.array([(p[1], p[0]) for p in pts], dtype=float)
+
+    def sweeps(self, moves: list[Move]) -> tuple[list[BaseGeometry | None], list[np.ndarray]]:
+        """Swept region of each move (None for dwells) and its path points."""
+        coords: list[np.ndarray] = []
+        owner: list[int] = []
+        paths: list[np.ndarray] = []
+        for k, m in enumerate(moves):
+            if m.kind == "dwell":
+                paths.append(np.zeros((0, 2)))
+                continue
+            o = self.shape(m).outline
+            pts = self.path_points(m)
+            paths.append(pts)
+            if len(pts) == 2 and np.allclose(pts[0], pts[1]):
+                pts = pts[:1]
+            if len(pts) == 1:
+                coords.append(o + pts[0])
+                owner.append(k)
+                continue
+            for a, b in zip(pts[:-1], pts[1:]):
+                coords.append(np.vstack([o + a, o + b]))
+                owner.append(k)
+        out: list[BaseGeometry | None] = [None] * len(moves)
+        if not coords:
+            return out, paths
+        lens = np.array([len(c) for c in coords])
+        mp = shapely.multipoints(np.vstack(coords), indices=np.repeat(np.arange(len(coords)), lens))
+        hulls = shapely.convex_hull(mp)
+        owner_a = np.array(owner)
+        # group pieces per move (arcs have several)
+        starts = np.flatnonzero(np.r_[True, owner_a[1:] != owner_a[:-1]])
+        ends = np.r_[starts[1:], len(owner_a)]
+        for s, e in zip(starts, ends):
+            k = int(owner_a[s])
+            out[k] = hulls[s] if e - s == 1 else shapely.union_all(hulls[s:e])
+        return out, paths
+
+
+def simulate(toolpath: Toolpath, stock: Stock | BaseGeometry, machine: Machine | None = None,
+             tools: ToolLibrary | None = None, model=None, batch: int = BATCH) -> Machined:
+    """Remove material from ``stock`` along ``toolpath`` and run the checks.
+
+    ``stock``: a :class:`hnc_cam.tooling.Stock` (``offset:A`` needs ``model``, a
+    :class:`hnc_cam.geometry.TurnedProfile`) or a shapely region in (z, x).
+    ``machine``: offset registers for the tool outlines (default: the bundled machine filled from
+    the default tool library); ``tools``: a tool library whose registers override the machine's.
+    """
+    machine = _resolve_machine(machine, tools)
+    start_region = clean(stock_region(stock, model))
+    material: BaseGeometry = start_region
+    chuck = chuck_zone(start_region) if not start_region.is_empty else None
+    moves = toolpath.moves
+    n = len(moves)
+    removed_area = np.zeros(n)
+    issues: list[Issue] = []
+    sweeper = _Sweeper(machine)
+    fallen: list[BaseGeometry] = []
+
+    for m in moves:
+        if m.kind == "thread" and m.spindle <= 0:
+            issues.append(Issue(m.line, toolpath.block(m.line),
+                                "thread move with the spindle stopped", "thread-spindle"))
+
+    for b0 in range(0, n, batch):
+        bm = moves[b0:b0 + batch]
+        sw, paths = sweeper.sweeps(bm)
+        idx = [k for k, s in enumerate(sw) if s is not None and not s.is_empty]
+        if not idx or material.is_empty:
+            continue
+        geoms = np.array([sw[k] for k in idx], dtype=object)
+        union = shapely.union_all(geoms)
+        z0, x0, z1, x1 = union.bounds
+        local = clean(shapely.clip_by_rect(material, z0, x0, z1, x1))
+        if local.is_empty:
+            continue
+        shapely.prepare(local)
+        hit = shapely.intersects(local, geoms)
+        for j, k in enumerate(idx):
+            if not hit[j]:
+                continue
+            rem = clean(shapely.intersection(geoms[j], local))
+            if rem.is_empty:
+                continue
+            if j:
+                earlier = geoms[:j]
+                near = earlier[shapely.intersects(rem, earlier)]
+                if len(near):
+                    rem = clean(rem.difference(shapely.union_all(near)))
+            a = rem.area
+            if a <= 0:
+                continue
+            removed_area[b0 + k] = a
+            _check_move(bm[k], rem, sweeper.shape(bm[k]), paths[k], toolpath, issues)
+        material = clean(material.difference(union))
+        # pieces cut loose from the chucked end fall off
+        parts = polygons(material)
+        if len(parts) > 1 and chuck is not None:
+            keep = [p for p in parts if p.intersects(chuck)]
+            lost = [p for p in parts if not p.intersects(chuck)]
+            if lost:
+                fallen.extend(lost)
+                material = clean(shapely.union_all(keep)) if keep else Polygon()
+
+    issues.sort(key=lambda i: i.line)
+    return Machined(material=material, stock=start_region, toolpath=toolpath, issues=issues,
+                    removed_area=removed_area, shapes=dict(sweeper.shapes),
+                    thread_spans=_thread_spans(moves, machine), fallen=fallen, machine=machine)
+
+
+def _where(rem: BaseGeometry) -> str:
+    z0, x0, z1, x1 = rem.bounds
+    return f"Z {z0:.3f}..{z1:.3f}, X {2 * x0:.3f}..{2 * x1:.3f} (dia)"
+
+
+def _check_move(m: Move, rem: BaseGeometry, shape: ToolShape, path: np.ndarray,
+                tp: Toolpath, issues: list[Issue]) -> None:
+    touches = rem.area > TOUCH_AREA and _thickness(rem) > TOUCH_THICK
+    if not touches:
+        return
+    block = tp.block(m.line)
+    if m.kind == "rapid":
+        issues.append(Issue(m.line, block, f"rapid move cuts material ({rem.area:.3f} mm^2 at "
+                            f"{_where(rem)}): collision", "collision"))
+        return
+    if m.kind in ("line", "arc") and m.spindle <= 0:
+        issues.append(Issue(m.line, block, f"feed move with the spindle stopped cuts material "
+                            f"({rem.area:.3f} mm^2 at {_where(rem)})", "spindle"))
+    if m.kind in FEED_KINDS and (m.feed is None or m.feed <= 0):
+        issues.append(Issue(m.line, block, f"move at zero feed cuts material "
+                            f"({rem.area:.3f} mm^2 at {_where(rem)})", "feed"))
+    if shape.non_cutting and len(path) >= 2:
+        hit = _non_cutting_hit(shape, path, rem)
+        if hit is not None:
+            issues.append(Issue(m.line, block, f"cuts with a non-cutting side of the tool "
+                                f"({shape.description}): {hit.area:.3f} mm^2 at {_where(hit)}",
+                                "non-cutting"))
+
+
+def _non_cutting_hit(shape: ToolShape, path: np.ndarray, rem: BaseGeometry) -> BaseGeometry | None:
+    """Material of ``rem`` swept by a leading non-cutting side of the tool, if significant."""
+    pieces = []
+    centroid = shape.outline.mean(axis=0)
+    for a, b in shape.non_cutting:
+        a = np.asarray(a)
+        b = np.asarray(b)
+        d = b - a
+        normal = np.array([d[1], -d[0]])
+        if np.dot(normal, (a + b) / 2 - centroid) < 0:
+            normal = -normal  # outward
+        for p, q in zip(path[:-1], path[1:]):
+            mv = q - p
+            if np.dot(normal, mv) <= 1e-12 * (np.linalg.norm(mv) + 1e-12):
+                continue
+            pieces.append(shapely.convex_hull(shapely.MultiPoint([a + p, b + p, a + q, b + q])))
+    if not pieces:
+        return None
+    hit = clean(rem.intersection(shapely.union_all(pieces)))
+    if hit.area > 1e-3 and _thickness(hit) > 2e-3:
+        return hit
+    return None
+
+
+def _thread_spans(moves: Iterable[Move], machine: Machine) -> list[ThreadSpan]:
+    """Z/X extent of each run of thread moves with the same register and lead."""
+    spans: list[ThreadSpan] = []
+    for m in moves:
+        if m.kind != "thread":
+            continue
+        reg = machine.register(m.register)
+        inside = reg.tip in (1, 2, 6)
+        z0, z1 = sorted((m.start[1], m.end[1]))
+        x0, x1 = sorted((m.start[0], m.end[0]))
+        for s in spans:
+            if s.inside == inside and z0 <= s.z_max + 1e-6 and z1 >= s.z_min - 1e-6:
+                s.z_min, s.z_max = min(s.z_min, z0), max(s.z_max, z1)
+                s.x_min, s.x_max = min(s.x_min, x0), max(s.x_max, x1)
+                break
+        else:
+            spans.append(ThreadSpan(z0, z1, x0, x1, inside, m.lead, m.thread_angle or 60.0))
+    return spans
+
+
+def material_box(z0: float, z1: float, x0: float, x1: float) -> Polygon:
+    return box(z0, x0, z1, x1)

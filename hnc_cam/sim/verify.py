@@ -1,0 +1,405 @@
+"""Compare a simulated cut with the model: overcut, undercut, threads, the Report.
+
+Choices (the issue leaves them open):
+
+* The comparison covers Z >= the model's left end (``z_min``): stock beyond it toward the chuck
+  is the chucking allowance, neither part nor defect.
+* **Overcut** (gouge) = model minus remaining material; its depth at a point is the distance to
+  the model's boundary (outside and bore chains and the closing faces, exact Line/Arc
+  geometry), measured at every vertex of the region's boundary (segmentised every 0.002 mm, so the
+  maximum is found to 0.001 mm) and
+  on an interior grid (a part that was cut off entirely has its deepest point inside).
+* **Undercut** = remaining material minus model, its size at a point the distance to the model;
+  the maximum lies on the region's boundary. It is split into what the tools can reach and what
+  they cannot: the region a tool outline K can sweep without entering the model (nor its mirror
+  image below the axis) is the morphological opening of the free space by K, computed with exact
+  Minkowski sums of the sampled polygons with the convex outline. Leftover outside the union of
+  the openings of every cutting tool the program used (in inner corners sharper than the nose
+  radius, in grooves narrower than the insert, under shoulders the insert's orientation cannot
+  reach) is *unreachable*: listed with location and size, a failure only with ``strict``.
+  Leftover inside is *reachable*: a defect, counted in ``max_undercut_mm``.
+* **Threads**: thread zones (the model's declared threads, or the span of the program's thread
+  moves) are excluded from the overcut/undercut comparison between the thread's root and its
+  nominal diameter. Instead the achieved root diameter (external: the smallest diameter of the
+  remaining material along the zone, one pitch in from each end; internal: the largest bore
+  diameter) is compared with the standard: external minor d3 = d - 1.2269 P, internal major D.
+  A zone passes when it is within ``max(2 tol, 0.05)`` mm on the diameter.
+* Distances are reported to 0.1 um; noise below ``NOISE`` (0.002 mm, a few chord errors) is not
+  listed as unreachable.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, Sequence
+
+import numpy as np
+import shapely
+import shapely.affinity
+from shapely.geometry import Polygon, box
+from shapely.geometry.base import BaseGeometry
+
+from ..geometry import Line, Segment, Thread, TurnedProfile
+from .measure import distances
+from .region import clean, polygons, profile_polygon
+from .simulate import FEED_KINDS, Issue, Machined
+from .tool import ToolShape, tool_shape
+
+NOISE = 0.002
+#: boundary points every 0.002 mm: the distance is 1-Lipschitz, so the maximum is found to 0.001
+SEGMENTIZE = 0.002
+MAX_POINTS = 400_000
+BIG = 1e4
+
+
+@dataclass
+class Deviation:
+    """A place where the result departs from the model: (z, x radius) and size (mm)."""
+    z: float
+    x: float
+    size_mm: float
+
+    def to_json(self) -> dict[str, float]:
+        return {"z": _r(self.z), "x": _r(2 * self.x), "size_mm": _r(self.size_mm)}
+
+
+@dataclass
+class ThreadResult:
+    z_min: float
+    z_max: float
+    internal: bool
+    target_diameter: float  # external: minor d3; internal: major D
+    achieved_diameter: float | None
+    tolerance: float
+    declared: bool
+
+    @property
+    def ok(self) -> bool:
+        return (self.achieved_diameter is not None
+                and abs(self.achieved_diameter - self.target_diameter) <= self.tolerance)
+
+    def __str__(self) -> str:
+        what = "major" if self.internal else "minor"
+        got = "none" if self.achieved_diameter is None else f"{self.achieved_diameter:.3f}"
+        return (f"thread Z {self.z_min:.3f}..{self.z_max:.3f}: {what} diameter {got}, standard "
+                f"{self.target_diameter:.3f} (+-{self.tolerance:.3f}): "
+                f"{'ok' if self.ok else 'FAIL'}")
+
+
+@dataclass
+class Report:
+    """Verification result. Lengths in mm (``x`` of locations as radius internally)."""
+    passed: bool
+    tol: float
+    max_overcut_mm: float
+    max_undercut_mm: float
+    overcut_at: Deviation | None
+    undercut_at: Deviation | None
+    unreachable: list[Deviation]
+    collisions: list[Issue]
+    cycle_time_s: float
+    removed_volume_mm3: float
+    air_cut_fraction: float
+    threads: list[ThreadResult] = field(default_factory=list)
+    strict: bool = False
+    overcut: BaseGeometry = field(default_factory=Polygon, repr=False)
+    undercut: BaseGeometry = field(default_factory=Polygon, repr=False)
+    unreachable_region: BaseGeometry = field(default_factory=Polygon, repr=False)
+    reasons: list[str] = field(default_factory=list)
+
+    def to_json(self) -> dict[str, Any]:
+        return {"pass": bool(self.passed),
+                "max_overcut_mm": _r(self.max_overcut_mm),
+                "max_undercut_mm": _r(self.max_undercut_mm),
+                "unreachable": [u.to_json() for u in self.unreachable],
+                "collisions": [c.to_json() for c in self.collisions],
+                "cycle_time_s": _r(self.cycle_time_s),
+                "air_cut_fraction": _r(self.air_cut_fraction)}
+
+    def summary(self) -> str:
+        def at(d: Deviation | None) -> str:
+            return f" at X{2 * d.x:.3f} Z{d.z:.3f}" if d is not None and d.size_mm > 0 else ""
+        t = self.cycle_time_s
+        lines = [f"{'PASS' if self.passed else 'FAIL'} at tolerance {self.tol:g} mm",
+                 f"max overcut  {self.max_overcut_mm:.4f} mm{at(self.overcut_at)}",
+                 f"max undercut {self.max_undercut_mm:.4f} mm{at(self.undercut_at)} (reachable)",
+                 f"cycle time {t:.1f} s ({int(t // 60)}:{t % 60:04.1f}), removed "
+                 f"{self.removed_volume_mm3:.1f} mm^3, air cut {100 * self.air_cut_fraction:.1f} % "
+                 f"of feed time"]
+        if self.unreachable:
+            lines.append(f"{len(self.unreachable)} place(s) the tools cannot reach "
+                         f"({'counted' if self.strict else 'not counted'}):")
+            lines += [f"  X{2 * u.x:.3f} Z{u.z:.3f}: {u.size_mm:.4f} mm" for u in self.unreachable]
+        lines += [f"  {t}" for t in self.threads]
+        if self.collisions:
+            lines.append(f"{len(self.collisions)} collision(s)/check finding(s):")
+            lines += [f"  {c}" for c in self.collisions]
+        if not self.passed and self.reasons:
+            lines.append("fails: " + "; ".join(self.reasons))
+        return "\n".join(lines)
+
+
+def _r(v: float, nd: int = 4) -> float:
+    v = round(float(v), nd)
+    return 0.0 if v == 0 else v
+
+
+def model_segments(model: TurnedProfile) -> list[Segment]:
+    """The model's boundary as exact segments: outside chain, bore chain (or nothing), and the
+    closing faces at the ends (not the axis)."""
+    segs: list[Segment] = list(model.outside)
+    o0, o1 = model.outside[0].start, model.outside[-1].end
+    if model.bore:
+        b0, b1 = model.bore[0].start, model.bore[-1].end
+        segs += list(model.bore)
+        for a, b in ((o1, b1), (o0, b0)):
+            if abs(a[0] - b[0]) + abs(a[1] - b[1]) > 1e-9:
+                segs.append(Line(a, b))
+    else:
+        if o1[0] > 1e-9:
+            segs.append(Line(o1, (0.0, o1[1])))
+        if o0[0] > 1e-9:
+            segs.append(Line((0.0, o0[1]), o0))
+    return segs
+
+
+def _boundary_points(g: BaseGeometry) -> np.ndarray:
+    if g.is_empty:
+        return np.zeros((0, 2))
+    bd = shapely.boundary(g)
+    step = max(SEGMENTIZE, bd.length / MAX_POINTS)
+    b = shapely.segmentize(bd, step)
+    return shapely.get_coordinates(b)
+
+
+def _grid_points(g: BaseGeometry, n: int = 60) -> np.ndarray:
+    out = []
+    for p in polygons(g):
+        z0, x0, z1, x1 = p.bounds
+        if p.area < 1e-4:
+            continue
+        zs, xs = np.meshgrid(np.linspace(z0, z1, n), np.linspace(x0, x1, n))
+        pts = np.column_stack([zs.ravel(), xs.ravel()])
+        inside = shapely.contains_xy(p, pts[:, 0], pts[:, 1])
+        out.append(pts[inside])
+    return np.vstack(out) if out else np.zeros((0, 2))
+
+
+def _deepest(g: BaseGeometry, segs: Sequence[Segment], interior: bool) -> Deviation | None:
+    pts = _boundary_points(g)
+    if interior:
+        pts = np.vstack([pts, _grid_points(g)])
+    if not len(pts):
+        return None
+    d, _ = distances(pts, segs)
+    i = int(np.argmax(d))
+    return Deviation(z=float(pts[i, 0]), x=float(pts[i, 1]), size_mm=float(d[i]))
+
+
+# --- reachability -------------------------------------------------------------------------
+
+def _minkowski(region: BaseGeometry, outline: np.ndarray) -> BaseGeometry:
+    """Minkowski sum of a polygonal region with a convex polygon (exact for the polygons)."""
+    parts = polygons(region)
+    if not parts:
+        return Polygon()
+    coords = []
+    for p in parts:
+        for ring in [p.exterior, *p.interiors]:
+            c = np.asarray(ring.coords)
+            coords.append(np.stack([c[:-1], c[1:]], axis=1))  # edges (n, 2, 2)
+    edges = np.concatenate(coords)
+    m = len(outline)
+    pts = (edges[:, :, None, :] + outline[None, None, :, :]).reshape(len(edges), 2 * m, 2)
+    hulls = shapely.convex_hull(shapely.multipoints(pts.reshape(-1, 2),
+                                                    indices=np.repeat(np.arange(len(edges)), 2 * m)))
+    # A + K = (A + k0) | (boundary(A) + K) for any k0 in the convex K (K need not hold the origin)
+    k0 = outline.mean(axis=0)
+    moved = [shapely.affinity.translate(p, float(k0[0]), float(k0[1])) for p in parts]
+    return clean(shapely.union_all(np.concatenate([hulls, np.array(moved, dtype=object)])))
+
+
+def reachable(model_poly: BaseGeometry, shapes: Sequence[ToolShape], where: BaseGeometry) -> BaseGeometry:
+    """The part of ``where`` that some tool outline can cover without entering the model (or its
+    mirror image below the axis): the union of the openings of the free space by each outline."""
+    if where.is_empty or not shapes:
+        return Polygon()
+    ext = max(float(np.ptp(s.outline, axis=0).max()) for s in shapes) + 1.0
+    z0, x0, z1, x1 = where.bounds
+    inner = box(z0 - ext, x0 - ext, z1 + ext, x1 + ext)
+    outer = box(z0 - 3 * ext, x0 - 3 * ext, z1 + 3 * ext, x1 + 3 * ext)
+    mirror = shapely.affinity.scale(model_poly, xfact=1.0, yfact=-1.0, origin=(0, 0))
+    obst = clean(shapely.union_all([model_poly, mirror]).intersection(outer))
+    out = []
+    for s in shapes:
+        # placements P of the controlled point with P + K inside the free space
+        blocked = _minkowski(obst, -s.outline[::-1])
+        place = clean(inner.difference(blocked))
+        if place.is_empty:
+            continue
+        out.append(_minkowski(place, s.outline))
+    if not out:
+        return Polygon()
+    return clean(shapely.union_all(out))
+
+
+# --- threads ------------------------------------------------------------------------------
+
+@dataclass
+class _Zone:
+    z0: float
+    z1: float
+    r_root: float  # radius of the thread root (ext: minor, int: major)
+    r_crest: float  # radius of the crest (ext: major, int: minor)
+    internal: bool
+    pitch: float
+    target: float  # target diameter
+    declared: bool
+
+
+def _zones(model: TurnedProfile, machined: Machined, threads: Sequence[Thread] | None) -> list[_Zone]:
+    declared = list(threads if threads is not None else model.threads)
+    zones: list[_Zone] = []
+    for t in declared:
+        z0, z1 = sorted((t.z_start, t.z_end))
+        for s in machined.thread_spans:  # include the program's run-in/run-out
+            if s.z_max >= z0 - 1e-6 and s.z_min <= z1 + 1e-6 and s.inside == t.internal:
+                z0, z1 = min(z0, s.z_min), max(z1, s.z_max)
+        if t.internal:
+            zones.append(_Zone(z0, z1, t.diameter / 2, t.minor_diameter / 2, True, t.pitch,
+                               t.diameter, True))
+        else:
+            zones.append(_Zone(z0, z1, t.minor_diameter / 2, t.diameter / 2, False, t.pitch,
+                               t.minor_diameter, True))
+    for s in machined.thread_spans:
+        if any(z.z1 >= s.z_min - 1e-6 and z.z0 <= s.z_max + 1e-6 for z in zones):
+            continue
+        pitch = s.lead or 1.0
+        mid = box(s.z_min, 0.0, s.z_max, BIG)
+        mp = profile_polygon(model).intersection(mid)
+        if mp.is_empty:
+            continue
+        if s.inside:
+            r_nom = _bore_radius(mp)
+            d = 2 * r_nom + 1.0825 * pitch  # minor diameter given, major = D1 + 1.0825 P
+            zones.append(_Zone(s.z_min, s.z_max, d / 2, r_nom, True, pitch, d, False))
+        else:
+            r_nom = mp.bounds[3]
+            d3 = 2 * r_nom - 1.2269 * pitch
+            zones.append(_Zone(s.z_min, s.z_max, d3 / 2, r_nom, False, pitch, d3, False))
+    return zones
+
+
+def _bore_radius(g: BaseGeometry) -> float:
+    zs = np.linspace(g.bounds[0], g.bounds[2], 7)[1:-1]
+    lo = []
+    for z in zs:
+        seg = g.intersection(shapely.LineString([(z, 0), (z, BIG)]))
+        if not seg.is_empty:
+            lo.append(seg.bounds[1])
+    return min(lo) if lo else 0.0
+
+
+def _achieved(material: BaseGeometry, zone: _Zone) -> float | None:
+    a, b = zone.z0 + zone.pitch, zone.z1 - zone.pitch
+    if b <= a:
+        a, b = zone.z0, zone.z1
+    zs = np.linspace(a, b, max(50, int((b - a) / max(zone.pitch, 0.1) * 40)))
+    lines = shapely.linestrings([[(z, 0.0), (z, BIG)] for z in zs])
+    cut = shapely.intersection(lines, material)
+    vals = []
+    for z, c in zip(zs, cut):
+        if c.is_empty:
+            if not zone.internal:
+                vals.append(0.0)
+            continue
+        if zone.internal:
+            # lowest material above the thread's crest region
+            pieces = [g for g in getattr(c, "geoms", [c]) if g.bounds[3] > zone.r_crest - 1e-6]
+            if pieces:
+                vals.append(min(g.bounds[1] for g in pieces))
+        else:
+            pieces = [g for g in getattr(c, "geoms", [c]) if g.bounds[1] < zone.r_crest + 1e-6]
+            vals.append(max(g.bounds[3] for g in pieces) if pieces else 0.0)
+    if not vals:
+        return None
+    return 2 * (max(vals) if zone.internal else min(vals))
+
+
+# --- verify -------------------------------------------------------------------------------
+
+def _cutting_shapes(m: Machined) -> list[ToolShape]:
+    keys = []
+    for i, mv in enumerate(m.toolpath.moves):
+        if mv.kind in ("line", "arc") and m.removed_area[i] > 0:
+            k = (mv.register, None)
+            if k not in keys:
+                keys.append(k)
+    shapes = [m.shapes[k] for k in keys if k in m.shapes]
+    if not shapes and m.machine is not None:
+        shapes = [tool_shape(m.machine.register(0))]
+    return shapes
+
+
+def verify(machined: Machined, model: TurnedProfile, tol: float = 0.01,
+           threads: Sequence[Thread] | None = None, strict: bool = False) -> Report:
+    """Compare ``machined`` with ``model`` (see the module doc); ``threads`` overrides the
+    model's declared threads; ``strict`` counts unreachable leftover as a failure."""
+    if not tol > 0:
+        raise ValueError("tolerance must be positive")
+    model_poly = profile_polygon(model)
+    segs = model_segments(model)
+    material = machined.material
+    zones = _zones(model, machined, threads)
+    excl = shapely.union_all([box(z.z0, min(z.r_root, z.r_crest) - max(0.5 * z.pitch, 0.5),
+                                  z.z1, max(z.r_root, z.r_crest)) for z in zones]) if zones else Polygon()
+    domain = box(model.z_min, -1.0, BIG, BIG)
+    over = clean(clean(model_poly.difference(material)).difference(excl))
+    under = clean(clean(material.intersection(domain).difference(model_poly)).difference(excl))
+
+    over_at = _deepest(over, segs, interior=True) if not over.is_empty else None
+    max_over = over_at.size_mm if over_at else 0.0
+
+    under_at_all = _deepest(under, segs, interior=False) if not under.is_empty else None
+    unreach_list: list[Deviation] = []
+    unreach_region: BaseGeometry = Polygon()
+    under_at = under_at_all
+    if under_at_all is not None and under_at_all.size_mm > NOISE:
+        # only regions worth classifying
+        big = [p for p in polygons(under) if p.area > 1e-6]
+        if big:
+            region = clean(shapely.union_all(big))
+            reach = reachable(model_poly, _cutting_shapes(machined), region)
+            reach_part = clean(region.intersection(reach)) if not reach.is_empty else Polygon()
+            unreach_region = clean(region.difference(reach)) if not reach.is_empty else region
+            under_at = _deepest(reach_part, segs, interior=False) if not reach_part.is_empty else None
+            for p in polygons(unreach_region):
+                d = _deepest(p, segs, interior=False)
+                if d is not None and d.size_mm > NOISE:
+                    unreach_list.append(d)
+            unreach_list.sort(key=lambda d: -d.z)
+    max_under = under_at.size_mm if under_at else 0.0
+
+    results = []
+    for z in zones:
+        ach = _achieved(material, z)
+        results.append(ThreadResult(z.z0, z.z1, z.internal, z.target, ach,
+                                    max(2 * tol, 0.05), z.declared))
+    reasons = []
+    if max_over > tol:
+        reasons.append(f"overcut {max_over:.4f} mm > {tol:g}")
+    if max_under > tol:
+        reasons.append(f"undercut {max_under:.4f} mm > {tol:g}")
+    if machined.issues:
+        reasons.append(f"{len(machined.issues)} collision(s)/check finding(s)")
+    for t in results:
+        if not t.ok:
+            reasons.append(str(t))
+    if strict and any(u.size_mm > tol for u in unreach_list):
+        reasons.append("unreachable leftover (strict)")
+    return Report(passed=not reasons, tol=tol, max_overcut_mm=max_over, max_undercut_mm=max_under,
+                  overcut_at=over_at, undercut_at=under_at, unreachable=unreach_list,
+                  collisions=list(machined.issues), cycle_time_s=machined.cycle_time_s,
+                  removed_volume_mm3=machined.removed_volume_mm3,
+                  air_cut_fraction=machined.air_cut_fraction, threads=results, strict=strict,
+                  overcut=over, undercut=under, unreachable_region=unreach_region, reasons=reasons)
