@@ -1,0 +1,29 @@
+"""``hnc-cam run PROGRAM [--machine FILE] [--json OUT]``.
+
+Prints the toolpath summary on stdout (or on stderr when the JSON goes to stdout), the
+warnings on stderr as ``FILE:LINE: warning: MESSAGE``, and writes the JSON when asked.
+Alarms propagate as :class:`~hnc_cam.errors.NCError`; the CLI prints them as
+``FILE:LINE:COL: alarm: MESSAGE  [block]`` and exits 2.
+
+Only light modules are imported here: no OCP, build123d, cadquery, shapely or numpy.
+"""
+from __future__ import annotations
+
+import sys
+
+
+def run_command(args) -> int:
+    from ..io import write_atomic
+    from ..tooling import load_machine
+    from .interp import run_file
+
+    machine = load_machine(getattr(args, "machine", None))
+    tp = run_file(args.program, machine)
+    for w in tp.warnings:
+        print(f"{tp.file}:{w.line}: warning: {w.message}", file=sys.stderr)
+    out = getattr(args, "json", None)
+    summary_stream = sys.stderr if out == "-" else sys.stdout
+    print(tp.summary(), file=summary_stream)
+    if out:
+        write_atomic(out, tp.dumps() + "\n")
+    return 0

@@ -1,0 +1,1543 @@
+"""The HNC-21/22T interpreter: program text -> :class:`~hnc_cam.nc.toolpath.Toolpath`.
+
+It executes a loaded :class:`~hnc_cam.nc.parser.Source` statement by statement, as the
+controller does, and records what the tool's controlled point does.
+
+Execution model
+---------------
+* Statements are compiled lazily, once, on first execution (a loop body is compiled once):
+  plain blocks (letters and numbers only) take a regex-only path; blocks with expressions
+  keep compiled closures for their words (:mod:`hnc_cam.nc.expr`).
+* Order inside a block (manual §3.1, §3.2.3, §3.3.5): G codes of the modal groups, then F,
+  S, T (the T word acts before motion), then the before-motion M codes (M03 M04 M07 M06),
+  then G04 (the dwell comes first in its block), then the non-modal G code or the motion /
+  cycle, then the after-motion M codes (M05 M09 M00 M02 M30) and M98/M99.
+* A block with M98 or G65 is a call: all its words are arguments (``#0``–``#25``), it does
+  not move.
+
+Coordinates and offsets (choices where the manual is silent, also in the README)
+------------------------------------------------------------------------------------
+* Internally X is a radius; X/U words are diameters in G36 (the default; a machine with
+  ``diameter_mode = false`` or ``run(..., diameter=False)`` starts in G37), I K R always radii.
+* The tool starts at work X0 Z0 of G54 unless ``start=`` is given (programs set it with G92).
+* Work position = machine position - (G54..G59 origin + G92 shift + G52 local shift).
+* Reported positions are those of the controlled point in work coordinates. With ``Tttoo``
+  the slide is moved by register ``oo``'s offset (geometry + wear); the tool's own
+  displacement is taken to be the one recorded in register ``tt`` (the usual setup where
+  register tt was measured for tool tt). So with ``oo == tt`` the controlled point is the
+  programmed point; with ``oo = 00`` (offset cancelled) it is the programmed point plus
+  register tt's offset. The change takes effect at the T word without a move of its own.
+* G00 is the real dog-leg: both axes at their own rapid rates until the shorter one
+  arrives, then the other alone (two ``rapid`` moves).
+* Feeds: F in mm/min (G94) or mm/rev (G95, converted with the spindle speed of the move);
+  G96 is resolved per move at the radius of the move's midpoint, clamped to the machine's
+  max rpm. A feed move before any F uses ``machine.default_feed`` (mm/min) with a warning.
+* Arcs: R wins over I/K; a negative R is the arc over 180 deg (FANUC usage); an R smaller
+  than half the chord by at most 0.001 mm is read as the half circle (programs round to
+  3 decimals); with I/K the end must lie within 0.01 mm of the circle; I/K with the end on
+  the start is a full circle (emitted as two half arcs).
+* Macro variables read as *vacant* until assigned: reading a vacant variable in an
+  expression is an alarm ("undefined variable"); a call fills ``#0``–``#25`` with its words
+  (0 when absent, as appendix 1 says), ``#30``/``#32`` with the X (radius) / Z work position.
+* A subprogram that reaches the end of its text without M99 returns with a warning (the
+  manual prints %9990 cut short); the main program must end with M02/M30.
+"""
+from __future__ import annotations
+
+import math
+from typing import Any, Optional
+
+from ..errors import NCError
+from ..geometry import Arc, Line, cross
+from ..tooling import Machine, Register, load_machine
+from . import parser as P
+from .expr import EvalError, Expr
+from .toolpath import Move, Toolpath, Warning_
+
+_hypot = math.hypot
+_atan2 = math.atan2
+_TWO_PI = 2.0 * math.pi
+
+# modal groups of table 3.2 (17 = G96/G97, which the table lists without a group number)
+G_GROUP: dict[int, int] = {
+    0: 1, 1: 1, 2: 1, 3: 1, 32: 1, 80: 1, 81: 1, 82: 1,
+    4: 0, 28: 0, 29: 0, 52: 0, 53: 0, 65: 0, 92: 0,
+    71: 6, 72: 6, 73: 6, 76: 6,
+    20: 8, 21: 8,
+    40: 9, 41: 9, 42: 9,
+    54: 11, 55: 11, 56: 11, 57: 11, 58: 11, 59: 11,
+    90: 13, 91: 13,
+    94: 14, 95: 14,
+    36: 16, 37: 16,
+    96: 17, 97: 17,
+}
+M_BEFORE = frozenset({3, 4, 6, 7})
+M_AFTER = frozenset({0, 2, 5, 9, 30, 98, 99})
+M_KNOWN = M_BEFORE | M_AFTER
+CYCLE_MOTION = frozenset({32, 80, 81, 82})
+_BASE_LETTERS = frozenset("NGMFSTXZUW")
+_AXIS = frozenset("XZUW")
+_LENGTH_LIMIT = 99999.999
+_MAX_LEVEL = 7  # levels 0 (main) .. 7: locals #200 .. #599 (manual 3.4.1)
+_ARC_R_SLACK = 1e-3
+_ARC_END_TOL = 0.01
+
+# word value ranges of table 2.1
+_RANGES: dict[str, tuple[float, float, bool]] = {  # letter -> (min, max, integer)
+    "G": (0, 99, True), "M": (0, 99, True), "N": (0, 4294967295, True), "T": (0, 9999, True),
+    "F": (0, 24000, False), "S": (0, 9999, False), "D": (0, 99, True),
+    "P": (-4294967295, 4294967295, False), "L": (0, 4294967295, True),
+}
+_UNKNOWN_LETTERS = {"H": "H is not an HNC-21T address (table 2.1)",
+                    "O": "O is a program header, not a word inside a block",
+                    "Y": "this lathe has no Y axis"}
+
+
+class _Halt(Exception):
+    """M02/M30 reached."""
+
+
+# ------------------------------------------------------------------------------------------
+# compiled statements
+# ------------------------------------------------------------------------------------------
+
+class Blk:
+    """A compiled block. ``words`` holds the constant values (letter -> float, without G M N);
+    ``dyn`` the expression words [(letter, Expr, col)] evaluated at each execution."""
+
+    __slots__ = ("stmt", "line", "text", "n", "words", "gs", "ms", "dyn", "letters", "extra",
+                 "axes", "plain", "uw")
+
+    def __init__(self, stmt: int, line: int, text: str):
+        self.stmt = stmt
+        self.line = line
+        self.text = text
+        self.n: Optional[int] = None
+        self.words: dict[str, float] = {}
+        self.gs: tuple = ()
+        self.ms: tuple = ()
+        self.dyn: Optional[list] = None
+        self.letters: frozenset = frozenset()
+        self.extra: frozenset = frozenset()
+        self.axes = False
+        self.plain = False  # only G00-G03 / X Z U W I K R: the fast path
+        self.uw = False
+
+
+class Asg:
+    __slots__ = ("stmt", "line", "items")
+
+    def __init__(self, stmt: int, line: int, items: list):
+        self.stmt = stmt
+        self.line = line
+        self.items = items  # [(target int | Expr, Expr, col)]
+
+
+class Cond:
+    __slots__ = ("stmt", "line", "expr")
+
+    def __init__(self, stmt: int, line: int, expr: Expr):
+        self.stmt = stmt
+        self.line = line
+        self.expr = expr
+
+
+def _range_error(letter: str, v: float) -> Optional[str]:
+    r = _RANGES.get(letter)
+    if r is None:
+        if abs(v) > _LENGTH_LIMIT:
+            return f"value out of range: {letter}{v:g} (limit ±99999.999, table 2.1)"
+        return None
+    lo, hi, integer = r
+    if integer and not float(v).is_integer():
+        return f"value out of range: {letter} must be an integer, got {v:g}"
+    if v < lo or v > hi:
+        return f"value out of range: {letter}{v:g} (allowed {lo:g}..{hi:g}, table 2.1)"
+    return None
+
+
+# ------------------------------------------------------------------------------------------
+# the interpreter
+# ------------------------------------------------------------------------------------------
+
+class Interp:
+    """One run of one program. Use :func:`run` unless you need the object."""
+
+    _STATE = ("x", "z", "motion", "absolute", "diam", "unit", "per_rev", "css", "comp", "wcs",
+              "F", "s_rpm", "vc", "sdir", "coolant", "tool", "reg", "tdx", "tdz", "corner",
+              "g92x", "g92z", "g52x", "g52z", "ox", "oz", "g28", "last_g00", "cyc_code", "cyc_words",
+              "comp_items", "comp_mode", "op")
+
+    def __init__(self, src: P.Source, machine: Machine | None = None, *,
+                 step_limit: int | None = None, start: tuple[float, float] = (0.0, 0.0),
+                 diameter: bool | None = None):
+        self.src = src
+        self.m = machine if machine is not None else load_machine(None)
+        self.limit = int(step_limit if step_limit is not None else self.m.step_limit)
+        self.compiled: list[Any] = [None] * len(src.kind)
+        self.moves: list[Move] = []
+        self.warnings: list[Warning_] = []
+        self._warned: set = set()
+        self.blocks = 0
+        self.steps = 0
+        # modal state (table 3.2 defaults)
+        self.x, self.z = float(start[0]), float(start[1])
+        self.motion = 0
+        self.absolute = True
+        if diameter is None:
+            diameter = bool(getattr(self.m, "diameter_mode", True))
+        self.diam = diameter
+        self.unit = 1.0
+        self.per_rev = False
+        self.css = False
+        self.comp = 40
+        self.wcs = 54
+        self.wcs_tab = {int(k[1:]): (float(v[0]), float(v[1])) for k, v in self.m.work_offsets.items()}
+        self.g92x = self.g92z = 0.0
+        self.g52x = self.g52z = 0.0
+        self.ox, self.oz = self.wcs_tab.get(54, (0.0, 0.0))
+        self.F: Optional[float] = None
+        self.s_rpm = 0.0
+        self.vc = 0.0
+        self.sdir = 5
+        self.coolant = False
+        self.tool = 0
+        self.reg = 0
+        self.tdx = self.tdz = 0.0
+        self.regs: dict[int, Register] = {}
+        self.life: dict[int, float] = {}
+        self.corner: Optional[tuple] = None
+        self.g28: Optional[tuple] = None
+        self.last_g00 = 0
+        self.cyc_code = 0
+        self.cyc_words: dict[str, float] = {}
+        self.comp_items: list = []
+        self.comp_mode = ""
+        self.op = "G00"
+        self.dry: Optional[list] = None
+        # macro variables
+        self.levels = [[None] * 50 for _ in range(_MAX_LEVEL + 1)]
+        self.ars = [[0] * 50 for _ in range(_MAX_LEVEL + 1)]
+        self.level = 0
+        self.L = self.levels[0]
+        self.G: list = [None] * 200
+        self.table = [None] * 601  # #2000..#2600
+        self.frames: list = []
+        self.cur_span = src.main
+        self._reader = self._read
+        self._ar = self._arflag
+
+    # -- errors and warnings ---------------------------------------------------------------
+    def alarm(self, message: str, line: int, col: int = 0) -> NCError:
+        return NCError(message, line, col, self.src.block_text(line), self.src.file)
+
+    def balarm(self, b: Blk, message: str, letter: Optional[str] = None) -> NCError:
+        col = P.word_col(b.text, letter) if letter else 0
+        return self.alarm(message, b.line, col)
+
+    def warn(self, line: int, message: str, once: Any = None) -> None:
+        if self.dry is not None:
+            return
+        if once is not None:
+            if once in self._warned:
+                return
+            self._warned.add(once)
+        self.warnings.append(Warning_(line, message))
+
+    # -- compile ----------------------------------------------------------------------------
+    def _compile(self, i: int):
+        src = self.src
+        text = src.text[i]
+        line = src.lineno[i]
+        k = src.kind[i]
+        block = src.block_text(line)
+        if k != P.OTHER:
+            p = P.parse_statement(text, line, src.file, block)
+            if p.kind in (P.IF, P.WHILE):
+                return Cond(i, line, p.cond)
+            return None
+        fw = P.fast_words(text)
+        b = Blk(i, line, text)
+        if fw is not None:
+            words = [(L, float(v), 0) for L, v in fw]
+        else:
+            p = P.parse_statement(text, line, src.file, block)
+            if p.kind == "assign":
+                return Asg(i, line, p.assigns)
+            words = p.words
+        gs: list = []
+        ms: list = []
+        dyn: list = []
+        w = b.words
+        letters = set()
+        for L, v, col in words:
+            if L in _UNKNOWN_LETTERS:
+                raise self.alarm(f"unknown word {L}: {_UNKNOWN_LETTERS[L]}", line,
+                                 col or P.word_col(text, L))
+            if isinstance(v, Expr):
+                if L not in ("G", "M"):
+                    if L in letters:
+                        raise self.alarm(f"word {L} appears twice in the block", line, col)
+                dyn.append((L, v, col))
+                letters.add(L)
+                continue
+            err = _range_error(L, v)
+            if err:
+                raise self.alarm(err, line, col or P.word_col(text, L))
+            if L == "G":
+                gs.append(int(v))
+            elif L == "M":
+                ms.append(int(v))
+            elif L == "N":
+                b.n = int(v)
+            else:
+                if L in letters:
+                    raise self.alarm(f"word {L} appears twice in the block", line,
+                                     col or P.word_col(text, L))
+                w[L] = v
+            letters.add(L)
+        letters.discard("N")
+        b.gs = tuple(gs)
+        b.ms = tuple(ms)
+        b.dyn = dyn or None
+        b.letters = frozenset(letters)
+        b.extra = b.letters - _BASE_LETTERS
+        b.axes = bool(b.letters & _AXIS)
+        b.uw = "U" in letters or "W" in letters
+        b.plain = (b.dyn is None and not ms and b.letters <= frozenset("GXZUWIKR")
+                   and all(g <= 3 for g in gs) and len(gs) <= 1)
+        return b
+
+    # -- variables ----------------------------------------------------------------------------
+    def _read(self, n, strict_vacant: bool = True):
+        if n is None:
+            raise EvalError("undefined variable used as a variable number")
+        if isinstance(n, float) and not n.is_integer() or n != n:
+            raise EvalError(f"invalid variable #{n:g}: not an integer")
+        n = int(n)
+        if 0 <= n < 50:
+            v = self.L[n]
+        elif 50 <= n < 200:
+            v = self.G[n]
+        elif 200 <= n < 600:
+            lv, j = divmod(n - 200, 50)
+            v = self.levels[lv][j]
+        elif 600 <= n < 900:
+            k, r = divmod(n - 600, 100)
+            if k == 2:
+                v = self.life.get(r, 0.0)
+            else:
+                reg = self._register(r)
+                v = reg.z if k == 0 else reg.radius
+        elif 1000 <= n < 1200:
+            v = self._sysvar(n)
+        elif 2000 <= n <= 2600:
+            v = self.table[n - 2000]
+        else:
+            raise EvalError(f"undefined variable #{n}: no such variable (see manual 3.4.1)")
+        if v is None and strict_vacant:
+            raise EvalError(f"undefined variable #{n}: it was never assigned")
+        return v
+
+    def _sysvar(self, n: int):
+        mx, mz = self.x + self.ox, self.z + self.oz
+        if n == 1009:
+            return 1.0 if self.diam else 0.0
+        if 1000 <= n <= 1018:
+            k = n - 1000 if n < 1010 else n - 1010
+            return mx if k == 0 else mz if k == 2 else 0.0
+        if 1020 <= n <= 1028:
+            k = n - 1020
+            return self.x if k == 0 else self.z if k == 2 else 0.0
+        if 1030 <= n <= 1038:
+            k = n - 1030
+            return self.ox if k == 0 else self.oz if k == 2 else 0.0
+        if 1040 <= n <= 1099:
+            g, k = divmod(n - 1040, 10)
+            if k == 9:
+                raise EvalError(f"undefined variable #{n}: reserved")
+            o = self.wcs_tab.get(54 + g, (0.0, 0.0))
+            return o[0] if k == 0 else o[1] if k == 2 else 0.0
+        if 1110 <= n <= 1118:
+            g = self.g28
+            if g is None:
+                return 0.0
+            k = n - 1110
+            return (g[0] if g[0] is not None else 0.0) if k == 0 else \
+                (g[1] if g[1] is not None else 0.0) if k == 2 else 0.0
+        if 1150 <= n <= 1169:
+            grp = n - 1150
+            return float(self._modal(grp))
+        raise EvalError(f"undefined variable #{n}: this system variable is not provided")
+
+    def _modal(self, grp: int) -> int:
+        if grp == 0:
+            return self.last_g00
+        if grp in (1, 2):  # appendix %0080 saves the motion code from #1152
+            return self.motion
+        return {8: 20 if self.unit != 1.0 else 21, 9: self.comp, 11: self.wcs,
+                13: 90 if self.absolute else 91, 14: 95 if self.per_rev else 94,
+                16: 36 if self.diam else 37, 17: 96 if self.css else 97}.get(grp, 0)
+
+    def _write(self, n: float, v, line: int, col: int) -> None:
+        if isinstance(n, float) and not n.is_integer() or n != n:
+            raise self.alarm(f"invalid variable #{n:g}: not an integer", line, col)
+        n = int(n)
+        if 0 <= n < 50:
+            self.L[n] = v
+        elif 50 <= n < 200:
+            self.G[n] = v
+        elif 200 <= n < 600:
+            lv, j = divmod(n - 200, 50)
+            self.levels[lv][j] = v
+        elif 600 <= n < 900:
+            k, r = divmod(n - 600, 100)
+            if k == 2:
+                self.life[r] = v
+            elif r == 0:
+                raise self.alarm(f"variable #{n} is read-only (register 00 is no offset)", line, col)
+            else:
+                reg = self._register(r)
+                from dataclasses import replace
+                if k == 0:
+                    self.regs[r] = replace(reg, z=float(v))
+                else:
+                    if v < 0:
+                        raise self.alarm(f"nose radius #{n} cannot be negative", line, col)
+                    self.regs[r] = replace(reg, radius=float(v))
+                self._set_tool_delta()
+        elif 1040 <= n <= 1099 and (n - 1040) % 10 in (0, 2):
+            g, k = divmod(n - 1040, 10)
+            o = self.wcs_tab.get(54 + g, (0.0, 0.0))
+            self.wcs_tab[54 + g] = (float(v), o[1]) if k == 0 else (o[0], float(v))
+            self._set_origin()
+        elif 2000 <= n <= 2600:
+            self.table[n - 2000] = v
+        elif 1000 <= n < 1200:
+            raise self.alarm(f"variable #{n} is read-only", line, col)
+        else:
+            raise self.alarm(f"undefined variable #{n}: no such variable (see manual 3.4.1)", line, col)
+
+    def _arflag(self, n) -> float:
+        if isinstance(n, float) and not n.is_integer():
+            raise EvalError(f"invalid variable #{n:g} in AR[]")
+        n = int(n)
+        if 0 <= n < 50:
+            return float(self.ars[self.level][n])
+        return 0.0
+
+    def _eval(self, e: Expr, line: int):
+        try:
+            v = e.fn(self.L, self.G, self._reader, self._ar)
+            v + 0.0  # vacant (None) -> TypeError
+        except EvalError as err:
+            raise self.alarm(err.message, line, err.col or e.col) from None
+        except (TypeError, ValueError, OverflowError, ZeroDivisionError):
+            v = self._eval_strict(e, line)
+        if not math.isfinite(v):
+            raise self.alarm("bad expression: the value is not a finite number", line, e.col)
+        return v
+
+    def _eval_strict(self, e: Expr, line: int) -> float:
+        try:
+            return e.strict(self.L, self.G, self._reader, self._ar) + 0.0
+        except EvalError as err:
+            raise self.alarm(err.message, line, err.col or e.col) from None
+        except OverflowError:
+            raise self.alarm("bad expression: number too large", line, e.col) from None
+        except (TypeError, ValueError, ZeroDivisionError) as ex:
+            raise self.alarm(f"bad expression: {ex}", line, e.col) from None
+
+    # -- registers and coordinates ------------------------------------------------------------
+    def _register(self, n: int) -> Register:
+        r = self.regs.get(n)
+        if r is None:
+            r = self.m.register(n)
+        return r
+
+    def _set_tool_delta(self) -> None:
+        if self.tool == self.reg:
+            self.tdx = self.tdz = 0.0
+            return
+        g = self._register(self.tool) if self.tool else None
+        o = self._register(self.reg) if self.reg else None
+        self.tdx = (g.x_total_radius if g else 0.0) - (o.x_total_radius if o else 0.0)
+        self.tdz = (g.z_total if g else 0.0) - (o.z_total if o else 0.0)
+
+    def _set_origin(self) -> None:
+        """Recompute the work origin; the machine position stays, the work position moves."""
+        mx, mz = self.x + self.ox, self.z + self.oz
+        wx, wz = self.wcs_tab.get(self.wcs, (0.0, 0.0))
+        self.ox = wx + self.g92x + self.g52x
+        self.oz = wz + self.g92z + self.g52z
+        self.x, self.z = mx - self.ox, mz - self.oz
+
+    # -- running ---------------------------------------------------------------------------
+    def run(self) -> Toolpath:
+        src = self.src
+        kinds = src.kind
+        jump = src.jump
+        comp = self.compiled
+        a, end = src.main
+        pc = a
+        limit = self.limit
+        OTHER, IF, WHILE, ELSE, ENDIF, ENDW = P.OTHER, P.IF, P.WHILE, P.ELSE, P.ENDIF, P.ENDW
+        block = self._block
+        steps = self.steps
+        try:
+            while True:
+                if pc >= end or kinds[pc] == P.HDR:
+                    # end of the program text
+                    if self.frames:
+                        last = src.lineno[pc - 1] if pc > 0 else 0
+                        self.warn(last, "subprogram ends without M99: returning to the caller")
+                        pc, end = self._return(last, implicit=True)
+                        continue
+                    last = src.lineno[min(pc, len(kinds)) - 1] if pc > 0 else 1
+                    raise self.alarm("end of program without M02/M30", last)
+                steps += 1
+                if steps > limit:
+                    self.steps = steps
+                    raise self.alarm(f"step limit exceeded ({limit} statements executed): "
+                                     f"endless loop?", src.lineno[pc])
+                k = kinds[pc]
+                if k is OTHER:
+                    c = comp[pc]
+                    if c is None:
+                        c = comp[pc] = self._compile(pc)
+                    if c.__class__ is Blk:
+                        self.steps = steps
+                        r = block(c)
+                        if r is None:
+                            pc += 1
+                        elif r == 1:  # call
+                            pc, end = self._call(c, pc, end)
+                        elif r == 2:  # M99
+                            pc, end = self._return(c.line)
+                        else:
+                            raise _Halt
+                    else:
+                        self._assign(c)
+                        pc += 1
+                elif k == IF or k == WHILE:
+                    c = comp[pc]
+                    if c is None:
+                        c = comp[pc] = self._compile(pc)
+                    if self._eval(c.expr, c.line) != 0.0:
+                        pc += 1
+                    else:
+                        pc = jump[pc]
+                elif k == ELSE or k == ENDW:
+                    if comp[pc] is None:
+                        comp[pc] = self._compile(pc) or True
+                    pc = jump[pc]
+                elif k == ENDIF:
+                    if comp[pc] is None:
+                        comp[pc] = self._compile(pc) or True
+                    pc += 1
+                else:  # pragma: no cover
+                    pc += 1
+        except _Halt:
+            pass
+        self.steps = steps
+        if self.corner is not None:
+            c = self.corner
+            raise self.alarm("chamfer/round at the end of the program: no following G01 line", c[6])
+        self._flush_comp()
+        tp = Toolpath(moves=self.moves, warnings=self.warnings, blocks_executed=self.blocks,
+                      file=src.file, source_lines=src.lines)
+        return tp
+
+    def _assign(self, c: Asg) -> None:
+        for target, e, col in c.items:
+            v = self._eval(e, c.line)
+            if isinstance(target, Expr):
+                n = self._eval(target, c.line)
+            else:
+                n = target
+            self._write(n, v, c.line, col)
+
+    # -- subprograms ---------------------------------------------------------------------------
+    def _call(self, b: Blk, pc: int, end: int) -> tuple[int, int]:
+        w = self._words(b)
+        pn = w.get("P")
+        if pn is None:
+            raise self.balarm(b, "missing required word P: the subprogram number", "M" if 98 in b.ms else "G")
+        if not float(pn).is_integer() or pn < 0:
+            raise self.balarm(b, f"value out of range: P{pn:g} is not a program number", "P")
+        start = self.src.programs.get(int(pn))
+        if start is None:
+            raise self.balarm(b, f"subprogram %{int(pn):04d} not found in this file", "P")
+        reps = int(w.get("L", 1) or 0)
+        if reps < 1:
+            return pc + 1, end
+        if self.level >= _MAX_LEVEL:
+            raise self.balarm(b, f"subprogram nesting too deep (more than {_MAX_LEVEL + 1} levels)")
+        if self.dry is not None:
+            raise self.balarm(b, "M98/G65 inside the profile of a compound cycle")
+        self._flush_comp()
+        span = self.src.span_of(start)
+        self.frames.append((pc + 1, end, reps - 1, start, span[1], w, self.cur_span))
+        self._enter(w)
+        self.cur_span = span
+        return start, span[1]
+
+    def _enter(self, w: dict) -> None:
+        self.level += 1
+        loc = self.levels[self.level]
+        ar = self.ars[self.level]
+        for i in range(50):
+            loc[i] = None
+            ar[i] = 0
+        flag = 90 if self.absolute else 91
+        for i in range(26):
+            L = chr(65 + i)
+            v = w.get(L)
+            if v is None:
+                loc[i] = 0.0
+            else:
+                loc[i] = float(v)
+                ar[i] = flag
+        for i in range(30, 39):
+            loc[i] = 0.0
+            ar[i] = 90
+        loc[30] = self.x
+        loc[32] = self.z
+        self.L = loc
+
+    def _return(self, line: int, implicit: bool = False) -> tuple[int, int]:
+        if not self.frames:
+            raise self.alarm("M99 outside a subprogram (the main program ends with M02/M30)", line,
+                             P.word_col(self.src.text[self._stmt_of_line(line)], "M") if not implicit else 0)
+        ret, end, reps, start, send, w, span = self.frames[-1]
+        self._flush_comp()
+        if reps > 0:
+            self.frames[-1] = (ret, end, reps - 1, start, send, w, span)
+            self.level -= 1
+            self._enter(w)
+            return start, send
+        self.frames.pop()
+        self.level -= 1
+        self.L = self.levels[self.level]
+        self.cur_span = span
+        return ret, end
+
+    def _stmt_of_line(self, line: int) -> int:
+        try:
+            return self.src.lineno.index(line)
+        except ValueError:
+            return 0
+
+    # -- blocks -------------------------------------------------------------------------------
+    def _words(self, b: Blk) -> dict:
+        """All word values of a block (expressions evaluated), G and M included as lists."""
+        w = dict(b.words)
+        if b.dyn:
+            for L, e, col in b.dyn:
+                v = self._eval(e, b.line)
+                if L in ("G", "M"):
+                    continue
+                w[L] = v
+        return w
+
+    def _dyn(self, b: Blk) -> tuple[dict, tuple, tuple]:
+        w = dict(b.words)
+        gs = list(b.gs)
+        ms = list(b.ms)
+        for L, e, col in b.dyn:
+            v = self._eval(e, b.line)
+            err = _range_error(L, v)
+            if err:
+                raise self.alarm(err, b.line, col)
+            if L == "G":
+                gs.append(int(v))
+            elif L == "M":
+                ms.append(int(v))
+            else:
+                w[L] = v
+        return w, tuple(gs), tuple(ms)
+
+    def _block(self, b: Blk):
+        """Execute one block; returns None, 1 (call), 2 (M99) or 3 (end)."""
+        self.blocks += 1
+        if b.plain:
+            w = b.words
+            gs = b.gs
+            if gs:
+                g = gs[0]
+                self.motion = g
+                if self.cyc_code:
+                    self.cyc_code = 0
+            if not b.axes:
+                return None
+            m = self.motion
+            if m == 1:
+                return self._g01(b, w)
+            if m == 0:
+                return self._g00(b, w)
+            if m <= 3:
+                return self._arc(b, w, m == 2)
+            return self._cycle(m, b, w)
+        if b.dyn is not None:
+            w, gs, ms = self._dyn(b)
+        else:
+            w, gs, ms = b.words, b.gs, b.ms
+        # G codes
+        g00 = 0
+        g06 = 0
+        seen = 0
+        comp_cmd = 0
+        motion = -1
+        for g in gs:
+            grp = G_GROUP.get(g)
+            if grp is None:
+                raise self.balarm(b, f"unknown G code G{g:02d} (table 3.2)", "G")
+            bit = 1 << grp
+            if seen & bit and grp != 13:
+                raise self.balarm(b, f"two G codes of modal group {grp:02d} in one block", "G")
+            seen |= bit
+            if grp == 1:
+                motion = g
+            elif grp == 0:
+                g00 = g
+            elif grp == 6:
+                g06 = g
+            elif grp == 13:
+                self.absolute = g == 90
+            elif grp == 16:
+                self.diam = g == 36
+            elif grp == 14:
+                self.per_rev = g == 95
+            elif grp == 8:
+                self.unit = 25.4 if g == 20 else 1.0
+            elif grp == 11:
+                if g != self.wcs:
+                    self.wcs = g
+                    self._set_origin()
+            elif grp == 9:
+                comp_cmd = g
+            elif grp == 17:
+                self.css = g == 96
+        if motion >= 0:
+            if motion != self.motion:
+                self.cyc_code = 0
+            self.motion = motion
+        is_call = g00 == 65 or 98 in ms
+        if b.extra and not is_call:
+            self._check_letters(b, g00, g06)
+        # F S T
+        if not is_call:
+            if "F" in w:
+                self.F = w["F"] * self.unit
+            if "S" in w:
+                self._spindle_word(b, w["S"])
+            if "T" in w:
+                self._tword(b, w["T"])
+        elif "T" in w or "F" in w or "S" in w:
+            pass  # arguments of the call
+        # M before
+        flow = 0
+        for mc in ms:
+            if mc not in M_KNOWN:
+                raise self.balarm(b, f"unknown M code M{mc:02d} (table 3.1)", "M")
+            if mc == 3 or mc == 4:
+                self.sdir = mc
+            elif mc == 7:
+                self.coolant = True
+            elif mc in (0, 2, 30, 98, 99):
+                if flow:
+                    raise self.balarm(b, f"M{flow:02d} and M{mc:02d} in one block", "M")
+                flow = mc
+        # compensation mode change (flush happens before the block's move)
+        if comp_cmd and comp_cmd != self.comp:
+            self._comp_command(b, comp_cmd)
+        elif comp_cmd == 40 and self.comp == 40:
+            pass
+        result = None
+        if is_call:
+            if g00 == 65 and 98 in ms:
+                raise self.balarm(b, "G65 and M98 in one block", "G")
+            if self.dry is not None:
+                raise self.balarm(b, "M98/G65 inside the profile of a compound cycle", "M")
+            result = 1
+        elif g00 == 4:
+            self._dwell(b, w)
+        elif g00 and g00 != 53:
+            self.last_g00 = g00
+            self._nonmodal(b, g00, w)
+        elif g06:
+            self._cycle(g06, b, w)
+        elif b.axes:
+            if g00 == 53:
+                self.last_g00 = 53
+            m = self.motion
+            if m == 1:
+                self._g01(b, w, g00 == 53)
+            elif m == 0:
+                self._g00(b, w, g00 == 53)
+            elif m <= 3:
+                self._arc(b, w, m == 2, g00 == 53)
+            else:
+                if g00 == 53:
+                    raise self.balarm(b, "G53 cannot be used with a cycle", "G")
+                self._cycle(m, b, w)
+        if comp_cmd == 40 and self.comp_mode == "cancel":
+            # G40 without a (non-zero) move: compensation ends here
+            self.comp_mode = ""
+            self._flush_comp()
+        # M after
+        for mc in ms:
+            if mc == 5:
+                self.sdir = 5
+            elif mc == 9:
+                self.coolant = False
+        if flow:
+            if flow in (2, 30):
+                return 3
+            if flow == 99:
+                if self.dry is not None:
+                    raise self.balarm(b, "M99 inside the profile of a compound cycle", "M")
+                return 2
+            if flow == 0:
+                self.warn(b.line, "M00 program stop: the run continues as after cycle start", ("M00", b.line))
+        return result
+
+    def _check_letters(self, b: Blk, g00: int, g06: int) -> None:
+        m = self.motion
+        if g06 or (m in CYCLE_MOTION and b.axes and not g00):
+            return
+        ok: set = set()
+        if g00 == 4:
+            ok = {"P"}
+        elif g00 in (28, 29, 92, 52):
+            ok = set()
+        elif b.axes:
+            if m in (2, 3):
+                ok = {"I", "K", "R"}
+            elif m == 1:
+                ok = {"C", "R"}
+        if self.comp != 40 or 40 in b.gs or 41 in b.gs or 42 in b.gs:
+            ok.add("D")
+        for L in sorted(b.extra):
+            if L not in ok:
+                what = (f"G{g00:02d}" if g00 else f"G{m:02d}" if b.axes else "this")
+                raise self.balarm(b, f"word {L} has no meaning in {what} block", L)
+
+    def _spindle_word(self, b: Blk, s: float) -> None:
+        if self.css:
+            self.vc = s
+            return
+        mx = self.m.max_rpm
+        if s > mx:
+            self.warn(b.line, f"S{s:g} exceeds the spindle limit {mx:g} rpm: clamped")
+            s = mx
+        self.s_rpm = s
+
+    def _tword(self, b: Blk, t: float) -> None:
+        t = int(t)
+        tt, oo = divmod(t, 100)
+        if 0 < t < 100:
+            self.warn(b.line, f"T{t} read as T{t:04d}: tool {tt:02d}, offset register {oo:02d}")
+        if (tt, oo) == (self.tool, self.reg):
+            return
+        if self.comp != 40:
+            self._flush_comp()
+        self.tool, self.reg = tt, oo
+        self._set_tool_delta()
+
+    # -- targets ---------------------------------------------------------------------------------
+    def _target(self, b: Blk, w: dict, g53: bool = False) -> tuple[float, float]:
+        x, z = self.x, self.z
+        u = self.unit
+        sx = 0.5 * u if self.diam else u
+        X = w.get("X")
+        U = w.get("U")
+        Z = w.get("Z")
+        W = w.get("W")
+        if X is not None:
+            if U is not None:
+                raise self.balarm(b, "X and U in one block", "U")
+            if g53:
+                x = X * sx - self.ox
+            elif self.absolute:
+                x = X * sx
+            else:
+                x += X * sx
+        elif U is not None:
+            x += U * sx
+        if Z is not None:
+            if W is not None:
+                raise self.balarm(b, "Z and W in one block", "W")
+            if g53:
+                z = Z * u - self.oz
+            elif self.absolute:
+                z = Z * u
+            else:
+                z += Z * u
+        elif W is not None:
+            z += W * u
+        return x, z
+
+    # -- motion --------------------------------------------------------------------------------
+    def _g00(self, b: Blk, w: dict, g53: bool = False):
+        if b.plain and self.absolute and self.diam and self.unit == 1.0 and not b.uw:
+            X = w.get("X")
+            x1 = X * 0.5 if X is not None else self.x
+            Z = w.get("Z")
+            z1 = Z if Z is not None else self.z
+        else:
+            x1, z1 = self._target(b, w, g53)
+        if self.corner is not None:
+            self._corner_not_followed()
+        self.op = "G00"
+        x0, z0 = self.x, self.z
+        self.x, self.z = x1, z1
+        self._emit_line(True, x0, z0, x1, z1, b.line)
+        return None
+
+    def _g01(self, b: Blk, w: dict, g53: bool = False):
+        if b.plain and self.absolute and self.diam and self.unit == 1.0 and not b.uw:
+            X = w.get("X")
+            x1 = X * 0.5 if X is not None else self.x
+            Z = w.get("Z")
+            z1 = Z if Z is not None else self.z
+        else:
+            x1, z1 = self._target(b, w, g53)
+        x0, z0 = self.x, self.z
+        self.op = "G01"
+        c = self.corner
+        if c is not None:
+            x0, z0 = self._resolve_corner(c, x1, z1, b.line)
+            self.corner = None
+        if not b.plain and ("C" in w or "R" in w):
+            if "C" in w and "R" in w:
+                raise self.balarm(b, "C (chamfer) and R (round) in one block", "R")
+            kind = "C" if "C" in w else "R"
+            size = w[kind] * self.unit
+            if size < 0:
+                raise self.balarm(b, f"value out of range: {kind} must not be negative", kind)
+            if size > 0:
+                if _hypot(x1 - self.x, z1 - self.z) < 1e-9:
+                    raise self.balarm(b, f"chamfer/round {kind}{w[kind]:g} on a block without movement", kind)
+                self.corner = (x0, z0, x1, z1, kind, size, b.line, self.F)
+                self.x, self.z = x1, z1
+                return None
+        self.x, self.z = x1, z1
+        self._emit_line(False, x0, z0, x1, z1, b.line)
+        return None
+
+    def _corner_not_followed(self) -> None:
+        c = self.corner
+        raise self.alarm(f"chamfer/round {c[4]}{c[5]:g} must be followed by a G01 line "
+                         f"(the manual defines it between two lines)", c[6], P.word_col(
+                             self.src.text[self._stmt_of_line(c[6])], c[4]))
+
+    def _resolve_corner(self, c: tuple, x2: float, z2: float, line2: int) -> tuple[float, float]:
+        """Emit the corner block's line up to B and the chamfer/round B->C'; return C'."""
+        ax, az, gx, gz, kind, size, line, F = c
+        l1 = _hypot(gx - ax, gz - az)
+        l2 = _hypot(x2 - gx, z2 - gz)
+        col = P.word_col(self.src.text[self._stmt_of_line(line)], kind)
+        if l2 < 1e-9:
+            raise self.alarm(f"chamfer/round {kind}{size:g}: the next block does not move", line2)
+        u1 = ((gx - ax) / l1, (gz - az) / l1)
+        u2 = ((x2 - gx) / l2, (z2 - gz) / l2)
+        cr = cross(u1, u2)
+        dot = u1[0] * u2[0] + u1[1] * u2[1]
+        if abs(cr) < 1e-12:
+            if dot > 0:
+                return gx, gz  # collinear: nothing to round
+            raise self.alarm(f"chamfer/round {kind}{size:g}: the next line turns back on this one", line, col)
+        if kind == "C":
+            t = size
+        else:
+            theta = math.atan2(abs(cr), dot)  # turning angle
+            t = size * math.tan(theta / 2.0)
+        if l1 < t - 1e-9:
+            raise self.alarm(f"chamfer/round {kind}{size:g} is longer than the segment "
+                             f"({l1:.3f} mm; needs {t:.3f})", line, col)
+        if l2 < t - 1e-9:
+            raise self.alarm(f"chamfer/round {kind}{size:g} is longer than the next segment "
+                             f"({l2:.3f} mm; needs {t:.3f})", line, col)
+        bx, bz = gx - u1[0] * t, gz - u1[1] * t
+        cx_, cz_ = gx + u2[0] * t, gz + u2[1] * t
+        saveF, saveop = self.F, self.op
+        self.F = F
+        self.op = "G01"
+        self._emit_line(False, ax, az, bx, bz, line)
+        if kind == "C":
+            self._emit_line(False, bx, bz, cx_, cz_, line)
+        else:
+            # centre: from B along the normal toward the inside of the turn
+            if cr > 0:  # turning counter-clockwise: centre on the left
+                nx, nz = u1[1], -u1[0]
+                cw = False
+            else:
+                nx, nz = -u1[1], u1[0]
+                cw = True
+            self._emit_arc(bx, bz, cx_, cz_, bx + nx * size, bz + nz * size, cw, line)
+        self.F, self.op = saveF, saveop
+        return cx_, cz_
+
+    def _arc(self, b: Blk, w: dict, cw: bool, g53: bool = False):
+        x0, z0 = self.x, self.z
+        x1, z1 = self._target(b, w, g53)
+        if self.corner is not None:
+            self._corner_not_followed()
+        if self.comp_mode == "start":
+            raise self.balarm(b, "tool nose compensation G41/G42 must start on a G00/G01 move, not G02/G03", "G")
+        u = self.unit
+        R = w.get("R")
+        self.op = "G02" if cw else "G03"
+        if R is not None:
+            R *= u
+            chord = _hypot(x1 - x0, z1 - z0)
+            if chord < 1e-9:
+                raise self.balarm(b, "arc start and end coincide: a full circle needs I/K, not R", "R")
+            r = abs(R)
+            if r == 0:
+                raise self.balarm(b, "value out of range: arc radius R0", "R")
+            if r < chord / 2:
+                if chord / 2 - r <= _ARC_R_SLACK:
+                    R = math.copysign(chord / 2, R)
+                else:
+                    raise self.balarm(b, f"arc radius R{r:g} too small for the chord: at least "
+                                         f"{chord / 2:.4f} needed", "R")
+            a = Arc.from_radius((x0, z0), (x1, z1), R, cw)
+            cx, cz = a.center
+        else:
+            I = w.get("I")
+            K = w.get("K")
+            if I is None and K is None:
+                raise self.balarm(b, f"missing required word: G0{2 if cw else 3} needs R or I/K", "G")
+            cx = x0 + (I or 0.0) * u
+            cz = z0 + (K or 0.0) * u
+            r0 = _hypot(x0 - cx, z0 - cz)
+            if r0 < 1e-9:
+                raise self.balarm(b, "arc centre on the start point (I/K zero)", "I" if I is not None else "K")
+            r1 = _hypot(x1 - cx, z1 - cz)
+            if abs(r1 - r0) > _ARC_END_TOL:
+                raise self.balarm(b, f"arc end not on the circle: radius {r0:.4f} at the start, "
+                                     f"{r1:.4f} at the end", "I" if I is not None else "K")
+            if _hypot(x1 - x0, z1 - z0) < 1e-9:
+                # full circle: two half arcs
+                mx, mz = 2 * cx - x0, 2 * cz - z0
+                self._emit_arc(x0, z0, mx, mz, cx, cz, cw, b.line)
+                self._emit_arc(mx, mz, x1, z1, cx, cz, cw, b.line)
+                self.x, self.z = x1, z1
+                return None
+        self.x, self.z = x1, z1
+        self._emit_arc(x0, z0, x1, z1, cx, cz, cw, b.line)
+        return None
+
+    def _dwell(self, b: Blk, w: dict) -> None:
+        p = w.get("P")
+        if p is None:
+            p = w.get("X")
+        if p is None:
+            raise self.balarm(b, "missing required word: G04 needs P (seconds)", "G")
+        if p < 0:
+            raise self.balarm(b, f"value out of range: dwell P{p:g} is negative", "P")
+        if self.corner is not None:
+            self._corner_not_followed()
+        self.last_g00 = 4
+        if self.dry is not None:
+            return
+        x, z = self.x + self.tdx, self.z + self.tdz
+        self.moves.append(Move("dwell", (x, z), (x, z), b.line, None, None, None, self.tool, self.reg,
+                               self._rpm(self.x), self.sdir, self.coolant, float(p), 0.0, 0.0, 0.0,
+                               "G04", self.comp))
+
+    def _nonmodal(self, b: Blk, g: int, w: dict) -> None:
+        if self.corner is not None and g in (28, 29):
+            self._corner_not_followed()
+        if g == 92:
+            if "U" in w or "W" in w:
+                raise self.balarm(b, "G92 takes absolute X/Z, not U/W", "U" if "U" in w else "W")
+            if not b.axes:
+                raise self.balarm(b, "missing required word: G92 needs X and/or Z", "G")
+            u = self.unit
+            if "X" in w:
+                nx = w["X"] * (0.5 * u if self.diam else u)
+                self.g92x += self.x - nx
+                self.ox += self.x - nx
+                self.x = nx
+            if "Z" in w:
+                nz = w["Z"] * u
+                self.g92z += self.z - nz
+                self.oz += self.z - nz
+                self.z = nz
+        elif g == 52:
+            u = self.unit
+            if "U" in w or "W" in w:
+                raise self.balarm(b, "G52 takes X/Z, not U/W", "U" if "U" in w else "W")
+            if "X" in w:
+                self.g52x = w["X"] * (0.5 * u if self.diam else u)
+            if "Z" in w:
+                self.g52z = w["Z"] * u
+            self._set_origin()
+        elif g == 28:
+            if not b.axes:
+                raise self.balarm(b, "missing required word: G28 needs X/Z (intermediate point)", "G")
+            self._flush_comp()
+            tx, tz = self._target(b, w)
+            hx = "X" in w or "U" in w
+            hz = "Z" in w or "W" in w
+            self.g28 = (tx if hx else None, tz if hz else None)
+            self.op = "G28"
+            x0, z0 = self.x, self.z
+            self.x, self.z = (tx if hx else x0), (tz if hz else z0)
+            self._emit_line(True, x0, z0, self.x, self.z, b.line)
+            rx, rz = self.m.reference
+            x0, z0 = self.x, self.z
+            self.x = rx - self.ox if hx else x0
+            self.z = rz - self.oz if hz else z0
+            self._emit_line(True, x0, z0, self.x, self.z, b.line)
+        elif g == 29:
+            if self.g28 is None:
+                raise self.balarm(b, "G29 without a previous G28 (no intermediate point)", "G")
+            if not b.axes:
+                raise self.balarm(b, "missing required word: G29 needs X/Z", "G")
+            self._flush_comp()
+            ix, iz = self.g28
+            ix = self.x if ix is None else ix
+            iz = self.z if iz is None else iz
+            # U/W are relative to the intermediate point
+            save = self.x, self.z
+            self.x, self.z = ix, iz
+            tx, tz = self._target(b, w)
+            self.x, self.z = save
+            hx = "X" in w or "U" in w
+            hz = "Z" in w or "W" in w
+            self.op = "G29"
+            x0, z0 = self.x, self.z
+            mx_ = ix if hx else x0
+            mz_ = iz if hz else z0
+            self._emit_line(True, x0, z0, mx_, mz_, b.line)
+            self.x, self.z = (tx if hx else mx_), (tz if hz else mz_)
+            self._emit_line(True, mx_, mz_, self.x, self.z, b.line)
+
+    # -- spindle and feed ------------------------------------------------------------------------
+    def _rpm(self, x: float) -> float:
+        if self.sdir == 5:
+            return 0.0
+        if not self.css:
+            return self.s_rpm
+        r = abs(x + self.tdx)
+        mx = self.m.max_rpm
+        if r < 1e-9:
+            return mx
+        n = 1000.0 * self.vc / (_TWO_PI * r)
+        return mx if n > mx else n
+
+    def _feed(self, rpm: float, line: int, F: Optional[float] = None) -> float:
+        if F is None:
+            F = self.F
+            if F is None:
+                self.warn(line, f"feed move before any F: using the machine's default feed "
+                                f"{self.m.default_feed:g} mm/min", "nofeed")
+                return self.m.default_feed
+        if self.per_rev:
+            if rpm <= 0:
+                self.warn(line, "feed per revolution (G95) with the spindle stopped: the move "
+                                "cannot run; time counted as 0", ("g95", line))
+                return 0.0
+            return F * rpm
+        if F <= 0:
+            raise self.alarm("feed rate F is 0: a feed move needs a positive F", line)
+        return F
+
+    # -- emission ----------------------------------------------------------------------------------
+    def _emit_line(self, rapid: bool, x0: float, z0: float, x1: float, z1: float, line: int,
+                   F: Optional[float] = None) -> None:
+        dx = x1 - x0
+        dz = z1 - z0
+        if -1e-9 < dx < 1e-9 and -1e-9 < dz < 1e-9:
+            return
+        if self.dry is not None:
+            self.dry.append((Line((x0, z0), (x1, z1)), line, "rapid" if rapid else "feed"))
+            return
+        if self.comp_mode:
+            self._comp_add(Line((x0, z0), (x1, z1)), "rapid" if rapid else "feed", line, F)
+            return
+        tdx = self.tdx
+        tdz = self.tdz
+        if rapid:
+            self._rapid_moves(x0 + tdx, z0 + tdz, x1 + tdx, z1 + tdz, dx, dz, line)
+            return
+        L = _hypot(dx, dz)
+        rpm = self._rpm((x0 + x1) * 0.5) if self.sdir != 5 else 0.0
+        f = self._feed(rpm, line, F) if (F is not None or self.F is None or self.per_rev) else self.F
+        if f <= 0 and not self.per_rev:
+            raise self.alarm("feed rate F is 0: a feed move needs a positive F", line)
+        self.moves.append(Move("line", (x0 + tdx, z0 + tdz), (x1 + tdx, z1 + tdz), line, f, None, None,
+                               self.tool, self.reg, rpm, self.sdir, self.coolant,
+                               L / f * 60.0 if f > 0 else 0.0, 0.0, 0.0, 0.0, self.op, self.comp))
+
+    def _rapid_moves(self, x0, z0, x1, z1, dx, dz, line) -> None:
+        m = self.m
+        tx = abs(dx) / m.rapid_x
+        tz = abs(dz) / m.rapid_z
+        rpm = self._rpm(x1 - self.tdx) if self.sdir != 5 else 0.0
+        mv = self.moves
+        if tx == 0.0 or tz == 0.0 or abs(tx - tz) <= 1e-12 * (tx + tz):
+            mv.append(Move("rapid", (x0, z0), (x1, z1), line, None, None, None, self.tool, self.reg,
+                           rpm, self.sdir, self.coolant, (tx if tx > tz else tz) * 60.0, 0.0, 0.0, 0.0,
+                           self.op, self.comp))
+            return
+        if tx < tz:
+            xm = x1
+            zm = z0 + math.copysign(m.rapid_z * tx, dz)
+            t1, t2 = tx, tz - tx
+        else:
+            zm = z1
+            xm = x0 + math.copysign(m.rapid_x * tz, dx)
+            t1, t2 = tz, tx - tz
+        mv.append(Move("rapid", (x0, z0), (xm, zm), line, None, None, None, self.tool, self.reg,
+                       rpm, self.sdir, self.coolant, t1 * 60.0, 0.0, 0.0, 0.0, self.op, self.comp))
+        mv.append(Move("rapid", (xm, zm), (x1, z1), line, None, None, None, self.tool, self.reg,
+                       rpm, self.sdir, self.coolant, t2 * 60.0, 0.0, 0.0, 0.0, self.op, self.comp))
+
+    def _emit_arc(self, x0, z0, x1, z1, cx, cz, cw, line, F: Optional[float] = None) -> None:
+        if self.dry is not None:
+            self.dry.append((Arc((x0, z0), (x1, z1), (cx, cz), cw), line, "feed"))
+            return
+        if self.comp_mode:
+            self._comp_add(Arc((x0, z0), (x1, z1), (cx, cz), cw), "feed", line, F)
+            return
+        r = _hypot(x0 - cx, z0 - cz)
+        a0 = _atan2(x0 - cx, z0 - cz)
+        a1 = _atan2(x1 - cx, z1 - cz)
+        s = a1 - a0
+        if cw:
+            while s >= -1e-9:
+                s -= _TWO_PI
+            while s < -_TWO_PI:
+                s += _TWO_PI
+        else:
+            while s <= 1e-9:
+                s += _TWO_PI
+            while s > _TWO_PI:
+                s -= _TWO_PI
+        L = abs(s) * r
+        if self.sdir != 5:
+            rpm = self._rpm(cx + r * math.sin(a0 + s * 0.5)) if self.css else self.s_rpm
+        else:
+            rpm = 0.0
+        f = self._feed(rpm, line, F) if (F is not None or self.F is None or self.per_rev) else self.F
+        if f <= 0 and not self.per_rev:
+            raise self.alarm("feed rate F is 0: a feed move needs a positive F", line)
+        tdx = self.tdx
+        tdz = self.tdz
+        self.moves.append(Move("arc", (x0 + tdx, z0 + tdz), (x1 + tdx, z1 + tdz), line, f,
+                               (cx + tdx, cz + tdz), cw, self.tool, self.reg, rpm, self.sdir,
+                               self.coolant, L / f * 60.0 if f > 0 else 0.0, 0.0, 0.0, 0.0, self.op,
+                               self.comp))
+
+    def _emit_thread(self, x0, z0, x1, z1, lead, angle, thread_angle, line) -> None:
+        if self.dry is not None:
+            raise self.alarm("a thread move inside the profile of a compound cycle", line)
+        L = _hypot(x1 - x0, z1 - z0)
+        if L < 1e-9:
+            return
+        rpm = self._rpm((x0 + x1) * 0.5)
+        if rpm <= 0:
+            self.warn(line, "thread cut with the spindle stopped: time counted as 0", ("thr", line))
+        f = lead * rpm
+        tdx, tdz = self.tdx, self.tdz
+        self.moves.append(Move("thread", (x0 + tdx, z0 + tdz), (x1 + tdx, z1 + tdz), line, f, None, None,
+                               self.tool, self.reg, rpm, self.sdir, self.coolant,
+                               L / f * 60.0 if f > 0 else 0.0, float(lead), float(angle),
+                               float(thread_angle), self.op, self.comp))
+
+    # -- tool nose radius compensation -----------------------------------------------------------
+    def _comp_command(self, b: Blk, g: int) -> None:
+        if g == 40:
+            if self.comp_mode:
+                self.comp_mode = "cancel"
+            self.comp = 40
+            return
+        # G41/G42 (possibly switching sides: finish the old buffer first)
+        if self.comp != 40:
+            self._flush_comp()
+        self.comp = g
+        if self.dry is not None:
+            return
+        m = self.motion
+        if b.axes and m in (2, 3):
+            raise self.balarm(b, "tool nose compensation G41/G42 must start on a G00/G01 move, "
+                                 "not G02/G03", "G")
+        reg = self._register(self.reg) if self.reg else None
+        if reg is None or reg.radius <= 0:
+            self.comp_mode = ""  # radius 0: the programmed path is the controlled point path
+            return
+        if _missing("hnc_cam.nc.compensation"):
+            raise self.balarm(b, "G41/G42 not yet supported (tool nose compensation module "
+                                 "missing)", "G")
+        self.comp_mode = "start"
+
+    def _comp_add(self, seg, kind: str, line: int, F: Optional[float]) -> None:
+        from .compensation import CompItem
+        mode = self.comp_mode
+        if mode == "start":
+            self.comp_mode = "normal"
+        payload = (self.op, F, self.F, self.per_rev, self.css, self.s_rpm, self.vc, self.sdir,
+                   self.coolant, self.tool, self.reg, self.tdx, self.tdz, self.comp)
+        self.comp_items.append(CompItem(seg, kind, line, mode, payload))
+        if mode == "cancel":
+            self.comp_mode = ""
+            self._flush_comp()
+
+    def _flush_comp(self) -> None:
+        items = self.comp_items
+        if not items or self.dry is not None:
+            return
+        self.comp_items = []
+        if self.comp_mode == "normal" and items[-1].mode == "normal":
+            pass  # flushed mid-compensation (program end, call, cycle, tool change)
+        p0 = items[0].payload
+        reg = self._register(p0[10]) if p0[10] else None
+        radius = reg.radius if reg else 0.0
+        tip = reg.tip if reg else 0
+        side = p0[13]
+        from .compensation import compensate_moves
+        try:
+            out = compensate_moves(items, radius, tip, side)
+        except NCError as e:
+            if not e.block and e.line:
+                e.block = self.src.block_text(e.line)
+            if e.file == "<program>":
+                e.file = self.src.file
+            raise
+        save = (self.op, self.F, self.per_rev, self.css, self.s_rpm, self.vc, self.sdir, self.coolant,
+                self.tool, self.reg, self.tdx, self.tdz, self.comp, self.comp_mode)
+        self.comp_mode = ""
+        try:
+            for seg, it in out:
+                (self.op, F, self.F, self.per_rev, self.css, self.s_rpm, self.vc, self.sdir,
+                 self.coolant, self.tool, self.reg, self.tdx, self.tdz, self.comp) = it.payload
+                if isinstance(seg, Arc):
+                    self._emit_arc(seg.start[0], seg.start[1], seg.end[0], seg.end[1],
+                                   seg.center[0], seg.center[1], seg.cw, it.line, F)
+                else:
+                    self._emit_line(it.kind == "rapid", seg.start[0], seg.start[1], seg.end[0],
+                                    seg.end[1], it.line, F)
+        finally:
+            (self.op, self.F, self.per_rev, self.css, self.s_rpm, self.vc, self.sdir, self.coolant,
+             self.tool, self.reg, self.tdx, self.tdz, self.comp, self.comp_mode) = save
+
+    # -- cycles ----------------------------------------------------------------------------------
+    def _cycle(self, code: int, b: Blk, w: dict):
+        if self.dry is not None:
+            raise self.balarm(b, f"cycle G{code} inside the profile of a compound cycle", "G")
+        if self.corner is not None:
+            self._corner_not_followed()
+        if self.unit != 1.0:
+            raise self.balarm(b, f"G{code} in G20 (inch) is not supported: program cycles in mm (G21)", "G")
+        self._flush_comp()
+        words = {k: v for k, v in w.items() if k not in ("S", "T")}
+        if code in (80, 81, 82):
+            if self.cyc_code == code:
+                merged = dict(self.cyc_words)
+                merged.update(words)
+                words = merged
+            self.cyc_code = code
+            self.cyc_words = words
+        from . import cycles
+        ctx = CycleCtx(self, code, b, words)
+        save_motion = self.motion
+        try:
+            cycles.execute(code, ctx)
+        except NCError:
+            raise
+        except ImportError as e:
+            mod = "hnc_cam.nc.cycles_rough" if code in (71, 72, 73) else "hnc_cam.nc.cycles_simple"
+            if _missing(mod):
+                raise self.balarm(b, f"G{code} not yet supported (cycle module missing)", "G") from None
+            raise self.balarm(b, f"internal error in the G{code} cycle: {type(e).__name__}: {e}", "G") from None
+        except Exception as e:  # a bug in a cycle module must still give an alarm, not a traceback
+            raise self.balarm(b, f"internal error in the G{code} cycle: {type(e).__name__}: {e}", "G") from None
+        self.motion = save_motion
+        return None
+
+    # -- compound cycle profile (dry run) ------------------------------------------------------
+    def profile(self, ns: int, nf: int, b: Blk) -> list:
+        src = self.src
+        a, e = src.span_of(b.stmt)
+        i_ns = i_nf = None
+        for i in range(a, e):
+            if src.kind[i] == P.HDR:
+                continue
+            n = _n_of(src.text[i])
+            if n is None:
+                continue
+            if i_ns is None and n == ns:
+                i_ns = i
+            if i_ns is not None and n == nf:
+                i_nf = i
+                break
+        if i_ns is None:
+            raise self.balarm(b, f"profile start block N{ns} (P) not found in this program", "P")
+        if i_nf is None:
+            raise self.balarm(b, f"profile end block N{nf} (Q) not found after N{ns} in this program", "Q")
+        snap = [getattr(self, k) for k in self._STATE]
+        snap_cw = dict(self.cyc_words)
+        blocks = self.blocks
+        self.dry = []
+        self.comp_mode = ""
+        self.corner = None
+        try:
+            for i in range(i_ns, i_nf + 1):
+                k = src.kind[i]
+                if k != P.OTHER:
+                    raise src.alarm("macro statements (IF/WHILE) inside the profile of a compound cycle "
+                                    "are not supported", i, 1)
+                c = self.compiled[i]
+                if c is None:
+                    c = self.compiled[i] = self._compile(i)
+                if c.__class__ is not Blk:
+                    raise src.alarm("assignments inside the profile of a compound cycle are not supported", i, 1)
+                if any(m in (98, 99) for m in c.ms) or 65 in c.gs:
+                    raise self.balarm(c, "M98/M99 inside the profile of a compound cycle", "M")
+                r = self._block(c)
+                if r == 3:
+                    raise self.balarm(c, "M02/M30 inside the profile of a compound cycle", "M")
+                if i == i_ns and self.motion not in (0, 1):
+                    raise self.balarm(c, f"the first profile block N{ns} must be G00 or G01", "G")
+            if self.corner is not None:
+                self._corner_not_followed()
+            out = self.dry
+        finally:
+            self.dry = None
+            for k, v in zip(self._STATE, snap):
+                setattr(self, k, v)
+            self.cyc_words = snap_cw
+            self.blocks = blocks
+        return out
+
+
+def _missing(module: str) -> bool:
+    """True when ``module`` does not exist (a part of the interpreter not written yet)."""
+    import importlib.util
+    try:
+        return importlib.util.find_spec(module) is None
+    except (ImportError, ValueError):
+        return True
+
+
+def _n_of(text: str) -> Optional[int]:
+    t = text.lstrip()
+    if not t.startswith("N"):
+        return None
+    i = 1
+    while i < len(t) and t[i] == " ":
+        i += 1
+    j = i
+    while j < len(t) and t[j].isdigit():
+        j += 1
+    return int(t[i:j]) if j > i else None
+
+
+class CycleCtx:
+    """The :class:`~hnc_cam.nc.context.CycleContext` the interpreter gives a cycle."""
+
+    def __init__(self, it: Interp, code: int, b: Blk, words: dict):
+        self._it = it
+        self._b = b
+        self._w = words
+        self.code = code
+        self.line = b.line
+        self.incremental = not it.absolute
+        self.diameter_mode = it.diam
+
+    @property
+    def pos(self):
+        return (self._it.x, self._it.z)
+
+    def word(self, letter: str):
+        return self._w.get(letter.upper())
+
+    def has(self, letter: str) -> bool:
+        return letter.upper() in self._w
+
+    def alarm(self, message: str, letter: Optional[str] = None):
+        raise self._it.balarm(self._b, message, letter.upper() if letter else None)
+
+    def warn(self, message: str) -> None:
+        self._it.warn(self.line, message)
+
+    def profile(self, ns: int, nf: int):
+        return self._it.profile(int(ns), int(nf), self._b)
+
+    def _op(self):
+        self._it.op = f"G{self.code}"
+
+    def rapid(self, x: float, z: float) -> None:
+        it = self._it
+        self._op()
+        x0, z0 = it.x, it.z
+        it.x, it.z = float(x), float(z)
+        it._emit_line(True, x0, z0, it.x, it.z, self.line)
+
+    def _f(self, feed):
+        if feed is None:
+            return None
+        return float(feed) * self._it.unit
+
+    def feed(self, x: float, z: float, feed: Optional[float] = None) -> None:
+        it = self._it
+        self._op()
+        x0, z0 = it.x, it.z
+        it.x, it.z = float(x), float(z)
+        it._emit_line(False, x0, z0, it.x, it.z, self.line, self._f(feed))
+
+    def arc(self, x: float, z: float, center, cw: bool, feed: Optional[float] = None) -> None:
+        it = self._it
+        self._op()
+        x0, z0 = it.x, it.z
+        it.x, it.z = float(x), float(z)
+        if _hypot(it.x - x0, it.z - z0) < 1e-9:
+            return
+        it._emit_arc(x0, z0, it.x, it.z, float(center[0]), float(center[1]), bool(cw), self.line,
+                     self._f(feed))
+
+    def thread(self, x: float, z: float, lead: float, angle: float = 0.0, thread_angle: float = 0.0) -> None:
+        it = self._it
+        self._op()
+        x0, z0 = it.x, it.z
+        it.x, it.z = float(x), float(z)
+        it._emit_thread(x0, z0, it.x, it.z, lead, angle, thread_angle, self.line)
+
+    def dwell(self, seconds: float) -> None:
+        it = self._it
+        x, z = it.x + it.tdx, it.z + it.tdz
+        it.moves.append(Move("dwell", (x, z), (x, z), self.line, None, None, None, it.tool, it.reg,
+                             it._rpm(it.x), it.sdir, it.coolant, float(seconds), 0.0, 0.0, 0.0,
+                             f"G{self.code}", it.comp))
+
+
+# ------------------------------------------------------------------------------------------
+# API
+# ------------------------------------------------------------------------------------------
+
+def run(text: str, machine: Machine | None = None, *, file: str = "<program>",
+        step_limit: int | None = None, start: tuple[float, float] = (0.0, 0.0),
+        diameter: bool | None = None) -> Toolpath:
+    """Interpret program ``text`` and return its toolpath; raises :class:`NCError` on an alarm.
+
+    ``step_limit`` (default: the machine's) bounds the statements executed; ``start`` is the
+    initial work position (x radius, z); ``diameter`` the power-on G36/G37 state (default:
+    the machine's ``diameter_mode`` when it has one, else G36)."""
+    src = P.load(text, file)
+    return Interp(src, machine, step_limit=step_limit, start=start, diameter=diameter).run()
+
+
+def run_file(path: str, machine: Machine | None = None, **kw) -> Toolpath:
+    from pathlib import Path
+    p = Path(path)
+    try:
+        data = p.read_bytes()
+    except OSError as e:
+        raise NCError(f"cannot read the program: {e.strerror or e}", 0, 0, "", str(path)) from None
+    text = data.decode("utf-8", errors="replace")
+    return run(text, machine, file=str(path), **kw)

@@ -1,0 +1,97 @@
+"""Lexer of HNC-21/22T program text.
+
+The controller reads a program line by line; one line is one block (or one macro statement).
+This module does the character-level work:
+
+* :func:`clean` upper-cases a line and blanks its comments: ``( ... )`` and ``;`` to the end
+  of the line. Blanking (not deleting) keeps the 1-based columns of the words for alarms.
+  An unclosed ``(`` comments out the rest of the line (the controller reads to the end of
+  the block).
+* :func:`tokenize` splits a cleaned line into tokens ``(kind, value, col)``:
+  ``num`` (unsigned number text), ``addr`` (a single address letter such as ``X``),
+  ``kw`` (a multi-letter keyword: ``IF WHILE EQ SIN PI AR ...``) and ``op``
+  (one of ``# [ ] = + - * / ,``). Words may be written without spaces
+  (``N6X28.04Z18.5C2P180F3``, ``WHILE #10LE16``): a run of letters of length one is an
+  address, a longer run must be a keyword.
+* :data:`FAST_BLOCK` / :data:`FAST_WORD` recognise the plain block (letters followed by
+  signed numbers only), which is by far the commonest line; the parser takes a regex-free
+  path for it.
+"""
+from __future__ import annotations
+
+import re
+
+from ..errors import NCError
+
+#: multi-letter keywords of the macro language (manual §3.4)
+KEYWORDS = frozenset({
+    "IF", "ELSE", "ENDIF", "WHILE", "ENDW",
+    "EQ", "NE", "GT", "GE", "LT", "LE", "AND", "OR", "NOT",
+    "SIN", "COS", "TAN", "ATAN", "ATAN2", "ABS", "INT", "SIGN", "SQRT", "EXP",
+    "PI", "TRUE", "FALSE", "AR",
+})
+FUNCTIONS = frozenset({"SIN", "COS", "TAN", "ATAN", "ATAN2", "ABS", "INT", "SIGN", "SQRT", "EXP"})
+OPERATORS = frozenset("#[]=+-*/,")
+
+_TOKEN = re.compile(r"\s*(?:(\d+\.?\d*|\.\d+)|([A-Z]+)|(\S))")
+FAST_BLOCK = re.compile(r"(?:\s*[A-Z]\s*[-+]?(?:\d+\.?\d*|\.\d+))+\s*")
+FAST_WORD = re.compile(r"([A-Z])\s*([-+]?(?:\d+\.?\d*|\.\d+))")
+
+Token = tuple  # (kind, value, col)
+
+
+def clean(raw: str) -> str:
+    """Upper-case ``raw`` and replace its comments by blanks (columns are kept)."""
+    s = raw.upper()
+    if "(" not in s and ";" not in s:
+        return s
+    out = []
+    depth = False
+    for ch in s:
+        if depth:
+            out.append(" ")
+            if ch == ")":
+                depth = False
+        elif ch == "(":
+            depth = True
+            out.append(" ")
+        elif ch == ";":
+            break
+        else:
+            out.append(ch)
+    return "".join(out)
+
+
+def tokenize(text: str, line: int = 0, file: str = "<program>", block: str | None = None) -> list[Token]:
+    """Tokens of one cleaned line. Raises :class:`NCError` on a character or letter run
+    that is not part of the language."""
+    toks: list[Token] = []
+    pos = 0
+    n = len(text)
+    match = _TOKEN.match
+    while pos < n:
+        m = match(text, pos)
+        if m is None:  # only trailing blanks
+            break
+        num, word, other = m.groups()
+        if num is not None:
+            toks.append(("num", num, m.start(1) + 1))
+        elif word is not None:
+            col = m.start(2) + 1
+            if len(word) == 1:
+                toks.append(("addr", word, col))
+            elif word in KEYWORDS:
+                toks.append(("kw", word, col))
+            else:
+                raise NCError(f"unknown word {word!r} (not an address letter followed by a value, "
+                              f"nor a macro keyword)", line, col, block if block is not None else text, file)
+        elif other is not None:
+            col = m.start(3) + 1
+            if other not in OPERATORS:
+                raise NCError(f"unexpected character {other!r}", line, col,
+                              block if block is not None else text, file)
+            toks.append(("op", other, col))
+        else:
+            break
+        pos = m.end()
+    return toks

@@ -1,0 +1,439 @@
+"""Parser of HNC-21/22T programs: file structure, statements, expressions.
+
+File structure (manual §2.3, appendix 1):
+
+* a program starts with ``%nnnn`` or ``Onnnn`` (``o100`` too; lower case is read as upper
+  case) and the main program ends with ``M02``/``M30``; subprograms follow in the same file,
+  each with its own header, ending with ``M99``;
+* comment lines (and blank lines) may precede the first header; statements before any header
+  form an unnamed main program (the manual prints example 21 without a header);
+* blocks run in file order, not N order.
+
+A line is one statement:
+
+* a block of words ``N.. G.. X.. Z.. F.. M..``: an address letter followed by a number,
+  a bracketed expression ``X[#10*2]``, or a variable ``X#1`` / ``X-#1``;
+* one or more assignments ``#n = expr`` (``#[expr] = expr`` for indirect ones), optionally
+  after an ``N`` number;
+* ``IF expr`` / ``ELSE`` / ``ENDIF`` / ``WHILE expr`` / ``ENDW`` (optionally after ``N``).
+
+IF/WHILE structure is matched per program when the file is loaded, so an unclosed IF or
+WHILE is an alarm at its line before anything runs.
+
+Expression AST nodes (tuples): ``("num", text)``, ``("var", index_node)``,
+``("neg", n)``, ``("not", n)``, ``("bin", op, a, b)`` with op in ``+ - * / EQ NE GT GE LT LE
+AND OR``, ``("call", NAME, [args])``, ``("ar", index_node)``.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Optional
+
+from ..errors import NCError
+from .expr import Expr, constant_value
+from .lexer import FAST_BLOCK, FAST_WORD, FUNCTIONS, clean, tokenize
+
+# statement kinds
+HDR, IF, ELSE, ENDIF, WHILE, ENDW, OTHER = "hdr", "if", "else", "endif", "while", "endw", "x"
+_CONTROL = {"IF": IF, "ELSE": ELSE, "ENDIF": ENDIF, "WHILE": WHILE, "ENDW": ENDW}
+
+
+@dataclass
+class Source:
+    """A loaded program file: its statements (one per non-empty line) and structure."""
+    file: str
+    lines: list[str]  # raw source lines
+    lineno: list[int] = field(default_factory=list)  # statement -> 1-based line
+    text: list[str] = field(default_factory=list)  # statement -> cleaned text
+    kind: list[str] = field(default_factory=list)  # statement -> kind
+    number: list[Optional[int]] = field(default_factory=list)  # header statements: program no.
+    programs: dict[int, int] = field(default_factory=dict)  # program no. -> first statement
+    spans: list[tuple[int, int]] = field(default_factory=list)  # program (first, end) statements
+    jump: dict[int, int] = field(default_factory=dict)  # IF/ELSE/WHILE/ENDW -> target
+    main: tuple[int, int] = (0, 0)
+
+    def block_text(self, line: int) -> str:
+        if 1 <= line <= len(self.lines):
+            return self.lines[line - 1].strip()
+        return ""
+
+    def alarm(self, message: str, stmt: int, col: int = 0) -> NCError:
+        line = self.lineno[stmt] if 0 <= stmt < len(self.lineno) else 0
+        return NCError(message, line, col, self.block_text(line), self.file)
+
+    def span_of(self, stmt: int) -> tuple[int, int]:
+        for a, b in self.spans:
+            if a <= stmt < b:
+                return (a, b)
+        return self.main
+
+
+def _header(s: str) -> tuple[bool, Optional[int]]:
+    t = s.lstrip()
+    if not t:
+        return (False, None)
+    c = t[0]
+    if c == "%":
+        rest = t[1:].strip()
+        if rest and rest.isdigit():
+            return (True, int(rest))
+        if not rest:
+            return (True, None)
+        return (False, None)
+    if c == "O":
+        rest = t[1:].strip()
+        if rest.isdigit():
+            return (True, int(rest))
+    return (False, None)
+
+
+def _control(s: str) -> Optional[str]:
+    """Kind of a control statement line, or None (quick string tests before the regex-free
+    check, so that plain blocks cost almost nothing)."""
+    if "IF" not in s and "ELSE" not in s and "WH" not in s and "ENDW" not in s:
+        return None
+    t = s.lstrip()
+    if t.startswith("N"):
+        i = 1
+        while i < len(t) and (t[i].isdigit() or t[i] == " "):
+            i += 1
+        t = t[i:]
+    j = 0
+    while j < len(t) and "A" <= t[j] <= "Z":
+        j += 1
+    return _CONTROL.get(t[:j])
+
+
+def load(text: str, file: str = "<program>") -> Source:
+    """Split ``text`` into statements and programs and match IF/WHILE structure."""
+    raw = text.splitlines()
+    src = Source(file=file, lines=raw)
+    lineno, stext, kind, number = src.lineno, src.text, src.kind, src.number
+    for i, r in enumerate(raw):
+        s = clean(r) if ("(" in r or ";" in r) else r.upper()
+        if not s or s.isspace():
+            continue
+        h, num = _header(s) if (s.lstrip()[:1] in ("%", "O")) else (False, None)
+        lineno.append(i + 1)
+        stext.append(s)
+        if h:
+            kind.append(HDR)
+            number.append(num)
+            continue
+        number.append(None)
+        k = _control(s)
+        kind.append(k if k is not None else OTHER)
+    # programs
+    n = len(kind)
+    starts = [i for i in range(n) if kind[i] == HDR]
+    spans: list[tuple[int, int]] = []
+    if not starts or starts[0] > 0:
+        spans.append((0, starts[0] if starts else n))
+    for j, i in enumerate(starts):
+        end = starts[j + 1] if j + 1 < len(starts) else n
+        spans.append((i + 1, end))
+        num = number[i]
+        if num is not None and num not in src.programs:
+            src.programs[num] = i + 1
+    src.spans = spans
+    src.main = spans[0] if spans else (0, 0)
+    # IF / WHILE structure per program
+    for a, b in spans:
+        stack: list[tuple[str, int, Optional[int]]] = []  # (kind, stmt, else stmt)
+        for i in range(a, b):
+            k = kind[i]
+            if k is OTHER:
+                continue
+            if k == IF or k == WHILE:
+                stack.append((k, i, None))
+            elif k == ELSE:
+                if not stack or stack[-1][0] != IF or stack[-1][2] is not None:
+                    raise src.alarm("ELSE without IF", i, 1)
+                stack[-1] = (IF, stack[-1][1], i)
+            elif k == ENDIF:
+                if not stack or stack[-1][0] != IF:
+                    raise src.alarm("ENDIF without IF", i, 1)
+                _, s0, el = stack.pop()
+                if el is None:
+                    src.jump[s0] = i + 1
+                else:
+                    src.jump[s0] = el + 1
+                    src.jump[el] = i + 1
+            elif k == ENDW:
+                if not stack or stack[-1][0] != WHILE:
+                    raise src.alarm("ENDW without WHILE", i, 1)
+                _, s0, _ = stack.pop()
+                src.jump[s0] = i + 1
+                src.jump[i] = s0
+        if stack:
+            k, s0, _ = stack[-1]
+            raise src.alarm(f"{'IF' if k == IF else 'WHILE'} is never closed by "
+                            f"{'ENDIF' if k == IF else 'ENDW'} before the end of the program", s0, 1)
+    return src
+
+
+# --------------------------------------------------------------------------------------------
+# statements
+# --------------------------------------------------------------------------------------------
+
+@dataclass
+class Parsed:
+    """One parsed statement. ``kind`` is ``block``, ``assign``, ``if``, ``while``, ``else``,
+    ``endif`` or ``endw``. Blocks have ``words`` [(letter, float | Expr, col)];
+    assignments ``assigns`` [(target: int | Expr, value: Expr, col)]; IF/WHILE ``cond``."""
+    kind: str
+    n: Optional[int] = None
+    words: list = field(default_factory=list)
+    assigns: list = field(default_factory=list)
+    cond: Optional[Expr] = None
+
+
+def fast_words(text: str) -> Optional[list[tuple[str, str]]]:
+    """Words of a plain block (letters and signed numbers only), or None."""
+    if FAST_BLOCK.fullmatch(text):
+        return FAST_WORD.findall(text)
+    return None
+
+
+def word_col(text: str, letter: str) -> int:
+    """1-based column of the first word ``letter`` in a cleaned line (0 if absent)."""
+    try:
+        for kind, val, col in tokenize(text):
+            if kind == "addr" and val == letter:
+                return col
+    except NCError:
+        pass
+    return 0
+
+
+class _P:
+    def __init__(self, toks, text, line, file, block):
+        self.t = toks
+        self.i = 0
+        self.text = text
+        self.line = line
+        self.file = file
+        self.block = block
+
+    def err(self, msg: str, col: Optional[int] = None) -> NCError:
+        if col is None:
+            col = self.t[self.i][2] if self.i < len(self.t) else len(self.text.rstrip()) + 1
+        return NCError(msg, self.line, col, self.block, self.file)
+
+    def peek(self):
+        return self.t[self.i] if self.i < len(self.t) else (None, None, 0)
+
+    def take(self):
+        tok = self.peek()
+        self.i += 1
+        return tok
+
+    def expect_op(self, op: str, what: str):
+        k, v, c = self.peek()
+        if k != "op" or v != op:
+            found = "the end of the block" if k is None else repr(v)
+            raise self.err(f"bad expression: expected {op!r} {what}, found {found}")
+        self.i += 1
+
+    # expression grammar ---------------------------------------------------------------
+    def expr(self):
+        a = self.and_()
+        while self.peek()[:2] == ("kw", "OR"):
+            self.i += 1
+            a = ("bin", "OR", a, self.and_())
+        return a
+
+    def and_(self):
+        a = self.not_()
+        while self.peek()[:2] == ("kw", "AND"):
+            self.i += 1
+            a = ("bin", "AND", a, self.not_())
+        return a
+
+    def not_(self):
+        if self.peek()[:2] == ("kw", "NOT"):
+            self.i += 1
+            return ("not", self.not_())
+        return self.cmp()
+
+    def cmp(self):
+        a = self.add()
+        k, v, _ = self.peek()
+        if k == "kw" and v in ("EQ", "NE", "GT", "GE", "LT", "LE"):
+            self.i += 1
+            a = ("bin", v, a, self.add())
+        return a
+
+    def add(self):
+        a = self.mul()
+        while True:
+            k, v, _ = self.peek()
+            if k == "op" and v in ("+", "-"):
+                self.i += 1
+                a = ("bin", v, a, self.mul())
+            else:
+                return a
+
+    def mul(self):
+        a = self.unary()
+        while True:
+            k, v, _ = self.peek()
+            if k == "op" and v in ("*", "/"):
+                self.i += 1
+                a = ("bin", v, a, self.unary())
+            else:
+                return a
+
+    def unary(self):
+        k, v, _ = self.peek()
+        if k == "op" and v in ("+", "-"):
+            self.i += 1
+            a = self.unary()
+            return ("neg", a) if v == "-" else a
+        return self.primary()
+
+    def primary(self):
+        k, v, c = self.peek()
+        if k == "num":
+            self.i += 1
+            return ("num", v)
+        if k == "op" and v == "#":
+            self.i += 1
+            return ("var", self.var_index())
+        if k == "op" and v == "[":
+            self.i += 1
+            e = self.expr()
+            self.expect_op("]", "to close '['")
+            return e
+        if k == "kw":
+            if v in ("PI", "TRUE", "FALSE"):
+                self.i += 1
+                return ("num", {"PI": repr(3.141592653589793), "TRUE": "1", "FALSE": "0"}[v])
+            if v in FUNCTIONS:
+                self.i += 1
+                self.expect_op("[", f"after {v}")
+                args = [self.expr()]
+                while self.peek()[:2] == ("op", ","):
+                    self.i += 1
+                    args.append(self.expr())
+                self.expect_op("]", f"to close {v}[")
+                if len(args) > 2 or (len(args) == 2 and v not in ("ATAN", "ATAN2")):
+                    raise self.err(f"bad expression: {v} takes {'one or two' if v == 'ATAN' else 'one'} "
+                                   f"argument{'s' if v == 'ATAN' else ''}", c)
+                return ("call", v, args)
+            if v == "AR":
+                self.i += 1
+                self.expect_op("[", "after AR")
+                k2, v2, _ = self.peek()
+                if not (k2 == "op" and v2 == "#"):
+                    raise self.err("bad expression: AR[] takes a variable, as in AR[#8]")
+                self.i += 1
+                idx = self.var_index()
+                self.expect_op("]", "to close AR[")
+                return ("ar", idx)
+        found = "the end of the block" if k is None else repr(v)
+        raise self.err(f"bad expression: expected a number, variable, function or '[', found {found}")
+
+    def var_index(self):
+        """What follows ``#``: a number, a bracketed expression or another variable."""
+        k, v, c = self.peek()
+        if k == "num":
+            self.i += 1
+            return ("num", v)
+        if k == "op" and v == "[":
+            self.i += 1
+            e = self.expr()
+            self.expect_op("]", "to close #[")
+            return e
+        if k == "op" and v == "#":
+            self.i += 1
+            return ("var", self.var_index())
+        if k == "op" and v == "-":
+            raise self.err("invalid variable: a variable number cannot be negative")
+        found = "the end of the block" if k is None else repr(v)
+        raise self.err(f"bad expression: expected a variable number after '#', found {found}")
+
+    # statements -----------------------------------------------------------------------
+    def value(self, letter: str, col: int):
+        """The value of word ``letter``: signed number, [expr], #var, -#var, -[expr]."""
+        sign = 1.0
+        k, v, c = self.peek()
+        neg = False
+        if k == "op" and v in ("+", "-"):
+            self.i += 1
+            neg = v == "-"
+            k, v, c = self.peek()
+        if k == "num":
+            self.i += 1
+            return -float(v) if neg else float(v)
+        if k == "op" and v in ("[", "#"):
+            node = self.primary()
+            if neg:
+                node = ("neg", node)
+            cv = constant_value(node)
+            if cv is not None:
+                return cv * sign
+            return Expr(node, c)
+        found = "the end of the block" if k is None else repr(v)
+        raise self.err(f"word {letter} has no value: expected a number or [expression], found {found}",
+                       col)
+
+
+def parse_statement(text: str, line: int, file: str = "<program>", block: str | None = None) -> Parsed:
+    """Parse one cleaned line (not a header)."""
+    blk = block if block is not None else text.strip()
+    toks = tokenize(text, line, file, blk)
+    p = _P(toks, text, line, file, blk)
+    n = None
+    k, v, c = p.peek()
+    if k == "addr" and v == "N" and p.i + 1 < len(toks) and toks[p.i + 1][0] == "num":
+        p.i += 1
+        nv = float(p.take()[1])
+        if not nv.is_integer() or nv > 4294967295:
+            raise p.err("value out of range: N must be an integer 0-4294967295", c)
+        n = int(nv)
+        k, v, c = p.peek()
+    if k == "kw" and v in _CONTROL:
+        p.i += 1
+        kind = _CONTROL[v]
+        if kind in (IF, WHILE):
+            if p.peek()[0] is None:
+                raise p.err(f"bad expression: {v} needs a condition")
+            col = p.peek()[2]
+            cond = p.expr()
+            if p.peek()[0] is not None:
+                raise p.err(f"bad expression: unexpected {p.peek()[1]!r} after the {v} condition")
+            return Parsed(kind, n, cond=Expr(cond, col))
+        if p.peek()[0] is not None:
+            raise p.err(f"unexpected {p.peek()[1]!r} after {v}")
+        return Parsed(kind, n)
+    if k == "op" and v == "#":
+        assigns = []
+        while p.peek()[0] is not None:
+            k, v, c = p.peek()
+            if not (k == "op" and v == "#"):
+                raise p.err(f"bad expression: expected '#' to start an assignment, found {v!r}")
+            p.i += 1
+            idx = p.var_index()
+            p.expect_op("=", "in the assignment")
+            if p.peek()[0] is None:
+                raise p.err("bad expression: nothing after '='")
+            ecol = p.peek()[2]
+            val = p.expr()
+            cv = constant_value(idx)
+            target = cv if cv is not None else Expr(idx, c)
+            assigns.append((target, Expr(val, ecol), c))
+        return Parsed("assign", n, assigns=assigns)
+    words = []
+    if n is not None:
+        words.append(("N", float(n), 0))
+    while p.peek()[0] is not None:
+        k, v, c = p.take()
+        if k != "addr":
+            if k == "kw":
+                raise p.err(f"{v} is not allowed here (a keyword inside a block)", c)
+            if k == "op" and v == "#":
+                raise p.err("an assignment cannot follow words in the same block", c)
+            raise p.err(f"unexpected {v!r}: expected an address letter", c)
+        words.append((v, p.value(v, c), c))
+    return Parsed("block", n, words=words)
