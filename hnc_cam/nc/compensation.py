@@ -1,0 +1,136 @@
+"""G41/G42/G40 for the interpreter: the programmed moves of one compensated run in, the
+controlled-point path out. The offset is the kernel's :func:`hnc_cam.geometry.offset.offset_chain`
+(the same routine as the CAM side's :func:`hnc_cam.compensate.compensate`).
+
+Contract (the interpreter calls :func:`compensate_moves`):
+
+* ``items``: the moves of one run, in order and contiguous: optionally first a ``'start'``
+  item (the move of the G41/G42 block), then the ``'normal'`` moves, optionally last a
+  ``'cancel'`` item (the move of the G40 block). Programmed geometry, X as radius.
+* Returns ``[(segment, item), ...]``: the **controlled point** path (nose centre plus
+  ``tip_vector(tip, radius)``; for codes 0/9 the centre), contiguous, one or more segments per
+  item, in item order.
+
+Choices where the manual is silent (it only says that start and cancel are G00/G01 moves):
+
+* **Start-up is type A**: the start move goes straight from its programmed (uncompensated)
+  start point to the first point of the compensated path, i.e. the point at ``r`` normal to the
+  start of the first normal move (plus the tip vector). If that point would gouge a
+  neighbouring move (the first move is shorter than the trim at a concave corner), it goes to
+  the first point of the path that does not.
+* **Cancel**: the cancel move goes from the compensated end of the last normal move straight
+  to its programmed end point (uncompensated from there on).
+* A start immediately followed by a cancel (no normal move) leaves both moves uncompensated.
+* **Corner arcs** (convex corners) are executed with, and returned paired with, the move
+  that **ends** at the corner (the item the arc leads out of), as a controller does in single
+  block mode. A rapid item can therefore receive an arc.
+* **Lookahead**: the gouge check and the trimming consider the moves up to
+  :data:`LOOKAHEAD` positions before and after each move (a controller's block buffer), so a
+  short move between two corners, an inside arc and a narrow groove are handled, while a
+  program that comes back over ground it cut earlier is followed as written.
+* A normal move whose compensated path vanishes entirely (it lies inside the trim of a
+  concave corner, or it has zero length) is returned as one zero-length line at the current
+  point, so that every item keeps at least one segment.
+
+Alarms (``NCError`` with the item's line): start or cancel on an arc; an inside arc whose
+radius is smaller than the nose radius; a concave step or groove the nose cannot enter
+(narrower than ``2r``: one or more feed moves the nose cannot touch at all). The ordinary
+fillet the nose leaves in a sharp concave corner and a short move at the very end of the run
+that the nose cannot reach are not alarms.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from ..errors import NCError
+from ..geometry.offset import offset_chain, translate_chain
+from ..geometry.primitives import Arc, Line, Segment
+from ..geometry.tip import tip_vector
+
+#: moves before/after each move that the gouge check looks at
+LOOKAHEAD = 3
+
+
+@dataclass
+class CompItem:
+    seg: Segment      # programmed geometry, x radius, from the programmed start to the programmed end
+    kind: str         # 'rapid' | 'feed' (line or arc by the segment type)
+    line: int         # 1-based source line
+    mode: str         # 'start' (the G41/G42 block's move), 'normal', or 'cancel' (the G40 block's move)
+    payload: object   # opaque, handed back
+
+
+def compensate_moves(items: list[CompItem], radius: float, tip: int, side: int
+                     ) -> list[tuple[Segment, CompItem]]:
+    """Controlled-point path of one compensated run (see the module docstring).
+
+    ``radius``: nose radius (mm); ``tip``: tip direction code 0-9; ``side``: 41 (tool left of
+    the path looking along the motion, view Z right / X up) or 42 (right).
+    """
+    if not items:
+        return []
+    for it in items:
+        if it.mode not in ("start", "normal", "cancel"):
+            raise ValueError(f"CompItem.mode must be start/normal/cancel, got {it.mode!r}")
+        if it.mode in ("start", "cancel") and isinstance(it.seg, Arc):
+            what = "start" if it.mode == "start" else "cancel"
+            raise NCError(f"tool-nose radius compensation cannot {what} on an arc (G02/G03); "
+                          f"use G00 or G01", line=it.line)
+    if side not in (41, 42):
+        raise ValueError(f"side must be 41 or 42, got {side!r}")
+    try:
+        tv = tip_vector(int(tip), max(0.0, radius))
+    except (ValueError, TypeError):
+        raise NCError(f"tip direction code must be 0-9, got {tip!r}", line=items[0].line) from None
+    if radius < 0:
+        raise NCError(f"nose radius must not be negative, got {radius:g}", line=items[0].line)
+
+    start = items[0] if items[0].mode == "start" else None
+    cancel = items[-1] if items[-1].mode == "cancel" and items[-1] is not start else None
+    normals = items[(1 if start else 0):(len(items) - 1 if cancel else len(items))]
+    for it in normals:
+        if it.mode != "normal":
+            raise ValueError(f"a {it.mode!r} item may only be the first ('start') or the last "
+                             f"('cancel') of a run (line {it.line})")
+
+    if not normals:
+        return [(it.seg, it) for it in items]
+
+    chain = [it.seg for it in normals]
+    try:
+        res = offset_chain(chain, radius, 1 if side == 41 else -1, lookahead=LOOKAHEAD)
+    except ValueError as e:
+        raise NCError(f"tool-nose radius compensation: {e}", line=normals[0].line) from None
+
+    touched = {o.before for o in res.origins if o.kind == "seg"}
+    for d in res.departures:
+        if d.kind == "radius":
+            i = next((i for i in d.segments if isinstance(chain[i], Arc) and i not in touched),
+                     d.segments[0])
+            raise NCError(f"tool-nose radius compensation: {d.message}", line=normals[i].line)
+        if d.kind == "groove" and any(normals[i].kind == "feed" for i in d.segments):
+            i = next((i for i in d.segments if i not in touched), d.segments[0])
+            raise NCError(f"tool-nose radius compensation: {d.message}", line=normals[i].line)
+
+    if not res.segments:
+        return [(it.seg, it) for it in items]
+
+    path = translate_chain(res.segments, tv)
+    owner = [o.before for o in res.origins]  # corner arcs go with the move they leave
+    out: list[tuple[Segment, CompItem]] = []
+    cur = path[0].start
+    if start is not None:
+        out.append((Line(start.seg.start, cur), start))
+    k = 0
+    for i, it in enumerate(normals):
+        n0 = len(out)
+        while k < len(path) and owner[k] == i:
+            out.append((path[k], it))
+            cur = path[k].end
+            k += 1
+        if len(out) == n0:
+            out.append((Line(cur, cur), it))
+    assert k == len(path), "offset pieces out of item order"
+    if cancel is not None:
+        out.append((Line(cur, cancel.seg.end), cancel))
+    return out

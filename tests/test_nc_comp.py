@@ -1,0 +1,195 @@
+"""G41/G42 adaptor of the interpreter (hnc_cam.nc.compensation.compensate_moves)."""
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from hnc_cam.errors import NCError
+from hnc_cam.geometry import Arc, Line, dist
+from hnc_cam.geometry.intersect import horizontal_hits
+from hnc_cam.nc.compensation import CompItem, compensate_moves
+
+
+def item(seg, line, mode="normal", kind="feed"):
+    return CompItem(seg=seg, kind=kind, line=line, mode=mode, payload=("p", line))
+
+
+def run_3345():
+    """Fig. 3.3.45 / %3345, N5-N10, X as radius."""
+    return [
+        item(Line((0, 5), (0, 0)), 5, "start"),
+        item(Arc((0, 0), (12, -24), (0, -15), False), 6),
+        item(Arc.from_radius((12, -24), (13, -31), 5, True), 7),
+        item(Line((13, -31), (13, -40)), 8),
+        item(Line((13, -40), (15, -40)), 9, kind="rapid"),
+        item(Line((15, -40), (20, 5)), 10, "cancel", kind="rapid"),
+    ]
+
+
+def check_contiguous(out, items):
+    assert out
+    for (a, _), (b, _) in zip(out, out[1:]):
+        assert dist(a.end, b.start) < 1e-9
+    # item order kept, every item present
+    seen = []
+    for _, it in out:
+        if not seen or seen[-1] is not it:
+            seen.append(it)
+    assert seen == items
+
+
+@pytest.mark.parametrize("tip", [0, 3, 9])
+def test_3345_nose_centre_at_exactly_r(tip):
+    r = 0.8
+    items = run_3345()
+    out = compensate_moves(items, r, tip, 42)
+    check_contiguous(out, items)
+    tv = {0: (0, 0), 9: (0, 0), 3: (-r, -r)}[tip]
+    profile = [it.seg for it in items if it.mode == "normal"]
+    # type A start-up: from the programmed start point to the offset start of N6
+    s0, it0 = out[0]
+    assert it0 is items[0] and s0.start == (0, 5)
+    assert dist(s0.end, (0 + tv[0], r + tv[1])) < 1e-12
+    # cancel: from the offset end of N9 to the programmed end of N10
+    sl, itl = out[-1]
+    assert itl is items[-1] and sl.end == (20, 5)
+    assert dist(sl.start, (15 + tv[0], -40 + r + tv[1])) < 1e-9
+    for seg, it in out:
+        if it.mode != "normal":
+            continue
+        for k in range(101):
+            p = seg.point_at(k / 100)
+            c = (p[0] - tv[0], p[1] - tv[1])
+            assert min(g.distance_to(c) for g in profile) == pytest.approx(r, abs=1e-9)
+    # R15 -> R15.8 and R5 -> R4.2 about the same centres (moved by the tip vector)
+    arcs = [(s, it.line) for s, it in out if s.kind == "arc"]
+    assert arcs[0][1] == 6 and arcs[0][0].radius == pytest.approx(15.8)
+    assert dist(arcs[0][0].center, (0 + tv[0], -15 + tv[1])) < 1e-12
+    assert arcs[1][1] == 7 and arcs[1][0].radius == pytest.approx(4.2)
+    # the convex corner at (13,-31) (end of the R5) is an arc about it, paired with N7
+    assert arcs[2][1] == 7 and dist(arcs[2][0].center, (13 + tv[0], -31 + tv[1])) < 1e-12
+    assert arcs[2][0].radius == pytest.approx(r)
+    # N8 dia 26 trimmed at the concave corner with the N9 retract
+    n8 = [s for s, it in out if it.line == 8]
+    assert len(n8) == 1 and dist(n8[0].start, (13.8 + tv[0], -31 + tv[1])) < 1e-9
+    assert dist(n8[0].end, (13.8 + tv[0], -39.2 + tv[1])) < 1e-9
+    assert all(p == ("p", it.line) for _, it in out for p in [it.payload])
+
+
+def test_taper_30_deg_r08_tip3_closed_form():
+    """A 30 deg taper cut toward -Z under G42 with r=0.8, tip 3: the tip path runs parallel to
+    the taper, r(1 - tan(15 deg)) short in Z."""
+    r, th = 0.8, math.radians(30)
+    z1 = -5 - 5 / math.tan(th)
+    items = [item(Line((20, 5), (10, 2)), 1, "start", "rapid"),
+             item(Line((10, 2), (10, -5)), 2), item(Line((10, -5), (15, z1)), 3),
+             item(Line((15, z1), (15, z1 - 5)), 4), item(Line((15, z1 - 5), (25, z1 - 5)), 5, "cancel")]
+    out = compensate_moves(items, r, 3, 42)
+    check_contiguous(out, items)
+    taper = [s for s, it in out if it.line == 3 and s.kind == "line"]
+    assert len(taper) == 1
+    zm = [z for _, z in horizontal_hits([taper[0]], 12.5)][0]
+    assert zm - (-5 - 2.5 / math.tan(th)) == pytest.approx(-r * (1 - math.tan(th / 2)), abs=1e-9)
+    # the dia 20 cylinder is cut by the tip exactly at X=10 (radius)
+    cyl = [s for s, it in out if it.line == 2][0]
+    assert cyl.start[0] == pytest.approx(10.0) and cyl.end[0] == pytest.approx(10.0)
+    # the taper top is convex: a corner arc about it, paired with the taper move (it leaves it)
+    assert [s.kind for s, it in out if it.line == 3] == ["line", "arc"]
+    corner = [s for s, it in out if it.line == 3][1]
+    assert dist(corner.center, (15 - r, z1 - r)) < 1e-12 and corner.sweep == pytest.approx(th)
+
+
+def test_r10_arc_r08_tip3_closed_form():
+    """3329 N16-N18: dia 26.66 then G02 X30.66 W-14 R10 then dia 30.66 (tool right, r .8, tip 3)."""
+    r = 0.8
+    a = Arc.from_radius((13.33, -37.5), (15.33, -51.5), 10, True)
+    items = [item(Line((20, 0), (13.33, -30)), 1, "start"), item(Line((13.33, -30), (13.33, -37.5)), 2),
+             item(a, 3), item(Line((15.33, -51.5), (15.33, -61.5)), 4),
+             item(Line((15.33, -61.5), (20, -61.5)), 5, "cancel")]
+    out = compensate_moves(items, r, 3, 42)
+    check_contiguous(out, items)
+    arcs = [s for s, it in out if it.line == 3]
+    # the R9.2 offset of the hollow, then the corner arc at its convex end (N17 -> N18)
+    assert [g.kind for g in arcs] == ["arc", "arc"] and arcs[0].cw and not arcs[1].cw
+    assert arcs[0].radius == pytest.approx(10 - r)
+    assert dist(arcs[0].center, (a.center[0] - r, a.center[1] - r)) < 1e-12
+    assert dist(arcs[1].center, (15.33 - r, -51.5 - r)) < 1e-12
+    # lowest point of the tip path: the tip reaches the bottom of the hollow, dia 22.66
+    assert arcs[0].bbox()[0] == pytest.approx(11.33, abs=1e-9)
+
+
+def test_left_side_41_bore():
+    r = 0.4
+    items = [item(Line((2, 5), (10, 1)), 1, "start", "rapid"), item(Line((10, 1), (10, -20)), 2),
+             item(Line((10, -20), (5, -20)), 3), item(Line((5, -20), (2, 5)), 4, "cancel", "rapid")]
+    out = compensate_moves(items, r, 2, 41)
+    check_contiguous(out, items)
+    bore = [s for s, it in out if it.line == 2][0]
+    # nose centre at 9.6, tip code 2 (+X,-Z) at 10.0
+    assert bore.start == pytest.approx((10.0, 1 - r)) and bore.end == pytest.approx((10.0, -20 + r - r))
+
+
+def test_alarm_start_or_cancel_on_arc():
+    items = run_3345()
+    bad = [item(Arc((0, 5), (5, 0), (0, 0), True), 4, "start")] + items[1:]
+    with pytest.raises(NCError) as e:
+        compensate_moves(bad, 0.8, 3, 42)
+    assert e.value.line == 4 and "arc" in e.value.message
+    bad = items[:-1] + [item(Arc((15, -40), (20, -45), (15, -45), True), 10, "cancel")]
+    with pytest.raises(NCError) as e:
+        compensate_moves(bad, 0.8, 3, 42)
+    assert e.value.line == 10
+
+
+def test_alarm_inside_arc_smaller_than_nose():
+    items = [item(Line((12, 5), (10, 0)), 1, "start"), item(Line((10, 0), (10, -9.5)), 2),
+             item(Arc((10, -9.5), (10.5, -10), (10.5, -9.5), True), 3),
+             item(Line((10.5, -10), (15, -10)), 4), item(Line((15, -10), (20, 5)), 5, "cancel")]
+    with pytest.raises(NCError) as e:
+        compensate_moves(items, 0.8, 3, 42)
+    assert e.value.line == 3 and "smaller than the nose radius" in e.value.message
+    out = compensate_moves(items, 0.4, 3, 42)  # R0.5 >= 0.4: fine
+    check_contiguous(out, items)
+
+
+def test_alarm_groove_narrower_than_2r():
+    items = [item(Line((12, 5), (10, 0)), 1, "start"), item(Line((10, 0), (10, -10)), 2),
+             item(Line((10, -10), (8, -10)), 3), item(Line((8, -10), (8, -11.2)), 4),
+             item(Line((8, -11.2), (10, -11.2)), 5), item(Line((10, -11.2), (10, -20)), 6),
+             item(Line((10, -20), (20, 5)), 7, "cancel")]
+    with pytest.raises(NCError) as e:
+        compensate_moves(items, 0.8, 3, 42)
+    assert e.value.line == 3 and "too narrow" in e.value.message
+    out = compensate_moves(items, 0.5, 3, 42)  # 1.2 >= 2 * 0.5: fine
+    check_contiguous(out, items)
+    bottom = [s for s, it in out if it.line == 4][0]
+    assert bottom.start[0] == pytest.approx(8.5 - 0.5)
+
+
+def test_air_moves_are_not_grooves_and_zero_length_items():
+    r = 0.8
+    # cut, short rapid retract (< r), rapid back, a zero-length block, cancel
+    items = [item(Line((12, 5), (10, 0)), 1, "start"), item(Line((10, 0), (10, -10)), 2),
+             item(Line((10, -10), (10.5, -10)), 3, kind="rapid"),
+             item(Line((10.5, -10), (10.5, 2)), 4, kind="rapid"),
+             item(Line((10.5, 2), (10.5, 2)), 5, kind="rapid"),
+             item(Line((10.5, 2), (20, 5)), 6, "cancel", "rapid")]
+    out = compensate_moves(items, r, 0, 42)
+    check_contiguous(out, items)
+    z5 = [s for s, it in out if it.line == 5]
+    assert len(z5) == 1 and z5[0].length == 0.0
+
+
+def test_start_then_cancel_only_and_no_start():
+    a = item(Line((20, 5), (10, 0)), 1, "start")
+    c = item(Line((10, 0), (20, 5)), 2, "cancel")
+    out = compensate_moves([a, c], 0.8, 3, 42)
+    assert [s for s, _ in out] == [a.seg, c.seg]
+    # no start item: the path begins at the offset start of the first move
+    n = [item(Line((10, 0), (10, -10)), 1), item(Line((10, -10), (20, -10)), 2)]
+    out = compensate_moves(n, 0.8, 0, 42)
+    assert out[0][0].start == pytest.approx((10.8, 0))
+    with pytest.raises(ValueError):
+        compensate_moves([n[0], c, n[1]], 0.8, 0, 42)
+    assert compensate_moves([], 0.8, 3, 42) == []
