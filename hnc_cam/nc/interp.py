@@ -257,6 +257,10 @@ class Interp:
                 return Cond(i, line, p.cond)
             return None
         fw = P.fast_words(text)
+        if fw is not None:
+            b = self._compile_plain(i, line, text, fw)
+            if b is not None:
+                return b
         b = Blk(i, line, text)
         if fw is not None:
             words = [(L, float(v), 0) for L, v in fw]
@@ -306,6 +310,41 @@ class Interp:
         b.uw = "U" in letters or "W" in letters
         b.plain = (b.dyn is None and not ms and b.letters <= frozenset("GXZUWIKR")
                    and all(g <= 3 for g in gs) and len(gs) <= 1)
+        return b
+
+    def _compile_plain(self, i: int, line: int, text: str, fw: list) -> Optional[Blk]:
+        """The hot path of loading: a block of at most one G00-G03 and X Z U W I K R words.
+        Returns None for anything else (the general compiler then handles it)."""
+        w: dict = {}
+        g = -1
+        for L, v in fw:
+            if L == "G":
+                if g >= 0:
+                    return None
+                f = float(v)
+                if f == 0.0 or f == 1.0 or f == 2.0 or f == 3.0:
+                    g = int(f)
+                else:
+                    return None
+            elif L in "XZUWIKR":
+                if L in w:
+                    return None
+                f = float(v)
+                if f > _LENGTH_LIMIT or f < -_LENGTH_LIMIT:
+                    return None
+                w[L] = f
+            else:
+                return None
+        b = Blk(i, line, text)
+        b.words = w
+        if g >= 0:
+            b.gs = (g,)
+        letters = frozenset(w)
+        b.letters = letters | {"G"} if g >= 0 else letters
+        b.extra = letters - _BASE_LETTERS
+        b.axes = "X" in w or "Z" in w or "U" in w or "W" in w
+        b.uw = "U" in w or "W" in w
+        b.plain = True
         return b
 
     # -- variables ----------------------------------------------------------------------------
@@ -909,7 +948,7 @@ class Interp:
         if c is not None:
             x0, z0 = self._resolve_corner(c, x1, z1, b.line)
             self.corner = None
-        if not b.plain and ("C" in w or "R" in w):
+        if b.extra and ("C" in w or "R" in w):
             if "C" in w and "R" in w:
                 raise self.balarm(b, "C (chamfer) and R (round) in one block", "R")
             kind = "C" if "C" in w else "R"
@@ -1528,8 +1567,15 @@ def run(text: str, machine: Machine | None = None, *, file: str = "<program>",
     ``step_limit`` (default: the machine's) bounds the statements executed; ``start`` is the
     initial work position (x radius, z); ``diameter`` the power-on G36/G37 state (default:
     the machine's ``diameter_mode`` when it has one, else G36)."""
-    src = P.load(text, file)
-    return Interp(src, machine, step_limit=step_limit, start=start, diameter=diameter).run()
+    import gc
+    enabled = gc.isenabled()
+    gc.disable()  # the run allocates many small objects and no cycles: GC passes only cost time
+    try:
+        src = P.load(text, file)
+        return Interp(src, machine, step_limit=step_limit, start=start, diameter=diameter).run()
+    finally:
+        if enabled:
+            gc.enable()
 
 
 def run_file(path: str, machine: Machine | None = None, **kw) -> Toolpath:

@@ -1,0 +1,104 @@
+"""Interpreter throughput.
+
+(a) a generated 100,000-block program of G01/G02/G03 moves (load + run, blocks/s);
+(b) a macro WHILE loop of 100,000 iterations (statements/s and iterations/s);
+(c) pygcode's parse time of the same plain file (its line parser, no machine model), for a
+    side-by-side ratio.
+
+Run: ``python benchmarks/interp.py [N]``.
+"""
+from __future__ import annotations
+
+import sys
+import time
+
+
+def plain_program(n: int) -> str:
+    """A zig-zag of G01 lines and G02/G03 half-arcs (R form and I/K form), n blocks + 3."""
+    out = ["%1", "G92 X100 Z10", "M03 S800", "G01 X40 Z0 F120"]
+    x, z = 40.0, 0.0
+    i = 0
+    while len(out) < n + 3:
+        k = i % 4
+        if k == 0:
+            z -= 1.0
+            out.append(f"G01 X{x:.3f} Z{z:.3f}")
+        elif k == 1:
+            out.append(f"G02 X{x + 2:.3f} Z{z - 1:.3f} R1.000")
+            x += 2
+            z -= 1
+        elif k == 2:
+            out.append(f"G03 X{x - 2:.3f} Z{z - 1:.3f} I0 K-1.000")
+            x -= 2
+            z -= 1
+        else:
+            out.append(f"X{x:.3f} Z{z - 0.5:.3f}")  # modal G03? no: a G01 line restated below
+            out[-1] = f"G01 X{x:.3f} Z{z - 0.5:.3f}"
+            z -= 0.5
+        i += 1
+    out.append("M30")
+    return "\n".join(out) + "\n"
+
+
+def macro_program(n: int) -> str:
+    return (f"%2\n#1=0\n#2=0\nWHILE #1 LT {n}\n#1=#1+1\n#2=#2+SIN[#1*PI/180]*2\nENDW\nM30\n")
+
+
+def main(argv: list[str]) -> int:
+    n = int(argv[1]) if len(argv) > 1 else 100_000
+    from hnc_cam.nc.interp import Interp, run
+    from hnc_cam.nc import parser
+    from hnc_cam.tooling import load_machine
+
+    mach = load_machine(None)
+    text = plain_program(n)
+    nblocks = text.count("\n")
+    run("%1\nG01 X1 Z1 F100\nM30\n", mach)  # warm imports
+    best = None
+    for _ in range(3):
+        t0 = time.perf_counter()
+        tp = run(text, mach)
+        dt = time.perf_counter() - t0
+        best = dt if best is None else min(best, dt)
+    print(f"(a) plain G01/G02/G03 file: {nblocks} blocks, {len(tp.moves)} moves, "
+          f"{best:.3f} s  ->  {nblocks / best:,.0f} blocks/s (load + run, best of 3)")
+    import gc
+    gc.disable()  # as run() does
+    t0 = time.perf_counter()
+    src = parser.load(text)
+    t_load = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    Interp(src, mach).run()
+    t_run = time.perf_counter() - t0
+    print(f"    of which: load/split {t_load:.3f} s, compile+execute {t_run:.3f} s")
+    gc.enable()
+
+    mtext = macro_program(n)
+    t0 = time.perf_counter()
+    it = Interp(parser.load(mtext), mach)
+    it.run()
+    dt = time.perf_counter() - t0
+    print(f"(b) macro WHILE loop: {n} iterations, {it.steps} statements, {dt:.3f} s  ->  "
+          f"{it.steps / dt:,.0f} statements/s, {n / dt:,.0f} iterations/s")
+
+    try:
+        from pygcode import Line as PLine
+    except ImportError:
+        print("(c) pygcode not installed: no comparison")
+        return 0
+    lines = text.splitlines()
+    m = min(len(lines), 20_000)
+    t0 = time.perf_counter()
+    for ln in lines[:m]:
+        if ln.startswith("%"):
+            continue
+        PLine(ln)
+    dt_pg = (time.perf_counter() - t0) * (len(lines) / m)
+    print(f"(c) pygcode Line() parse of the same file: {dt_pg:.3f} s "
+          f"({len(lines) / dt_pg:,.0f} lines/s{', extrapolated from the first %d lines' % m if m < len(lines) else ''})"
+          f"  ->  hnc_cam load+run is {dt_pg / best:.1f}x faster than pygcode's parse alone")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
