@@ -17,8 +17,11 @@ import cadquery as cq
 from hnc_cam.cad.sketch import Outline, bar_stock
 
 
-def STOCK(length=40.0, head_diameter=24.0, head_thickness=6.0, **_):
-    return bar_stock(head_diameter, length + head_thickness)
+def STOCK(length=40.0, diameter=16.0, chamfer=1.5, groove_z=8.0, groove_width=2.0,
+          groove_depth=1.0, head_diameter=24.0, head_thickness=6.0, crown_radius=30.0):
+    *_, zl, crown_h = _dims(length, diameter, chamfer, groove_z, groove_width, groove_depth,
+                            head_diameter, head_thickness, crown_radius)
+    return bar_stock(head_diameter, -zl + crown_h)
 
 
 def _dims(length, diameter, chamfer, groove_z, groove_width, groove_depth, head_diameter,

@@ -33,6 +33,7 @@ def sketch(length: float = 80.0, d1: float = 25.0, d2: float = 36.0, l1: float =
         raise ValueError("need 0 < arc_depth <= arc_radius")
     hw = math.sqrt(arc_radius ** 2 - (arc_radius - arc_depth) ** 2)  # half-width at d2
     if not (chamfer < l1 - relief_width and 2 * relief_radius < relief_width
+            and relief_radius < relief_depth
             and l1 + chamfer < arc_z - hw and arc_z + hw < length - chamfer):
         raise ValueError("grooves overlap each other or the ends")
     s = Outline((0.0, 0.0))

@@ -13,8 +13,11 @@ How (and the choices made):
 3. The solid's boundary is cut with the half-plane {y' = 0, x' >= 0} through the axis at a
    fixed polar angle (0.3 rad, clear of the seams that revolves put at angle 0). OpenCascade
    returns the cuts of planes, cylinders and cones as lines and of spheres and tori as
-   circles: they become exact ``Line``/``Arc`` (radius, Z). Any other curve (B-spline,
-   ellipse, the cut of a revolved spline) is fitted with arcs within ``fit_tol`` and noted.
+   circles: they become exact ``Line``/``Arc`` (radius, Z). A free-form edge that is a line
+   or circle within 1e-6 mm (OpenCascade approximates the cut of a self-intersecting torus,
+   and of B-spline surfaces from other CAD systems) becomes that Line/Arc. Any other curve
+   (B-spline, ellipse, the cut of a revolved spline) is fitted with arcs (biarcs) within
+   ``fit_tol`` and noted in ``notes``.
 4. The pieces are chained; split pieces are merged (collinear lines, co-circular arcs).
 5. The section's boundary is split into chains:
 
@@ -40,12 +43,16 @@ from ..errors import ProfileError
 from ..geometry.primitives import Arc, Line, Point, Segment, dist, reverse_chain
 from ..geometry.profile import TurnedProfile
 from . import occ
-from .fit import fit_curve, merge_segments
+from .fit import circle3, fit_curve, merge_segments
 
 #: polar angle of the default meridian half-plane (radians): away from the seam at 0
 THETA = 0.3
 #: end points closer than this are joined when chaining (mm; STEP files carry ~1e-7 gaps)
 JOIN_TOL = 1e-4
+#: a free-form section edge within this of a line or circle is taken as that line/arc (mm)
+EXACT_TOL = 1e-6
+#: an end point closer than this to the axis is put on it (mm)
+AXIS_SNAP = 1e-6
 #: coordinates are rounded to this many decimals (1e-9 mm) to drop floating noise
 DECIMALS = 9
 
@@ -147,8 +154,8 @@ def _clean(s: Segment) -> Segment:
 # ---------------------------------------------------------------------------- edges -> chains
 def _edge_segments(e: occ.SectionEdge, fit_tol: float, notes: list[str]) -> list[Segment]:
     p0, p1 = e.rz(e.first), e.rz(e.last)
-    p0 = (0.0 if abs(p0[0]) < 1e-9 else p0[0], p0[1])
-    p1 = (0.0 if abs(p1[0]) < 1e-9 else p1[0], p1[1])
+    p0 = (0.0 if abs(p0[0]) < AXIS_SNAP else p0[0], p0[1])
+    p1 = (0.0 if abs(p1[0]) < AXIS_SNAP else p1[0], p1[1])
     if e.kind == "line":
         return [Line(p0, p1)] if dist(p0, p1) > 1e-9 else []
     if e.kind == "circle":
@@ -160,14 +167,54 @@ def _edge_segments(e: occ.SectionEdge, fit_tol: float, notes: list[str]) -> list
             return [Arc(p0, pm, c, cw), Arc(pm, p1, c, cw)]
         cw = _turn(p0, pm, p1) < 0
         return [Arc(p0, p1, c, cw)]
+    exact = _recognise(e, p0, p1)
+    if exact is not None:
+        return exact
+    # the section edge may itself lie up to its tolerance off the true cut: fit tighter
+    tol = fit_tol - e.tolerance if e.tolerance < fit_tol / 2 else fit_tol / 2
     try:
-        segs = fit_curve(e.rz_d1, e.first, e.last, fit_tol)
+        segs = fit_curve(e.rz_d1, e.first, e.last, tol)
+        segs = _snap_ends(segs, p0, p1)
     except ValueError as ex:
         raise ProfileError(f"{e.curve_type} edge from (r={p0[0]:.4f}, z={p0[1]:.4f}) to "
                            f"(r={p1[0]:.4f}, z={p1[1]:.4f}): {ex}") from None
     notes.append(f"{e.curve_type} edge from (r={p0[0]:.4f}, z={p0[1]:.4f}) to "
                  f"(r={p1[0]:.4f}, z={p1[1]:.4f}) (model) fitted with {len(segs)} "
                  f"arc/line segment(s) within {fit_tol:g} mm")
+    return segs
+
+
+def _recognise(e: occ.SectionEdge, p0: Point, p1: Point) -> list[Segment] | None:
+    """A free-form section edge that is a line or a circular arc within ``EXACT_TOL`` at 64
+    points (e.g. the cut of a self-intersecting torus, which OpenCascade approximates)
+    becomes that Line/Arc."""
+    ts = [e.first + (e.last - e.first) * i / 64 for i in range(1, 64)]
+    pts = [e.rz(t) for t in ts]
+    if dist(p0, p1) < 1e-9:
+        return None
+    line = Line(p0, p1)
+    if all(line.distance_to(p) <= EXACT_TOL for p in pts):
+        return [line]
+    pm = e.rz((e.first + e.last) / 2)
+    circ = circle3(p0, pm, p1)
+    if circ is None:
+        return None
+    c, r = circ
+    if all(abs(dist(c, p) - r) <= EXACT_TOL for p in pts):
+        arc = Arc(p0, p1, c, _turn(p0, pm, p1) < 0)
+        if all(arc.distance_to(p) <= EXACT_TOL for p in pts):
+            return [arc]
+    return None
+
+
+def _snap_ends(segs: list[Segment], p0: Point, p1: Point) -> list[Segment]:
+    """Put the fitted chain's ends exactly on the (axis-snapped) edge ends."""
+    if not segs:
+        return segs
+    segs = list(segs)
+    segs[0] = _with_start(segs[0], p0)
+    last = segs[-1]
+    segs[-1] = Line(last.start, p1) if isinstance(last, Line) else Arc(last.start, p1, last.center, last.cw)
     return segs
 
 

@@ -89,7 +89,7 @@ def _deviation(segs: Sequence[Segment], pts: Sequence[Point]) -> float:
     return max(min(s.distance_to(p) for s in segs) for p in pts)
 
 
-def _circle3(a: Point, b: Point, c: Point) -> tuple[Point, float] | None:
+def circle3(a: Point, b: Point, c: Point) -> tuple[Point, float] | None:
     """Circle through three points (centre, radius) or None when collinear."""
     ax, az = a
     bx, bz = b
@@ -125,7 +125,7 @@ def fit_curve(fn: CurveFn, t0: float, t1: float, tol: float) -> list[Segment]:
             return
         # one arc through the ends and the middle?
         mid = fn((a + b) / 2)[0]
-        circ = _circle3(pa, mid, pb)
+        circ = circle3(pa, mid, pb)
         if circ is not None:
             c, _r = circ
             ccw = cross((mid[0] - pa[0], mid[1] - pa[1]), (pb[0] - mid[0], pb[1] - mid[1])) > 0

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Iterator
 
-from OCP.BRep import BRep_Builder
+from OCP.BRep import BRep_Builder, BRep_Tool
 from OCP.BRepAdaptor import BRepAdaptor_Curve, BRepAdaptor_Surface
 from OCP.BRepAlgoAPI import BRepAlgoAPI_Section
 from OCP.BRepBndLib import BRepBndLib
@@ -245,9 +245,7 @@ def classify_faces(shape: TopoDS_Shape) -> tuple[list[FaceProblem], list[str]]:
     """
     problems: list[FaceProblem] = []
     notes: list[str] = []
-    bb = bbox(shape)
-    rmax = max(math.hypot(bb[0], bb[1]), math.hypot(bb[3], bb[4]), abs(bb[0]), abs(bb[3]),
-               abs(bb[1]), abs(bb[4]))
+    sampled: list[float] = []
     for f in faces(shape):
         ad = BRepAdaptor_Surface(f, True)
         t = ad.GetType()
@@ -300,12 +298,14 @@ def classify_faces(shape: TopoDS_Shape) -> tuple[list[FaceProblem], list[str]]:
                                         "an off-axis feature", _face_centre(f)))
             continue
         if _sampled_revolution(ad):
-            notes.append(f"{name} face at z={_face_centre(f)[2]:.3f} accepted as a surface of "
-                         f"revolution by sampling its normals")
+            sampled.append(_face_centre(f)[2])
             continue
         problems.append(FaceProblem(f, f"{name} face that is not a surface of revolution",
                                     "a milled or free-form feature", _face_centre(f)))
-    del rmax
+    if sampled:
+        notes.append(f"{len(sampled)} free-form (e.g. B-spline) face(s) accepted as surfaces of "
+                     f"revolution by sampling their normals (model z "
+                     f"{', '.join(f'{z:.3f}' for z in sorted(sampled, reverse=True))})")
     return problems, notes
 
 
@@ -319,6 +319,7 @@ class SectionEdge:
     last: float
     adaptor: Any
     u: tuple[float, float]  # unit direction of the half-plane (x, y)
+    tolerance: float = 0.0  # the edge's own tolerance (how far it may be from the true cut)
 
     def rz(self, t: float) -> tuple[float, float]:
         p = self.adaptor.Value(t)
@@ -355,11 +356,13 @@ def meridian_section(shape: TopoDS_Shape, theta: float,
         raise ProfileError("the meridian section of the solid failed (invalid geometry?)")
     out: list[SectionEdge] = []
     for e in sub_shapes(sec.Shape(), TopAbs_EDGE):
-        ad = BRepAdaptor_Curve(TopoDS.Edge_s(e))
+        edge = TopoDS.Edge_s(e)
+        ad = BRepAdaptor_Curve(edge)
         t = ad.GetType()
         kind = "line" if t == GeomAbs_Line else "circle" if t == GeomAbs_Circle else "other"
         out.append(SectionEdge(kind, str(t).split(".")[-1].replace("GeomAbs_", ""),
-                               ad.FirstParameter(), ad.LastParameter(), ad, (ux, uy)))
+                               ad.FirstParameter(), ad.LastParameter(), ad, (ux, uy),
+                               BRep_Tool.Tolerance_s(edge)))
     return out
 
 

@@ -1,0 +1,97 @@
+"""Arc fitting and merging (pure geometry, no CAD kernel)."""
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from hnc_cam.cad.fit import arc_from_tangent, biarc, fit_curve, merge_segments
+from hnc_cam.geometry import Arc, Line, chain_is_connected
+
+
+def _ellipse(a: float, b: float, zc: float):
+    """Quarter ellipse in (r, z): r = b sin t, z = zc + a cos t, t in [0, pi/2]."""
+    def fn(t):
+        return (b * math.sin(t), zc + a * math.cos(t)), (b * math.cos(t), -a * math.sin(t))
+    return fn
+
+
+@pytest.mark.parametrize("tol", [0.01, 0.001, 0.0001])
+def test_ellipse_fitted_within_tolerance_measured_densely(tol):
+    fn = _ellipse(20.0, 8.0, -20.0)
+    segs = fit_curve(fn, 0.0, math.pi / 2, tol)
+    assert all(isinstance(s, (Line, Arc)) for s in segs)
+    assert chain_is_connected(segs, 1e-9)
+    assert segs[0].start == pytest.approx((0.0, 0.0), abs=1e-12)
+    assert segs[-1].end == pytest.approx((8.0, -20.0), abs=1e-12)
+    worst = max(min(s.distance_to(fn(math.pi / 2 * i / 5000)[0]) for s in segs)
+                for i in range(5001))
+    assert worst <= tol
+    # and the other way: every point of the arcs is near the ellipse
+    for s in segs:
+        for k in range(1, 10):
+            r, z = s.point_at(k / 10)
+            # algebraic distance of the ellipse (r/b)^2 + ((z - zc)/a)^2 = 1, scaled to mm
+            t = math.atan2(r / 8.0, (z + 20.0) / 20.0)
+            lo, hi = t - 0.05, t + 0.05
+            for _ in range(100):  # ternary search of the nearest ellipse point
+                m1, m2 = lo + (hi - lo) / 3, hi - (hi - lo) / 3
+                if math.dist((r, z), fn(m1)[0]) < math.dist((r, z), fn(m2)[0]):
+                    hi = m2
+                else:
+                    lo = m1
+            assert math.dist((r, z), fn(lo)[0]) <= tol
+
+
+def test_tighter_tolerance_more_segments_and_g1():
+    fn = _ellipse(30.0, 10.0, 0.0)
+    coarse = fit_curve(fn, 0.0, math.pi / 2, 0.01)
+    fine = fit_curve(fn, 0.0, math.pi / 2, 0.0001)
+    assert len(fine) > len(coarse)
+    for a, b in zip(fine, fine[1:]):  # tangent continuity at the biarc joints
+        ta, tb = a.tangent_at_end(), b.tangent_at_start()
+        assert ta[0] * tb[0] + ta[1] * tb[1] == pytest.approx(1.0, abs=1e-6)
+
+
+def test_straight_and_circular_curves_give_one_segment():
+    line = fit_curve(lambda t: ((5 + t, -2 * t), (1.0, -2.0)), 0.0, 3.0, 1e-4)
+    assert len(line) == 1 and isinstance(line[0], Line)
+    assert line[0].end == pytest.approx((8.0, -6.0))
+    circ = fit_curve(lambda t: ((10 * math.sin(t), 10 * math.cos(t)),
+                                (10 * math.cos(t), -10 * math.sin(t))), 0.2, 1.4, 1e-6)
+    assert len(circ) == 1 and isinstance(circ[0], Arc)
+    assert circ[0].center == pytest.approx((0.0, 0.0), abs=1e-9)
+    assert circ[0].radius == pytest.approx(10.0)
+
+
+def test_biarc_tangents_and_ends():
+    p0, t0, p1, t1 = (0.0, 0.0), (0.0, -1.0), (5.0, -10.0), (1.0, 0.0)
+    segs = biarc(p0, t0, p1, t1)
+    assert len(segs) == 2 and chain_is_connected(segs, 1e-9)
+    assert segs[0].tangent_at_start() == pytest.approx(t0, abs=1e-9)
+    assert segs[-1].tangent_at_end() == pytest.approx(t1, abs=1e-9)
+    j0, j1 = segs[0].tangent_at_end(), segs[1].tangent_at_start()
+    assert j0 == pytest.approx(j1, abs=1e-9)
+
+
+def test_arc_from_tangent_direction():
+    a = arc_from_tangent((0.0, 0.0), (0.0, -1.0), (2.0, -2.0))
+    # moving toward -Z (left in the view), ending up (+X): a right turn = G02
+    assert isinstance(a, Arc) and a.cw
+    assert a.center == pytest.approx((2.0, 0.0))
+
+
+def test_merge_collinear_and_cocircular():
+    segs = [Line((0, 0), (5, 0)), Line((5, 0), (10, 0)), Line((10, 0), (10, -5)),
+            Arc((10, -5), (10 * math.cos(0.3), -5 - 10 * math.sin(0.3) + 0), (0, -5), True)]
+    m = merge_segments(segs)
+    assert len(m) == 3 and m[0] == Line((0, 0), (10, 0))
+    c = (0.0, 0.0)
+    a1 = Arc((0.0, 10.0), (10 * math.sin(1.0), 10 * math.cos(1.0)), c, False)
+    a2 = Arc(a1.end, (10.0, 0.0), c, False)
+    m = merge_segments([a1, a2])
+    assert len(m) == 1 and m[0].start == (0.0, 10.0) and m[0].end == (10.0, 0.0)
+    assert m[0].sweep == pytest.approx(math.pi / 2)
+    # opposite directions or different centres stay apart
+    assert len(merge_segments([Line((0, 0), (5, 0)), Line((5, 0), (4, 0))])) == 2
+    assert len(merge_segments([a1, Arc(a1.end, (10.0, 0.0), c, True)])) == 2

@@ -1,0 +1,240 @@
+"""Every parts/ family: its profile equals its defining sketch segment by segment, for several
+parameter sets; default stock fits; threads; the part-file loader's errors."""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+
+from hnc_cam.cad import LoadedPart, PartError, ProfileError, load_part, parse_set
+from hnc_cam.cad.fit import merge_segments
+from hnc_cam.geometry import Arc, Line, reverse_chain
+from hnc_cam.tooling import Stock
+
+pytestmark = pytest.mark.cad
+
+PARTS = Path(__file__).resolve().parents[1] / "parts"
+
+FAMILIES = {
+    "stepped_shaft": [{}, {"length": "120", "d1": "16", "d2": "30", "d3": "48", "l1": "30",
+                           "l2": "62", "taper_length": "20", "dome_radius": "9"},
+                      {"chamfer": "0.5", "fillet": "0.8", "dome_radius": "40"}],
+    "grooved_shaft": [{}, {"length": "100", "d1": "30", "d2": "44", "l1": "40", "arc_z": "70",
+                           "arc_radius": "3", "arc_depth": "3"},
+                      {"relief_width": "3", "relief_depth": "0.6", "relief_radius": "0.4"}],
+    "flange": [{}, {"diameter": "160", "thickness": "20", "hub_diameter": "70",
+                    "hub_length": "25", "fillet": "5"},
+               {"diameter": "90", "thickness": "10", "hub_diameter": "40", "hub_length": "12",
+                "fillet": "1", "chamfer": "0.8"}],
+    "bushing": [{}, {"outer_diameter": "60", "bore_diameter": "35", "length": "50"},
+                {"outer_diameter": "25", "bore_diameter": "12", "length": "18", "chamfer": "0.5",
+                 "inner_chamfer": "0.8"}],
+    "cast_blank": [{}, {"length": "120", "diameter": "50", "amplitude": "4", "wave_length": "30",
+                        "waves": "3"},
+                   {"waves": "1", "amplitude": "1.5"}],
+    "threaded_stud": [{}, {"thread_diameter": "24", "pitch": "2", "thread_length": "30",
+                           "relief_diameter": "21", "collar_diameter": "36", "length": "60"},
+                      {"thread_diameter": "16", "pitch": "1", "thread_length": "15",
+                       "relief_diameter": "14.2", "collar_diameter": "22", "length": "35"}],
+    "cq_pin": [{}, {"length": "60", "diameter": "20", "head_diameter": "30",
+                    "head_thickness": "8", "groove_z": "10"},
+               {"crown_radius": "12"}],
+}
+
+CASES = [(fam, i, params) for fam, sets in FAMILIES.items() for i, params in enumerate(sets)]
+
+
+def _same(a, b, tol=1e-6) -> bool:
+    if type(a) is not type(b):
+        return False
+    pts = [(a.start, b.start), (a.end, b.end)]
+    if isinstance(a, Arc):
+        if a.cw != b.cw or abs(a.radius - b.radius) > tol:
+            return False
+        pts.append((a.center, b.center))
+    return all(abs(p[0] - q[0]) <= tol and abs(p[1] - q[1]) <= tol for p, q in pts)
+
+
+@pytest.fixture(scope="module")
+def loaded():
+    cache: dict[tuple[str, int], LoadedPart] = {}
+
+    def get(fam: str, i: int) -> LoadedPart:
+        if (fam, i) not in cache:
+            cache[(fam, i)] = load_part(PARTS / f"{fam}.py", FAMILIES[fam][i])
+        return cache[(fam, i)]
+    return get
+
+
+@pytest.mark.parametrize("fam,i,params", CASES, ids=[f"{f}-{i}" for f, i, _ in CASES])
+def test_profile_equals_defining_sketch(loaded, fam, i, params):
+    lp = loaded(fam, i)
+    prof = lp.profile
+    expected = merge_segments(lp.module.sketch(**lp.params))
+    # the sketch runs from the right face's innermost point around the section (ccw)
+    got = prof.outside + (reverse_chain(prof.bore) if prof.bore else [])
+    assert len(got) == len(expected), (got, expected)
+    for g, e in zip(got, expected):
+        assert _same(g, e), (g, e)
+    assert prof.z_max == pytest.approx(0.0, abs=1e-9)
+    assert prof.notes == []  # nothing fitted, nothing ignored: all exact
+    assert prof.name == fam and prof.params == lp.params
+    for k, v in params.items():
+        assert lp.params[k] == pytest.approx(float(v))
+
+
+@pytest.mark.parametrize("fam,i,params", CASES, ids=[f"{f}-{i}" for f, i, _ in CASES])
+def test_default_stock_fits_with_allowance(loaded, fam, i, params):
+    lp = loaded(fam, i)
+    assert lp.stock is not None
+    st = Stock.parse(lp.stock)
+    prof = lp.profile
+    if st.kind == "offset":
+        assert st.allowance >= 1.0
+        return
+    assert st.diameter >= prof.max_diameter + 1.0
+    assert st.face >= 1.0  # face stock on the right
+    assert st.z_left <= prof.z_min - 5.0  # room to grip / part off
+    if prof.bore:
+        assert st.kind == "tube"
+        assert st.bore <= 2 * prof.min_bore_radius - 1.0
+    elif st.kind == "tube":
+        pytest.fail("tube stock for a part without a bore")
+
+
+def test_family_shapes(loaded):
+    """A few facts that make the families what the issue asks for."""
+    shaft = loaded("stepped_shaft", 0).profile
+    kinds = [type(s).__name__ for s in shaft.outside]
+    assert kinds[0] == "Arc" and shaft.outside[0].start == (0.0, 0.0)  # domed end
+    assert any(isinstance(s, Line) and s.start[0] != s.end[0] and s.start[1] != s.end[1]
+               and abs(s.start[1] - s.end[1]) > 5 for s in shaft.outside)  # a taper
+    grooved = loaded("grooved_shaft", 0).profile
+    xs = [s.end[0] for s in grooved.outside]
+    assert any(b < a for a, b in zip(xs, xs[1:-1]))  # dips: undercuts
+    flange = loaded("flange", 0).profile
+    assert flange.max_diameter > 3 * flange.length  # face-dominated
+    bush = loaded("bushing", 0).profile
+    assert bush.bore is not None and bush.min_bore_radius == pytest.approx(11.0)
+    assert bush.bore[0].start == bush.outside[0].start == (12.0, 0.0)
+    assert bush.bore[-1].end == bush.outside[-1].end == (12.0, -30.0)
+    cast = loaded("cast_blank", 0).profile
+    assert sum(isinstance(s, Arc) for s in cast.outside) == 6
+    for a, b in zip(cast.outside[1:6], cast.outside[2:7]):  # tangent arcs
+        ta, tb = a.tangent_at_end(), b.tangent_at_start()
+        assert ta[0] * tb[0] + ta[1] * tb[1] == pytest.approx(1.0, abs=1e-9)
+    assert loaded("cq_pin", 0).module.__name__.startswith("hnc_part_cq_pin")
+
+
+def test_threaded_stud_threads(loaded):
+    lp = loaded("threaded_stud", 0)
+    (t,) = lp.threads
+    assert (t.z_start, t.z_end, t.diameter, t.pitch, t.starts, t.internal) == (0.0, -22.0, 20.0, 1.5, 1, False)
+    assert t.standard == "metric" and t.angle == 60.0
+    assert lp.profile.threads == lp.threads
+    # the major diameter is modelled on the thread length; the relief follows, below the minor
+    prof = lp.profile
+    on = [s for s in prof.outside if isinstance(s, Line) and s.start[0] == s.end[0] == 10.0]
+    assert on and min(s.end[1] for s in on) == pytest.approx(-22.0)
+    assert min(s.bbox()[0] for s in prof.outside[1:-1]) < t.minor_diameter / 2
+    lp2 = loaded("threaded_stud", 1)
+    assert lp2.threads[0].z_end == -30.0 and lp2.threads[0].pitch == 2.0
+
+
+def test_thread_z_follows_program_zero():
+    lp = load_part(PARTS / "threaded_stud.py", zero="left")
+    assert lp.profile.z_min == pytest.approx(0.0)
+    assert lp.threads[0].z_start == pytest.approx(50.0)
+    assert lp.threads[0].z_end == pytest.approx(28.0)
+
+
+# ---------------------------------------------------------------------------- loader errors
+def test_parse_set():
+    assert parse_set(["length=120", " d1 = 16.5 "]) == {"length": "120", "d1": "16.5"}
+    assert parse_set(None) == {}
+    for bad in (["length"], ["=3"], ["length="], ["2x=3"]):
+        with pytest.raises(PartError):
+            parse_set(bad)
+
+
+def test_unknown_parameter_lists_known():
+    with pytest.raises(PartError) as e:
+        load_part(PARTS / "bushing.py", {"lenght": "30"})
+    msg = str(e.value)
+    assert "unknown parameter lenght" in msg and "outer_diameter" in msg and "length" in msg
+
+
+def test_value_not_a_number():
+    with pytest.raises(PartError, match=r"length='abc' is not a number"):
+        load_part(PARTS / "bushing.py", {"length": "abc"})
+    with pytest.raises(PartError, match="whole number"):
+        load_part(PARTS / "cast_blank.py", {"waves": "2.5"})
+
+
+def test_int_parameter_parsed_as_int():
+    lp = load_part(PARTS / "cast_blank.py", {"waves": "2"})
+    assert lp.params["waves"] == 2 and isinstance(lp.params["waves"], int)
+    assert sum(isinstance(s, Arc) for s in lp.profile.outside) == 4
+
+
+def test_missing_and_unimportable_files(tmp_path):
+    with pytest.raises(PartError, match="no such part file"):
+        load_part(tmp_path / "nope.py")
+    bad = tmp_path / "broken.py"
+    bad.write_text("def part(:\n")
+    with pytest.raises(PartError, match="import failed: SyntaxError"):
+        load_part(bad)
+    nopart = tmp_path / "nopart.py"
+    nopart.write_text("X = 1\n")
+    with pytest.raises(PartError, match=r"no function part"):
+        load_part(nopart)
+    with pytest.raises(PartError, match="no such file"):
+        load_part(tmp_path / "missing.step")
+
+
+def test_part_raising_is_reported(tmp_path):
+    with pytest.raises(PartError) as e:
+        load_part(PARTS / "stepped_shaft.py", {"d1": "50"})
+    assert "part(" in str(e.value) and "d1=50" in str(e.value) and "ValueError" in str(e.value)
+
+
+def test_user_part_file_with_constants(tmp_path):
+    f = tmp_path / "collar.py"
+    f.write_text(
+        '"""Collar. Parameters: d (mm), length (mm)."""\n'
+        "from hnc_cam.cad.sketch import Outline, revolve\n"
+        "from hnc_cam.geometry import Thread\n"
+        "STOCK = '50x40+1'\n"
+        "THREADS = [Thread(0.0, -10.0, 30.0, 2.0)]\n"
+        "def part(d=30.0, length=20.0):\n"
+        "    s = Outline((0.0, 0.0)).line_to(d / 2, 0.0).line_to(d / 2, -length).line_to(0.0, -length)\n"
+        "    return revolve(s.segments())\n")
+    lp = load_part(f, {"length": "25"})
+    assert lp.stock == "50x40+1" and lp.params == {"d": 30.0, "length": 25.0}
+    assert lp.profile.length == pytest.approx(25.0) and lp.threads[0].pitch == 2.0
+    assert [type(s) for s in lp.profile.outside] == [Line, Line, Line]
+    f2 = tmp_path / "badstock.py"
+    f2.write_text(f.read_text().replace("'50x40+1'", "'50y40'"))
+    with pytest.raises(PartError, match="STOCK"):
+        load_part(f2)
+    f3 = tmp_path / "badthread.py"
+    f3.write_text(f.read_text().replace("Thread(0.0, -10.0, 30.0, 2.0)", "Thread(0.0, -80.0, 30.0, 2.0)"))
+    with pytest.raises(PartError, match="outside the part"):
+        load_part(f3)
+    f4 = tmp_path / "keyed.py"
+    f4.write_text(
+        "from build123d import Box, Cylinder, Pos\n"
+        "def part(d=30.0):\n"
+        "    return Cylinder(d / 2, 40) - Pos(0, d / 2, 0) * Box(8, 8, 20)\n")
+    with pytest.raises(ProfileError, match=r"keyed\.py.*planar face parallel to the axis"):
+        load_part(f4)
+    assert load_part(f4, envelope=True).profile.max_diameter == pytest.approx(30.0)
+
+
+def test_step_file_loads_without_parameters():
+    step = Path(__file__).parent / "data" / "stepped_shaft.step"
+    lp = load_part(step)
+    assert lp.stock is None and lp.params == {} and lp.threads == [] and lp.name == "stepped_shaft"
+    with pytest.raises(PartError, match="no parameters"):
+        load_part(step, {"length": "3"})
