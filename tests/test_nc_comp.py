@@ -193,3 +193,143 @@ def test_start_then_cancel_only_and_no_start():
     with pytest.raises(ValueError):
         compensate_moves([n[0], c, n[1]], 0.8, 0, 42)
     assert compensate_moves([], 0.8, 3, 42) == []
+
+
+# ---------------------------------------------------------------------------------------------
+# end to end through the interpreter
+
+interp = pytest.importorskip("hnc_cam.nc.interp")
+from hnc_cam.tooling import load_machine  # noqa: E402
+
+
+def machine(tmp_path, regs):
+    """A machine file with its own offset registers: {number: (radius, tip)}."""
+    text = "use_tool_library = false\n"
+    for n, (r, tip) in regs.items():
+        text += f"[[register]]\nnumber = {n}\nradius = {r}\ntip = {tip}\n"
+    p = tmp_path / f"m{abs(hash(text))}.toml"
+    p.write_text(text)
+    return load_machine(p)
+
+
+def comp_run(path, m):
+    """Moves of the normal (non start/cancel) compensated blocks, by source line."""
+    tp = interp.run_file(str(path), m)
+    comp = [mv for mv in tp.moves if mv.comp in (41, 42)]
+    start_line = comp[0].line
+    return tp, [mv for mv in comp if mv.line != start_line]
+
+
+@pytest.mark.parametrize("name,reg,r", [("3345.nc", 1, 0.8), ("3329.nc", 2, 0.4), ("3329.nc", 2, 0.8),
+                                         ("3346.nc", 3, 0.8)])
+@pytest.mark.parametrize("tip", [0, 3])
+def test_manual_programs_compensated_at_exactly_r(tmp_path, manual, name, reg, r, tip):
+    path = manual(name)
+    plain = machine(tmp_path, {n: (0.0, 0) for n in range(1, 5)})
+    comp = machine(tmp_path, {**{n: (0.0, 0) for n in range(1, 5)}, reg: (r, tip)})
+    _, moves = comp_run(path, comp)
+    assert moves, "no compensated moves"
+    lines = {mv.line for mv in moves}
+    tp0 = interp.run_file(str(path), plain)
+    profile = [mv.segment() for mv in tp0.moves if mv.line in lines and mv.kind != "dwell"]
+    tv = {0: (0.0, 0.0), 3: (-r, -r)}[tip]
+    for mv in moves:
+        g = mv.segment()
+        for k in range(41):
+            p = g.point_at(k / 40)
+            c = (p[0] - tv[0], p[1] - tv[1])
+            assert min(s.distance_to(c) for s in profile) == pytest.approx(r, abs=1e-7), (mv.line, p)
+    # contiguous controlled-point path from the start-up to the cancel
+    tp, _ = comp_run(path, comp)
+    for a, b in zip(tp.moves, tp.moves[1:]):
+        if a.kind != "dwell" and b.kind != "dwell":
+            assert dist(a.end, b.start) < 1e-6
+
+
+PROG = """%0100
+N1 T0101
+N2 G00 X60 Z5
+N3 G00 G42 X20 Z2
+N4 G01 Z-5 F100
+N5 X30 Z-13.660254037844386
+N6 Z-20
+N7 G02 X30 Z-36 R10
+N8 G01 Z-40
+N9 X40
+N10 G00 G40 X60 Z5
+N11 M30
+"""
+
+
+def test_program_taper30_and_r10_closed_form(tmp_path):
+    r = 0.8
+    m = machine(tmp_path, {1: (r, 3)})
+    tp = interp.run(PROG, m)
+    by_n = {}
+    for mv in tp.moves:
+        by_n.setdefault(mv.line, []).append(mv)
+    th = math.radians(30)
+    # N5 (line 6): the 30 deg taper; tip path r(1 - tan 15) short in Z at the same X
+    taper = [mv.segment() for mv in by_n[6] if mv.kind == "line"][0]
+    zm = [z for _, z in horizontal_hits([taper], 12.5)][0]
+    assert zm - (-5 - 2.5 / math.tan(th)) == pytest.approx(-r * (1 - math.tan(th / 2)), abs=1e-9)
+    # N7 (line 8): R10 hollow -> R9.2 about the centre moved by the tip vector (-r, -r)
+    arc = [mv for mv in by_n[8] if mv.kind == "arc"][0]
+    assert arc.cw and dist(arc.center, (21 - r, -28 - r)) < 1e-9
+    assert arc.segment().radius == pytest.approx(10 - r, abs=1e-9)
+    # the tip reaches the bottom of the hollow: dia 22 at Z-28 - r
+    assert arc.segment().bbox()[0] == pytest.approx(11.0, abs=1e-9)
+    # N4 (line 5): dia 20 cylinder cut by the tip exactly on X20
+    cyl = [mv for mv in by_n[5] if mv.kind == "line"][0]
+    assert cyl.start[0] == pytest.approx(10.0) and cyl.end[0] == pytest.approx(10.0)
+
+
+def test_program_narrow_groove_alarm(tmp_path):
+    prog = """%0101
+N1 T0101
+N2 G00 X60 Z5
+N3 G00 G42 X20 Z2
+N4 G01 Z-10 F100
+N5 X16
+N6 Z-11
+N7 X20
+N8 Z-20
+N9 G00 G40 X60 Z5
+N10 M30
+"""
+    m = machine(tmp_path, {1: (0.8, 3)})
+    with pytest.raises(NCError) as e:
+        interp.run(prog, m)
+    assert e.value.line == 6 and "too narrow" in e.value.message
+    assert "X16" in e.value.block
+    # a 0.4 nose fits the 1 mm groove
+    tp = interp.run(prog, machine(tmp_path, {1: (0.4, 3)}))
+    bottom = [mv for mv in tp.moves if mv.line == 7]
+    assert bottom and bottom[0].start[0] == pytest.approx(8.0)  # tip code 3 on the bottom: X16
+
+
+def test_program_inside_radius_alarm(tmp_path):
+    prog = """%0102
+N1 T0101
+N2 G00 X60 Z5
+N3 G00 G42 X20 Z2
+N4 G01 Z-9.5 F100
+N5 G02 X21 Z-10 R0.5
+N6 G01 X30
+N7 G00 G40 X60 Z5
+N8 M30
+"""
+    with pytest.raises(NCError) as e:
+        interp.run(prog, machine(tmp_path, {1: (0.8, 3)}))
+    assert e.value.line == 6 and "smaller than the nose radius" in e.value.message
+
+
+@pytest.mark.parametrize("blk,where", [("N3 G02 G42 X20 Z2 R20", 4), ("N9 G02 G40 X30 Z-25 R10", 10)])
+def test_program_start_or_cancel_on_arc_alarm(tmp_path, blk, where):
+    lines = ["%0103", "N1 T0101", "N2 G00 X60 Z5", "N3 G00 G42 X20 Z2", "N4 G01 Z-10 F100",
+             "N5 X24", "N6 Z-20", "N7 X26", "N8 Z-22", "N9 G00 G40 X60 Z5", "N10 M30"]
+    n = int(blk.split()[0][1:])
+    lines[n] = blk
+    with pytest.raises(NCError) as e:
+        interp.run("\n".join(lines) + "\n", machine(tmp_path, {1: (0.8, 3)}))
+    assert e.value.line == where and ("G02" in e.value.message or "arc" in e.value.message)
