@@ -1,0 +1,266 @@
+"""Profile extraction: inputs, exactness, STEP round trip, spline fitting, conventions,
+validation errors and the turned envelope."""
+from __future__ import annotations
+
+import importlib.util
+from pathlib import Path
+
+import pytest
+
+from hnc_cam.cad import ProfileError, profile
+from hnc_cam.geometry import Arc, Line, chain_is_connected, sample_chain
+
+pytestmark = pytest.mark.cad
+
+b3d = pytest.importorskip("build123d")
+ROOT = Path(__file__).resolve().parents[1]
+DATA = Path(__file__).parent / "data"
+
+
+def _family(name: str):
+    spec = importlib.util.spec_from_file_location(f"fam_{name}", ROOT / "parts" / f"{name}.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+@pytest.fixture(scope="module")
+def shaft():
+    return _family("stepped_shaft")
+
+
+@pytest.fixture(scope="module")
+def shaft_solid(shaft):
+    return shaft.part()
+
+
+def _same_chain(a, b, tol=1e-6):
+    assert len(a) == len(b), (a, b)
+    for s, t in zip(a, b):
+        assert type(s) is type(t), (s, t)
+        assert s.start == pytest.approx(t.start, abs=tol) and s.end == pytest.approx(t.end, abs=tol)
+        if isinstance(s, Arc):
+            assert s.cw == t.cw and s.center == pytest.approx(t.center, abs=tol)
+            assert s.radius == pytest.approx(t.radius, abs=tol)
+
+
+SPLINE_PTS = [(12, 0, 0), (14, 0, -10), (11, 0, -25), (15, 0, -40), (13, 0, -55)]
+
+
+def _spline_part():
+    from build123d import Axis, Edge, Face, Wire, revolve
+    sp = Edge.make_spline(SPLINE_PTS)
+    w = Wire([Edge.make_line((0, 0, 0), (12, 0, 0)), sp, Edge.make_line((13, 0, -55), (0, 0, -55)),
+              Edge.make_line((0, 0, -55), (0, 0, 0))])
+    return sp, revolve(Face(w), Axis.Z)
+
+
+def _check_spline_fit(segs, spline, tol):
+    """Arcs of the profile between z=0 and z=-55 stay within tol of the spline, both ways,
+    measured at 2000 points of the spline and every 0.001 mm chord point of the arcs."""
+    from build123d import Vector
+    body = [s for s in segs if not (s.start[1] == s.end[1])]  # drop the end faces
+    assert all(isinstance(s, (Line, Arc)) for s in body) and len(body) > 3
+    assert chain_is_connected(body)
+    worst = 0.0
+    for i in range(2001):
+        q = spline.position_at(i / 2000)
+        worst = max(worst, min(s.distance_to((q.X, q.Z)) for s in body))
+    assert worst <= tol
+    pts = sample_chain(body, 1e-3)
+    worst2 = max(spline.distance_to(Vector(r, 0, z)) for r, z in pts[:: max(1, len(pts) // 400)])
+    assert worst2 <= tol
+    return worst, worst2
+
+
+# ---------------------------------------------------------------------------- exactness
+def test_profile_of_step_export_equals_source(shaft, shaft_solid):
+    src = profile(shaft_solid)
+    stp = profile(DATA / "stepped_shaft.step")
+    _same_chain(stp.outside, src.outside)
+    assert stp.bore is None and stp.notes == []
+    # and the committed STEP file is family (1) with its defaults
+    from hnc_cam.cad.fit import merge_segments
+    _same_chain(stp.outside, merge_segments(shaft.sketch()))
+
+
+def test_export_roundtrip_step_and_brep(tmp_path):
+    from build123d import export_brep, export_step
+    bush = _family("bushing")
+    solid = bush.part(outer_diameter=52, bore_diameter=30, length=44)
+    src = profile(solid)
+    export_step(solid, tmp_path / "b.stp")
+    export_brep(solid, tmp_path / "b.brep")
+    for f in (tmp_path / "b.stp", str(tmp_path / "b.brep")):
+        p = profile(f)
+        _same_chain(p.outside, src.outside)
+        _same_chain(p.bore, src.bore)
+
+
+def test_all_bspline_model_still_exact(shaft, shaft_solid):
+    """A model whose every face and edge is B-spline (as some CAD systems write STEP) still
+    gives the exact lines and arcs (within 1e-6)."""
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_NurbsConvert
+    from hnc_cam.cad.fit import merge_segments
+    nurbs = BRepBuilderAPI_NurbsConvert(shaft_solid.wrapped, True).Shape()
+    p = profile(nurbs)
+    _same_chain(p.outside, merge_segments(shaft.sketch()))
+    assert any("free-form" in n and "sampling" in n for n in p.notes)
+
+
+@pytest.mark.parametrize("tol", [0.001, 0.01])
+def test_revolved_spline_fitted_with_arcs_within_tolerance(tol):
+    spline, solid = _spline_part()
+    p = profile(solid, fit_tol=tol)
+    assert any("BSplineCurve" in n and f"within {tol:g} mm" in n for n in p.notes)
+    _check_spline_fit(p.outside, spline, tol)
+    assert p.outside[0] == Line((0.0, 0.0), (12.0, 0.0))
+    assert p.outside[-1] == Line((13.0, -55.0), (0.0, -55.0))
+
+
+def test_spline_step_from_elsewhere_fitted_within_tolerance():
+    spline, _ = _spline_part()
+    p = profile(DATA / "spline_knob.step")  # every face B-spline
+    _check_spline_fit(p.outside, spline, 0.001)
+    assert any("fitted" in n for n in p.notes)
+
+
+# ---------------------------------------------------------------------------- inputs/options
+def test_inputs_of_every_kind(shaft_solid):
+    import cadquery as cq
+    from build123d import BuildPart, Compound, Cylinder
+    ref = profile(shaft_solid).outside
+    _same_chain(profile(shaft_solid.wrapped).outside, ref)          # OCP TopoDS_Shape
+    _same_chain(profile(Compound([shaft_solid])).outside, ref)      # build123d Compound
+    _same_chain(profile(cq.Shape.cast(shaft_solid.wrapped)).outside, ref)  # CadQuery Shape
+    _same_chain(profile(cq.Workplane().add(cq.Shape.cast(shaft_solid.wrapped))).outside, ref)
+    with BuildPart() as bp:
+        Cylinder(10, 30)
+    p = profile(bp)
+    assert [type(s) for s in p.outside] == [Line, Line, Line]
+    assert p.outside[1] == Line((10.0, 0.0), (10.0, -30.0))
+    with pytest.raises(ProfileError, match="cannot profile a int"):
+        profile(42)
+
+
+def test_axis_option_and_program_zero(shaft_solid):
+    from build123d import Pos, Rot
+    ref = profile(shaft_solid)
+    along_x = Rot(0, 90, 0) * shaft_solid  # model axis now +X
+    _same_chain(profile(along_x, axis="X").outside, ref.outside)
+    off = Pos(5, -3, 20) * shaft_solid
+    _same_chain(profile(off, axis=((5, -3, 0), (0, 0, 1))).outside, ref.outside)
+    with pytest.raises(ProfileError, match="not a body of revolution about the Z axis"):
+        profile(off)
+    left = profile(shaft_solid, zero="left")
+    assert left.z_min == pytest.approx(0.0) and left.z_max == pytest.approx(100.0)
+    assert left.outside[0].start == (0.0, 100.0)
+    num = profile(shaft_solid, zero=-50.0)  # model Z=-50 becomes Z0
+    assert num.z_max == pytest.approx(50.0) and num.z_min == pytest.approx(-50.0)
+    assert ref.length == pytest.approx(100.0) and ref.max_diameter == pytest.approx(40.0)
+    assert ref.bbox() == pytest.approx((0.0, -100.0, 20.0, 0.0))
+    for bad in ({"axis": "W"}, {"axis": ((0, 0, 0),)}, {"zero": "middle"}, {"fit_tol": 0}):
+        with pytest.raises(ProfileError):
+            profile(shaft_solid, **bad)
+
+
+def test_blind_bore_and_left_centre_hole_conventions():
+    """Bore opening on the right: outside starts at the bore edge of the right face, bore runs
+    into the hole and ends on the axis. A hole opening only on the left is in neither chain."""
+    from build123d import Axis, Edge, Face, Wire, revolve
+    from hnc_cam.cad.sketch import Outline
+    s = (Outline((6.0, 0.0)).line_to(15.0, 0.0).line_to(15.0, -40.0).line_to(2.0, -40.0)
+         .line_to(2.0, -35.0).line_to(0.0, -35.0))
+    # the loop continues along the axis to (0, -20), then the blind bore back to (6, 0)
+    segs = s.segments() + [Line((0.0, -35.0), (0.0, -20.0)), Line((0.0, -20.0), (6.0, -20.0)),
+                           Line((6.0, -20.0), (6.0, 0.0))]
+    edges = [Edge.make_line((a.start[0], 0, a.start[1]), (a.end[0], 0, a.end[1])) for a in segs]
+    solid = revolve(Face(Wire(edges)), Axis.Z)
+    p = profile(solid)
+    assert p.outside == [Line((6.0, 0.0), (15.0, 0.0)), Line((15.0, 0.0), (15.0, -40.0)),
+                         Line((15.0, -40.0), (2.0, -40.0))]
+    assert p.bore == [Line((6.0, 0.0), (6.0, -20.0)), Line((6.0, -20.0), (0.0, -20.0))]
+    assert any("cavity opening on the left face" in n for n in p.notes)
+
+
+# ---------------------------------------------------------------------------- validation
+def test_keyway_named(shaft_solid):
+    from build123d import Box, Pos
+    keyed = shaft_solid - Pos(0, 14, -38) * Box(8, 8, 20)  # 4 mm deep on the d28 journal
+    with pytest.raises(ProfileError) as e:
+        profile(keyed)
+    msg = str(e.value)
+    assert "not a body of revolution about the Z axis" in msg
+    assert "planar face parallel to the axis" in msg and "keyway" in msg
+    assert "z=-" in msg and "envelope=True" in msg
+    env = profile(keyed, envelope=True)
+    _same_chain(env.outside, profile(shaft_solid).outside)
+    ignored = [n for n in env.notes if n.startswith("ignored (envelope)")]
+    assert len(ignored) == 3 and all("planar face parallel to the axis" in n for n in ignored)
+
+
+def test_cross_hole_named(shaft_solid):
+    from build123d import Cylinder, Pos, Rot
+    holed = shaft_solid - Pos(0, 0, -80) * Rot(0, 90, 0) * Cylinder(3, 60)
+    with pytest.raises(ProfileError, match=r"cross hole or cross pin of diameter 6\.000.*z=-80\.000"):
+        profile(holed)
+    env = profile(holed, envelope=True)
+    _same_chain(env.outside, profile(shaft_solid).outside)
+    assert any("cross hole" in n for n in env.notes)
+
+
+def test_off_axis_hole_named(shaft_solid):
+    from build123d import Cylinder, Pos
+    holed = shaft_solid - Pos(8, 0, -100) * Cylinder(2, 30)
+    with pytest.raises(ProfileError, match=r"eccentric.*diameter 4\.000, axis 8\.000 mm off centre"):
+        profile(holed)
+
+
+def test_hex_named_and_no_envelope():
+    from build123d import RegularPolygon, extrude
+    hexbar = extrude(RegularPolygon(15, 6), 40)
+    with pytest.raises(ProfileError, match=r"planar face parallel to the axis \(a flat, keyway, slot or hex\)"):
+        profile(hexbar)
+    with pytest.raises(ProfileError, match="every meridian half-plane cuts a non-turned face"):
+        profile(hexbar, envelope=True)
+
+
+def test_partial_revolution_rejected():
+    from build123d import Axis, Plane, Rectangle, revolve
+    sector = revolve(Plane.XZ * Rectangle(10, 20, align=None).translate((5, 0, 0)), Axis.Z, 180)
+    with pytest.raises(ProfileError, match="planar face parallel to the axis"):
+        profile(sector)
+
+
+def test_not_a_solid_several_solids_empty():
+    from build123d import Compound, Cylinder, Face, Pos, Rectangle
+    with pytest.raises(ProfileError, match="not a solid"):
+        profile(Face(Rectangle(10, 10).wire()))
+    with pytest.raises(ProfileError, match="not a solid"):
+        profile(Cylinder(10, 20).shell())
+    two = Compound([Cylinder(10, 20), Pos(0, 0, 40) * Cylinder(8, 10)])
+    with pytest.raises(ProfileError, match=r"several disconnected solids \(2\)"):
+        profile(two)
+    with pytest.raises(ProfileError, match="empty geometry"):
+        profile(Compound([]))
+
+
+def test_internal_void_rejected():
+    from build123d import Cylinder, Sphere
+    from OCP.BRepAlgoAPI import BRepAlgoAPI_Cut
+    cut = BRepAlgoAPI_Cut(Cylinder(10, 30).wrapped, Sphere(4).wrapped).Shape()
+    with pytest.raises(ProfileError, match="internal void"):
+        profile(cut)
+
+
+def test_bad_files(tmp_path):
+    with pytest.raises(ProfileError, match="no such file"):
+        profile(tmp_path / "x.step")
+    bad = tmp_path / "x.step"
+    bad.write_text("not a step file\n")
+    with pytest.raises(ProfileError, match="not a readable STEP file"):
+        profile(bad)
+    igs = tmp_path / "x.igs"
+    igs.write_text("")
+    with pytest.raises(ProfileError, match="unknown CAD file type"):
+        profile(igs)
