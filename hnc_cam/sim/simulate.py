@@ -7,7 +7,9 @@ Model (the choices made where the issue leaves room):
   is the whole story.
 * The tool is the convex outline of :func:`hnc_cam.sim.tool.tool_shape` for the move's offset
   register (``Move.register`` looked up with ``machine.register(n)``); thread moves use a
-  threading profile of ``Move.thread_angle`` (else the insert's angle, else 60 deg). The move's
+  threading profile of ``Move.thread_angle`` (else the insert's angle, else 60 deg). A register
+  that names no insert but makes thread moves is taken as that threading tool for all its
+  moves (approach and retract too). The move's
   positions are the controlled point (the interpreter's contract).
 * A line move (``line``, ``thread`` and each straight piece of a G00 dog-leg ``rapid``) sweeps
   the convex hull of the outline at its start and its end (exact for a translated convex
@@ -197,13 +199,21 @@ def _resolve_machine(machine: Machine | None, tools: ToolLibrary | None) -> Mach
 class _Sweeper:
     """Builds the swept region of each move (cached tool shapes)."""
 
-    def __init__(self, machine: Machine):
+    def __init__(self, machine: Machine, moves: Iterable[Move] = ()):
         self.machine = machine
         self.shapes: dict[tuple[int, float | None], ToolShape] = {}
+        # a register that names no insert but cuts threads is a threading tool for all its moves
+        self.thread_regs: dict[int, float] = {}
+        for m in moves:
+            if m.kind == "thread" and m.register not in self.thread_regs \
+                    and machine.register(m.register).insert is None:
+                self.thread_regs[m.register] = m.thread_angle if m.thread_angle > 0 else 60.0
 
     def shape(self, m: Move) -> ToolShape:
         ta = None
-        if m.kind == "thread":
+        if m.register in self.thread_regs and m.kind != "thread":
+            ta = self.thread_regs[m.register]
+        elif m.kind == "thread":
             ta = m.thread_angle if m.thread_angle and m.thread_angle > 0 else None
             reg = self.machine.register(m.register)
             if ta is None:
@@ -278,7 +288,7 @@ def simulate(toolpath: Toolpath, stock: Stock | BaseGeometry, machine: Machine |
     n = len(moves)
     removed_area = np.zeros(n)
     issues: list[Issue] = []
-    sweeper = _Sweeper(machine)
+    sweeper = _Sweeper(machine, moves)
     fallen: list[BaseGeometry] = []
 
     for m in moves:

@@ -13,7 +13,9 @@ Choices (the issue leaves them open):
   the maximum lies on the region's boundary. It is split into what the tools can reach and what
   they cannot: the region a tool outline K can sweep without entering the model (nor its mirror
   image below the axis) is the morphological opening of the free space by K, computed with exact
-  Minkowski sums of the sampled polygons with the convex outline. Leftover outside the union of
+  Minkowski sums of the sampled polygons with the convex outline. The stock beyond the part's
+  left end (the chucking allowance, where the part is cut off later) is an obstacle too, so the
+  nose fillet a pass leaves exactly at the cut-off line is not a defect. Leftover outside the union of
   the openings of every cutting tool the program used (in inner corners sharper than the nose
   radius, in grooves narrower than the insert, under shoulders the insert's orientation cannot
   reach) is *unreachable*: listed with location and size, a failure only with ``strict``.
@@ -54,10 +56,14 @@ BIG = 1e4
 
 @dataclass
 class Deviation:
-    """A place where the result departs from the model: (z, x radius) and size (mm)."""
+    """A place where the result departs from the model: (z, x radius) and size (mm); ``line``
+    is the program line to blame (overcut: the first move that removed material there;
+    undercut: the nearest feed move), 0 when none."""
     z: float
     x: float
     size_mm: float
+    line: int = 0
+    block: str = ""
 
     def to_json(self) -> dict[str, float]:
         return {"z": _r(self.z), "x": _r(2 * self.x), "size_mm": _r(self.size_mm)}
@@ -118,7 +124,9 @@ class Report:
 
     def summary(self) -> str:
         def at(d: Deviation | None) -> str:
-            return f" at X{2 * d.x:.3f} Z{d.z:.3f}" if d is not None and d.size_mm > 0 else ""
+            if d is None or d.size_mm <= 0:
+                return ""
+            return f" at X{2 * d.x:.3f} Z{d.z:.3f}" + (f", line {d.line} [{d.block}]" if d.line else "")
         t = self.cycle_time_s
         lines = [f"{'PASS' if self.passed else 'FAIL'} at tolerance {self.tol:g} mm",
                  f"max overcut  {self.max_overcut_mm:.4f} mm{at(self.overcut_at)}",
@@ -219,9 +227,11 @@ def _minkowski(region: BaseGeometry, outline: np.ndarray) -> BaseGeometry:
     return clean(shapely.union_all(np.concatenate([hulls, np.array(moved, dtype=object)])))
 
 
-def reachable(model_poly: BaseGeometry, shapes: Sequence[ToolShape], where: BaseGeometry) -> BaseGeometry:
+def reachable(model_poly: BaseGeometry, shapes: Sequence[ToolShape], where: BaseGeometry,
+              keep: BaseGeometry | None = None) -> BaseGeometry:
     """The part of ``where`` that some tool outline can cover without entering the model (or its
-    mirror image below the axis): the union of the openings of the free space by each outline."""
+    mirror image below the axis) or ``keep`` (the chucking allowance beyond the part's left
+    end): the union of the openings of the free space by each outline."""
     if where.is_empty or not shapes:
         return Polygon()
     ext = max(float(np.ptp(s.outline, axis=0).max()) for s in shapes) + 1.0
@@ -229,7 +239,10 @@ def reachable(model_poly: BaseGeometry, shapes: Sequence[ToolShape], where: Base
     inner = box(z0 - ext, x0 - ext, z1 + ext, x1 + ext)
     outer = box(z0 - 3 * ext, x0 - 3 * ext, z1 + 3 * ext, x1 + 3 * ext)
     mirror = shapely.affinity.scale(model_poly, xfact=1.0, yfact=-1.0, origin=(0, 0))
-    obst = clean(shapely.union_all([model_poly, mirror]).intersection(outer))
+    solids = [model_poly, mirror]
+    if keep is not None and not keep.is_empty:
+        solids += [keep, shapely.affinity.scale(keep, xfact=1.0, yfact=-1.0, origin=(0, 0))]
+    obst = clean(shapely.union_all(solids).intersection(outer))
     out = []
     for s in shapes:
         # placements P of the controlled point with P + K inside the free space
@@ -255,6 +268,8 @@ class _Zone:
     pitch: float
     target: float  # target diameter
     declared: bool
+    m0: float = 0.0  # Z range where the root is measured (the thread on the part)
+    m1: float = 0.0
 
 
 def _zones(model: TurnedProfile, machined: Machined, threads: Sequence[Thread] | None) -> list[_Zone]:
@@ -262,31 +277,35 @@ def _zones(model: TurnedProfile, machined: Machined, threads: Sequence[Thread] |
     zones: list[_Zone] = []
     for t in declared:
         z0, z1 = sorted((t.z_start, t.z_end))
+        m0, m1 = z0, z1
         for s in machined.thread_spans:  # include the program's run-in/run-out
             if s.z_max >= z0 - 1e-6 and s.z_min <= z1 + 1e-6 and s.inside == t.internal:
                 z0, z1 = min(z0, s.z_min), max(z1, s.z_max)
         if t.internal:
             zones.append(_Zone(z0, z1, t.diameter / 2, t.minor_diameter / 2, True, t.pitch,
-                               t.diameter, True))
+                               t.diameter, True, m0, m1))
         else:
             zones.append(_Zone(z0, z1, t.minor_diameter / 2, t.diameter / 2, False, t.pitch,
-                               t.minor_diameter, True))
+                               t.minor_diameter, True, m0, m1))
     for s in machined.thread_spans:
         if any(z.z1 >= s.z_min - 1e-6 and z.z0 <= s.z_max + 1e-6 for z in zones):
             continue
         pitch = s.lead or 1.0
-        mid = box(s.z_min, 0.0, s.z_max, BIG)
+        m0, m1 = max(s.z_min, model.z_min), min(s.z_max, model.z_max)
+        if m1 <= m0:
+            continue
+        mid = box(m0, 0.0, m1, BIG)
         mp = profile_polygon(model).intersection(mid)
         if mp.is_empty:
             continue
         if s.inside:
             r_nom = _bore_radius(mp)
             d = 2 * r_nom + 1.0825 * pitch  # minor diameter given, major = D1 + 1.0825 P
-            zones.append(_Zone(s.z_min, s.z_max, d / 2, r_nom, True, pitch, d, False))
+            zones.append(_Zone(s.z_min, s.z_max, d / 2, r_nom, True, pitch, d, False, m0, m1))
         else:
             r_nom = mp.bounds[3]
             d3 = 2 * r_nom - 1.2269 * pitch
-            zones.append(_Zone(s.z_min, s.z_max, d3 / 2, r_nom, False, pitch, d3, False))
+            zones.append(_Zone(s.z_min, s.z_max, d3 / 2, r_nom, False, pitch, d3, False, m0, m1))
     return zones
 
 
@@ -301,9 +320,9 @@ def _bore_radius(g: BaseGeometry) -> float:
 
 
 def _achieved(material: BaseGeometry, zone: _Zone) -> float | None:
-    a, b = zone.z0 + zone.pitch, zone.z1 - zone.pitch
+    a, b = zone.m0 + zone.pitch, zone.m1 - zone.pitch
     if b <= a:
-        a, b = zone.z0, zone.z1
+        a, b = zone.m0, zone.m1
     zs = np.linspace(a, b, max(50, int((b - a) / max(zone.pitch, 0.1) * 40)))
     lines = shapely.linestrings([[(z, 0.0), (z, BIG)] for z in zs])
     cut = shapely.intersection(lines, material)
@@ -328,6 +347,42 @@ def _achieved(material: BaseGeometry, zone: _Zone) -> float | None:
 
 # --- verify -------------------------------------------------------------------------------
 
+def blame(machined: Machined, at: Deviation, removed: bool) -> None:
+    """Fill ``at.line``/``at.block``: for removed material (overcut) the first move whose swept
+    region holds the point, else the feed move whose swept region comes nearest to it."""
+    from .simulate import _Sweeper
+    if machined.machine is None:
+        return
+    sweeper = _Sweeper(machined.machine, machined.toolpath.moves)
+    p = shapely.Point(at.z, at.x)
+    best, best_d = None, math.inf
+    for i, m in enumerate(machined.toolpath.moves):
+        if m.kind == "dwell" or (not removed and m.kind not in ("line", "arc")):
+            continue
+        if removed and machined.removed_area[i] <= 0:
+            continue
+        o = sweeper.shape(m).outline
+        path = sweeper.path_points(m)
+        lo = path.min(axis=0) + o.min(axis=0)
+        hi = path.max(axis=0) + o.max(axis=0)
+        gap = max(lo[0] - at.z, at.z - hi[0], lo[1] - at.x, at.x - hi[1], 0.0)
+        if gap > (1e-6 if removed else min(best_d, 50.0)):
+            continue
+        g = sweeper.sweeps([m])[0][0]
+        if g is None:
+            continue
+        d = g.distance(p)
+        if removed:
+            if d <= 1e-6:
+                best = m
+                break
+        elif d < best_d:
+            best, best_d = m, d
+    if best is not None:
+        at.line = best.line
+        at.block = machined.toolpath.block(best.line)
+
+
 def _cutting_shapes(m: Machined) -> list[ToolShape]:
     keys = []
     for i, mv in enumerate(m.toolpath.moves):
@@ -351,8 +406,9 @@ def verify(machined: Machined, model: TurnedProfile, tol: float = 0.01,
     segs = model_segments(model)
     material = machined.material
     zones = _zones(model, machined, threads)
-    excl = shapely.union_all([box(z.z0, min(z.r_root, z.r_crest) - max(0.5 * z.pitch, 0.5),
-                                  z.z1, max(z.r_root, z.r_crest)) for z in zones]) if zones else Polygon()
+    # the zone, widened by half a pitch at each end for the insert's flanks at the run-out
+    excl = shapely.union_all([box(z.z0 - 0.5 * z.pitch, min(z.r_root, z.r_crest) - max(0.5 * z.pitch, 0.5),
+                                  z.z1 + 0.5 * z.pitch, max(z.r_root, z.r_crest)) for z in zones]) if zones else Polygon()
     domain = box(model.z_min, -1.0, BIG, BIG)
     over = clean(clean(model_poly.difference(material)).difference(excl))
     under = clean(clean(material.intersection(domain).difference(model_poly)).difference(excl))
@@ -369,7 +425,8 @@ def verify(machined: Machined, model: TurnedProfile, tol: float = 0.01,
         big = [p for p in polygons(under) if p.area > 1e-6]
         if big:
             region = clean(shapely.union_all(big))
-            reach = reachable(model_poly, _cutting_shapes(machined), region)
+            chuck_side = clean(machined.stock.intersection(box(-BIG, -1.0, model.z_min, BIG)))
+            reach = reachable(model_poly, _cutting_shapes(machined), region, chuck_side)
             reach_part = clean(region.intersection(reach)) if not reach.is_empty else Polygon()
             unreach_region = clean(region.difference(reach)) if not reach.is_empty else region
             under_at = _deepest(reach_part, segs, interior=False) if not reach_part.is_empty else None
@@ -379,11 +436,15 @@ def verify(machined: Machined, model: TurnedProfile, tol: float = 0.01,
                     unreach_list.append(d)
             unreach_list.sort(key=lambda d: -d.z)
     max_under = under_at.size_mm if under_at else 0.0
+    if over_at is not None and max_over > tol:
+        blame(machined, over_at, removed=True)
+    if under_at is not None and max_under > tol:
+        blame(machined, under_at, removed=False)
 
     results = []
     for z in zones:
         ach = _achieved(material, z)
-        results.append(ThreadResult(z.z0, z.z1, z.internal, z.target, ach,
+        results.append(ThreadResult(z.m0, z.m1, z.internal, z.target, ach,
                                     max(2 * tol, 0.05), z.declared))
     reasons = []
     if max_over > tol:

@@ -1,0 +1,181 @@
+"""Plots of a simulation or a verification (matplotlib, imported lazily, Agg backend).
+
+One figure in the half-plane, Z to the right and X (radius) up as in the manual's figures:
+the stock (light grey), the remaining material (light blue) and its outline, the model outline
+(black), the toolpath of the controlled point (rapids dashed, feed moves coloured by the
+operation that produced them), deviations beyond the tolerance (overcut red, reachable undercut
+orange, unreachable leftover purple hatched, each with its deepest point marked), collisions
+(red crosses), a legend and the key figures. PNG or SVG by the file's suffix.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from shapely.geometry.base import BaseGeometry
+
+from ..geometry import Arc
+from .region import polygons
+from .simulate import Machined
+
+OP_COLOURS = ["#2ca02c", "#ff9896", "#9467bd", "#8c564b", "#e377c2", "#17becf", "#bcbd22",
+              "#7f7f7f", "#ff7f0e"]
+
+
+def _fill(ax, g: BaseGeometry, **kw) -> bool:
+    from matplotlib.patches import PathPatch
+    from matplotlib.path import Path as MPath
+    done = False
+    for p in polygons(g):
+        verts, codes = [], []
+        for ring in [p.exterior, *p.interiors]:
+            c = list(ring.coords)
+            verts += c
+            codes += [MPath.MOVETO] + [MPath.LINETO] * (len(c) - 2) + [MPath.CLOSEPOLY]
+        if not done:
+            ax.add_patch(PathPatch(MPath(verts, codes), **kw))
+            kw.pop("label", None)
+            done = True
+        else:
+            ax.add_patch(PathPatch(MPath(verts, codes), **kw))
+    return done
+
+
+def _outline(ax, g: BaseGeometry, **kw) -> None:
+    first = True
+    for p in polygons(g):
+        for ring in [p.exterior, *p.interiors]:
+            z, x = ring.xy
+            ax.plot(z, x, **kw)
+            if first:
+                kw.pop("label", None)
+                first = False
+
+
+def _components_beyond(g: BaseGeometry, segs, tol: float) -> BaseGeometry:
+    from shapely import union_all
+    from .verify import _deepest
+    keep = []
+    for p in polygons(g):
+        d = _deepest(p, segs, interior=False)
+        if d is not None and d.size_mm > tol:
+            keep.append(p)
+    return union_all(keep) if keep else g.__class__()
+
+
+def plot(machined: Machined, out: str | Path, report: Any = None, model: Any = None,
+         title: str | None = None) -> None:
+    """Write the figure to ``out`` (``.png`` or ``.svg``); bytes are written atomically."""
+    import io
+
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.collections import LineCollection
+
+    from ..io import write_atomic
+
+    suffix = Path(out).suffix.lower()
+    if suffix not in (".png", ".svg"):
+        from ..errors import HncError
+        raise HncError(f"--plot {out}: the plot is written as PNG or SVG (.png/.svg)")
+    fig, ax = plt.subplots(figsize=(12, 6.5), dpi=110)
+    _fill(ax, machined.stock, facecolor="#eeeeee", edgecolor="#999999", lw=0.8, label="stock")
+    _fill(ax, machined.material, facecolor="#cfe3f5", edgecolor="none", label="remaining material")
+    _outline(ax, machined.material, color="#1f4e79", lw=1.0, label="machined outline")
+    if model is not None:
+        from .region import profile_polygon
+        _outline(ax, profile_polygon(model), color="black", lw=1.2, ls="-", label="model")
+
+    # toolpath, rapids dashed, feeds coloured by operation
+    rapid_segs, by_op = [], {}
+    for m in machined.toolpath.moves:
+        if m.kind == "dwell":
+            continue
+        if m.kind == "arc":
+            pts = Arc(m.start, m.end, m.center, bool(m.cw)).sample(0.01)
+        else:
+            pts = [m.start, m.end]
+        seg = [(p[1], p[0]) for p in pts]
+        if m.kind == "rapid":
+            rapid_segs.append(seg)
+        else:
+            op = m.op or ("thread" if m.kind == "thread" else "G01/G02/G03")
+            by_op.setdefault(op, []).append(seg)
+    if rapid_segs:
+        ax.add_collection(LineCollection(rapid_segs, colors="#d62728", linestyles="dashed",
+                                         linewidths=0.6, alpha=0.7, label="rapid (G00)"))
+    for i, (op, segs) in enumerate(sorted(by_op.items())):
+        ax.add_collection(LineCollection(segs, colors=OP_COLOURS[i % len(OP_COLOURS)],
+                                         linewidths=0.8, label=f"feed {op}"))
+
+    lines = []
+    if report is not None:
+        from .verify import model_segments
+        segs = model_segments(model) if model is not None else []
+        tol = report.tol
+        if segs:
+            over = _components_beyond(report.overcut, segs, tol)
+            if _fill(ax, over, facecolor="#d62728", edgecolor="#d62728", lw=1.5,
+                     label=f"overcut > {tol:g} mm"):
+                pass
+            reach_under = report.undercut.difference(report.unreachable_region) \
+                if not report.undercut.is_empty else report.undercut
+            under = _components_beyond(reach_under, segs, tol)
+            _fill(ax, under, facecolor="#ff7f0e", edgecolor="#ff7f0e", lw=1.5,
+                  label=f"undercut > {tol:g} mm")
+            _fill(ax, report.unreachable_region, facecolor="none", edgecolor="#9467bd",
+                  hatch="////", lw=0.8, label="unreachable leftover")
+        for k, u in enumerate(report.unreachable):
+            ax.plot([u.z], [u.x], marker="D", ms=6, mfc="none", mec="#9467bd", mew=1.5,
+                    label="unreachable (size)" if k == 0 else None)
+            ax.annotate(f"{u.size_mm:.3f}", (u.z, u.x), textcoords="offset points",
+                        xytext=(6, 4), color="#9467bd", fontsize=8)
+        for d, c, name in ((report.overcut_at, "#d62728", "max overcut"),
+                           (report.undercut_at, "#ff7f0e", "max undercut")):
+            if d is not None and d.size_mm > tol:
+                ax.plot([d.z], [d.x], marker="o", ms=9, mfc="none", mec=c, mew=2)
+                ax.annotate(f"{name} {d.size_mm:.3f}", (d.z, d.x), textcoords="offset points",
+                            xytext=(8, 8), color=c, fontsize=9)
+        lines = [f"{'PASS' if report.passed else 'FAIL'} at tol {tol:g} mm",
+                 f"max overcut {report.max_overcut_mm:.4f} mm",
+                 f"max undercut {report.max_undercut_mm:.4f} mm",
+                 f"unreachable: {len(report.unreachable)}"]
+        lines += [str(t) for t in report.threads]
+    issues = machined.issues
+    if issues:
+        import numpy as np
+        xs, zs = [], []
+        for iss in issues:
+            for m in machined.toolpath.moves:
+                if m.line == iss.line:
+                    xs.append(m.end[0])
+                    zs.append(m.end[1])
+                    break
+        if zs:
+            ax.plot(zs, xs, "x", color="#d62728", ms=10, mew=2.5, label="collision / check")
+            for z, x, iss in zip(zs, xs, issues):
+                ax.annotate(f"line {iss.line}", (z, x), textcoords="offset points",
+                            xytext=(6, -12), color="#d62728", fontsize=8)
+        del np
+    t = machined.cycle_time_s
+    lines += [f"collisions/checks: {len(issues)}",
+              f"cycle time {t:.1f} s ({int(t // 60)}:{t % 60:04.1f})",
+              f"removed {machined.removed_volume_mm3:.0f} mm³",
+              f"air cut {100 * machined.air_cut_fraction:.1f} % of feed time"]
+    ax.text(0.01, 0.99, "\n".join(lines), transform=ax.transAxes, va="top", ha="left",
+            fontsize=9, family="monospace",
+            bbox=dict(boxstyle="round", facecolor="white", alpha=0.85, edgecolor="#999999"))
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.autoscale_view()
+    ax.axhline(0.0, color="#555555", lw=0.6, ls="-.")
+    ax.set_xlabel("Z (mm)")
+    ax.set_ylabel("X radius (mm)")
+    ax.grid(True, lw=0.3, alpha=0.5)
+    ax.set_title(title or machined.toolpath.file)
+    ax.legend(loc="upper right", fontsize=8, framealpha=0.85)
+    fig.tight_layout()
+    buf = io.BytesIO()
+    fig.savefig(buf, format=suffix[1:])
+    plt.close(fig)
+    write_atomic(out, buf.getvalue())

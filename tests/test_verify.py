@@ -1,0 +1,149 @@
+"""verify(): overcut/undercut measured against exact model geometry, hand-computed cases,
+deliberately wrong programs caught with the right line."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from hnc_cam.geometry import Arc, Line, Thread, TurnedProfile
+from hnc_cam.nc.interp import run
+from hnc_cam.sim import simulate, verify
+from hnc_cam.sim.measure import distances
+from hnc_cam.tooling import Machine, Register, Stock
+
+SHARP = Machine()  # no registers: every register is a sharp point (tip 0, default insert)
+NOSE08 = Machine(registers={1: Register(number=1, radius=0.8, tip=3)})
+
+
+def poly(*pts):
+    """Line chain through (x radius, z) points."""
+    return [Line(a, b) for a, b in zip(pts[:-1], pts[1:])]
+
+
+def prog(*blocks):
+    return "%1\n" + "\n".join(blocks) + "\nM30\n"
+
+
+def run_verify(text, model, stock="40x60", machine=SHARP, **kw):
+    tp = run(text, machine, file="t.nc", start=(60.0, 50.0))
+    m = simulate(tp, Stock.parse(stock), machine)
+    return m, verify(m, model, **kw)
+
+
+def line_of(text, needle):
+    return next(i for i, l in enumerate(text.splitlines(), 1) if needle in l)
+
+
+STEP = TurnedProfile(outside=poly((0, 0), (15, 0), (15, -30), (20, -30), (20, -50)))
+
+ROUGH = ["T0101", "M03 S800", "G00 X42 Z2", "G00 X35", "G01 Z-30 F200", "X42", "G00 Z2",
+         "X31", "G01 Z-30", "X42", "G00 Z2"]
+
+
+def test_distances_match_kernel():
+    segs = [Line((1.0, 2.0), (4.0, -3.0)), Arc((5.0, 0.0), (15.0, -10.0), (5.0, -10.0), False),
+            Arc((15.0, -10.0), (10.0, -15.0), (10.0, -10.0), True)]
+    rng = np.random.default_rng(1)
+    pts = rng.uniform([-20, -5], [5, 20], size=(300, 2))  # (z, x)
+    d, _ = distances(pts, segs)
+    for (z, x), dd in zip(pts, d):
+        assert dd == pytest.approx(min(s.distance_to((x, z)) for s in segs), abs=1e-12)
+
+
+def test_exact_program_passes():
+    t = prog(*ROUGH, "X30", "G01 Z-30", "X42", "G00 X60 Z50")
+    m, r = run_verify(t, STEP)
+    assert r.passed, r.summary()
+    assert r.max_overcut_mm < 0.001 and r.max_undercut_mm < 0.001
+    assert not r.collisions
+    # Pappus: bar 40 -> 30 over 30 mm and 40 -> 40 beyond
+    assert m.removed_volume_mm3 == pytest.approx(math.pi * (20 ** 2 - 15 ** 2) * 30, rel=1e-6)
+
+
+def test_contour_shifted_into_part_is_overcut_with_line():
+    # finishing at X29.95 instead of X30: 0.025 mm radial gouge, hand-computed
+    t = prog(*ROUGH, "X29.95", "G01 Z-30", "X42", "G00 X60 Z50")
+    m, r = run_verify(t, STEP)
+    assert not r.passed
+    assert r.max_overcut_mm == pytest.approx(0.025, abs=0.001)
+    assert r.overcut_at.line == line_of(t, "G01 Z-30\nX42\nG00 X60".split("\n")[0]) or True
+    # the first move that removed the gouged material is the finishing pass
+    fin = [i for i, l in enumerate(t.splitlines(), 1) if l == "G01 Z-30"][-1]
+    assert r.overcut_at.line == fin
+    assert r.to_json()["pass"] is False
+
+
+def test_taper_without_compensation_undercut():
+    # imaginary tip (code 3, r 0.8) programmed on a taper: the nose leaves
+    # r (nx + nz - 1) normal to it, nx, nz the components of the taper's outward normal
+    model = TurnedProfile(outside=poly((0, 0), (10, 0), (15, -10), (15, -30), (20, -30), (20, -50)))
+    t = prog("T0101", "M03 S800", "G00 X42 Z2", "X35", "G01 Z-30 F200", "X42", "G00 Z2",
+             "X31", "G01 Z-30", "X42", "G00 Z2", "X22", "G01 Z0", "X20", "X30 Z-10", "Z-30",
+             "X42", "G00 X60 Z50")
+    m, r = run_verify(t, model, machine=NOSE08)
+    n = np.array([10.0, 5.0]) / math.sqrt(125.0)
+    expect = 0.8 * (n.sum() - 1)
+    assert r.max_undercut_mm == pytest.approx(expect, abs=0.001)
+    assert r.undercut_at.line == line_of(t, "X30 Z-10")
+    assert not r.passed
+    assert r.max_overcut_mm < 0.001
+
+
+def test_arc_with_nose_radius_undercut_and_unreachable_corner():
+    # convex R10 arc programmed with the imaginary tip: leftover 0.8 (sqrt 2 - 1) at 45 deg
+    model = TurnedProfile(outside=[Line((0, 0), (5, 0)), Arc((5, 0), (15, -10), (5, -10), False),
+                                   *poly((15, -10), (15, -30), (20, -30), (20, -50))])
+    t = prog("T0101", "M03 S800", "G00 X42 Z2", "X35", "G01 Z-30 F200", "X42", "G00 Z2",
+             "X31", "G01 Z-30", "X42", "G00 Z2", "X20", "G01 Z0", "X10",
+             "G03 X30 Z-10 R10", "G01 Z-30", "X42", "G00 X60 Z50")
+    m, r = run_verify(t, model, machine=NOSE08)
+    assert r.max_undercut_mm == pytest.approx(0.8 * (math.sqrt(2) - 1), abs=0.001)
+    assert r.undercut_at.line == line_of(t, "G03")
+    # the sharp inner corner at Z-30 keeps the nose fillet: unreachable, listed, not a failure
+    corner = [u for u in r.unreachable if abs(u.z + 30) < 1 and abs(u.x - 15) < 1]
+    assert corner and corner[0].size_mm == pytest.approx(0.8 * (1 - math.sqrt(0.5)), abs=0.001)
+    js = r.to_json()
+    assert set(js) == {"pass", "max_overcut_mm", "max_undercut_mm", "unreachable", "collisions",
+                       "cycle_time_s", "air_cut_fraction"}
+    assert set(js["unreachable"][0]) == {"z", "x", "size_mm"}
+
+
+def test_strict_counts_unreachable():
+    t = prog(*ROUGH, "X30", "G01 Z-30", "X42", "G00 X60 Z50")
+    machine = Machine(registers={1: Register(number=1, radius=0.8, tip=3)})
+    _, r = run_verify(t, STEP, machine=machine)
+    assert r.passed and r.unreachable
+    _, r2 = run_verify(t, STEP, machine=machine, strict=True)
+    assert not r2.passed
+
+
+def test_leftover_reachable_when_pass_stops_short():
+    t = prog(*ROUGH, "X30", "G01 Z-25", "X42", "G00 X60 Z50")
+    _, r = run_verify(t, STEP)
+    assert r.max_undercut_mm == pytest.approx(0.5, abs=0.001)  # (31 - 30) / 2
+    assert not r.passed
+
+
+def test_declared_thread_zone_compared_with_standard():
+    # M30x2 external thread over Z-5..-25: d3 = 30 - 1.2269 * 2
+    model = TurnedProfile(outside=poly((0, 0), (15, 0), (15, -30), (20, -30), (20, -50)),
+                          threads=[Thread(z_start=-5, z_end=-25, diameter=30, pitch=2)])
+    d3 = 30 - 1.2269 * 2
+    passes = [f"G00 X{d3 + 2 * dd:.4f}\nG32 Z-25 F2\nG00 X34\nZ3" for dd in (0.6, 0.3, 0.0)]
+    t = prog(*ROUGH, "X30", "G01 Z-30", "X42", "G00 X34 Z3", "T0404", *passes,
+             "G00 X60 Z50")
+    machine = Machine(registers={4: Register(number=4, radius=0.0, tip=8)})
+    _, r = run_verify(t, model, machine=machine)
+    assert len(r.threads) == 1
+    th = r.threads[0]
+    assert th.achieved_diameter == pytest.approx(d3, abs=0.002)
+    assert th.ok and r.passed, r.summary()
+    # the thread grooves are not counted as overcut
+    assert r.max_overcut_mm < 0.001
+    # one pass short: the thread is too shallow
+    t2 = prog(*ROUGH, "X30", "G01 Z-30", "X42", "G00 X34 Z3", "T0404", *passes[:2],
+              "G00 X60 Z50")
+    _, r2 = run_verify(t2, model, machine=machine)
+    assert not r2.threads[0].ok and not r2.passed
