@@ -1,0 +1,564 @@
+"""G71 (type I/II), G72, G73: the roughing engine (hnc_cam.geometry.roughing) and the cycle
+module (hnc_cam.nc.cycles_rough).
+
+The checks are geometric and independent of the engine's own bookkeeping:
+
+* ``check_region``: a 2-D material simulation with shapely. The stock is the documented
+  model (the rectangle between the start point A and the allowance-offset profile, closed by
+  the line through the offset end point B″); a feed move removes what lies on the stock side
+  of it (its "shadow" away from the part, the way a turning tool's edge clears the layer
+  above its tip). Asserted: no move (rapid or feed) enters the part + allowance; no rapid
+  crosses material that has not been removed yet; no pass is deeper than Δd; before the
+  last pass no material thicker than Δd is left over the offset profile; the last pass is
+  exactly the offset profile; the tool ends on A.
+* end-to-end tests run the manual's programs through the interpreter (when it exists).
+"""
+from __future__ import annotations
+
+import math
+from typing import Optional
+
+import pytest
+from shapely.geometry import LineString, Polygon, box
+from shapely.ops import unary_union
+
+from hnc_cam.errors import NCError
+from hnc_cam.geometry.primitives import Arc, Line, Point, Segment, dist, same_point
+from hnc_cam.geometry.roughing import (Frame, RoughingError, first_non_monotonic,
+                                       is_monotonic, pattern_repeat, rough_turn)
+from hnc_cam.nc import cycles_rough
+
+CHORD = 1e-4
+
+
+# --------------------------------------------------------------------------- builders
+
+def path(start_dia: tuple[float, float], *blocks) -> tuple[list[Segment], list[str]]:
+    """A profile from program-like blocks, X in diameter, absolute:
+    ('G00', X, Z) | ('G01', X, Z) | ('G02'/'G03', X, Z, R)."""
+    cur = (start_dia[0] / 2, start_dia[1])
+    segs: list[Segment] = []
+    mot: list[str] = []
+    for b in blocks:
+        g, x, z = b[0], b[1] / 2, b[2]
+        end = (x, z)
+        if g in ("G00", "G01"):
+            segs.append(Line(cur, end))
+            mot.append("rapid" if g == "G00" else "feed")
+        else:
+            segs.append(Arc.from_radius(cur, end, b[3], g == "G02"))
+            mot.append("feed")
+        cur = end
+    return segs, mot
+
+
+def P3327():
+    return path((46, 3), ("G00", 0, 3), ("G01", 10, -2), ("G01", 10, -20),
+                ("G02", 20, -25, 5), ("G01", 20, -35), ("G03", 34, -42, 7), ("G01", 34, -52),
+                ("G01", 44, -62), ("G01", 44, -82))
+
+
+def P3328():  # bore, from X6 Z5
+    return path((6, 5), ("G00", 44, 5), ("G01", 44, -15), ("G01", 34, -25), ("G01", 34, -35),
+                ("G03", 20, -42, 7), ("G01", 20, -52), ("G02", 10, -57, 5), ("G01", 10, -80),
+                ("G01", 6, -82))
+
+
+def P3329():  # type II with grooves, from X42 Z3
+    return path((42, 3), ("G00", 10, 3), ("G01", 20, -2), ("G01", 20, -8), ("G02", 28, -12, 4),
+                ("G01", 28, -17), ("G01", 18, -22), ("G01", 18, -30),
+                ("G01", 26.66, -32.5), ("G01", 26.66, -37.5), ("G02", 30.66, -51.5, 10),
+                ("G01", 30.66, -61.5), ("G01", 40, -61.5))
+
+
+def P3331():  # G72 OD, from X80 Z1
+    return path((80, 1), ("G00", 80, -56), ("G01", 54, -40), ("G01", 54, -30),
+                ("G02", 46, -26, 4), ("G01", 30, -26), ("G01", 30, -15), ("G01", 14, -15),
+                ("G03", 10, -13, 2), ("G01", 10, -2), ("G01", 4, 1))
+
+
+def P3333():  # G72 ID, from X6 Z3
+    return path((6, 3), ("G00", 6, -61), ("G01", 12, -58), ("G01", 12, -48),
+                ("G03", 16, -46, 2), ("G01", 30, -46), ("G01", 30, -34), ("G01", 46, -34),
+                ("G02", 54, -30, 4), ("G01", 54, -20), ("G01", 74, -10), ("G01", 74, 3))
+
+
+def P3335():  # G73, from X60 Z5
+    return path((60, 5), ("G00", 0, 3), ("G01", 10, -2), ("G01", 10, -20),
+                ("G02", 20, -25, 5), ("G01", 20, -35), ("G03", 34, -42, 7), ("G01", 34, -52),
+                ("G01", 44, -62), ("G01", 54, -62))
+
+
+def P3346():  # type II, from X54 Z3
+    return path((54, 3), ("G01", 10, 3), ("G01", 19.95, -2), ("G01", 19.95, -33),
+                ("G01", 30, -33), ("G01", 30, -43), ("G03", 42, -49, 6), ("G01", 42, -53),
+                ("G01", 36, -65), ("G01", 36, -73), ("G02", 40, -75, 2), ("G01", 44, -75),
+                ("G01", 46, -76), ("G01", 46, -84), ("G02", 46, -113, 25),
+                ("G03", 52, -122, 15), ("G01", 52, -133), ("G01", 54, -133))
+
+
+def mirror_x(segs):
+    """Mirror a profile in X about the line x = 0 (OD -> a 'bore' in the negative half)."""
+    return [Frame(False, -1, 1).seg_fwd(s) for s in segs]
+
+
+# --------------------------------------------------------------------------- the checker
+
+def _pts(seg: Segment) -> list[Point]:
+    return seg.sample(CHORD) if isinstance(seg, Arc) else [seg.start, seg.end]
+
+
+def _to_c(fr: Frame, p: Point) -> tuple[float, float]:
+    u, v = fr.fwd(p)
+    return (v, u)  # shapely (x=v, y=u)
+
+
+def check_region(plan, start: Point, offset: list[Segment], fr: Frame, depth: float,
+                 L: float = 500.0) -> dict:
+    """The geometric checks of the module docstring, in the canonical frame ``fr`` of the
+    job (u up toward the stock, v back toward the start face). Returns statistics."""
+    oc = [fr.seg_fwd(s) for s in offset]
+    pts = [oc[0].start]
+    for s in oc:
+        pts.extend(_pts(s)[1:])
+    vB = pts[-1][1]
+    uA, vA = fr.fwd(start)
+    # (buffer(0) removes the spike when the profile ends with a face along the closure)
+    part = Polygon([(v, u) for u, v in pts] + [(pts[-1][1], -L), (pts[0][1], -L)]).buffer(0)
+    assert part.is_valid and part.geom_type == "Polygon"
+    # the stock region: rectangle [vB, vA] x [-L, uA] minus the part
+    stock = box(vB, -L, vA, uA).difference(part)
+    part_in = part.buffer(-3 * CHORD)  # chords of concave arcs lie up to CHORD inside
+    remaining = stock
+    deepest = 0.0
+    moves = plan.moves
+    finish = [m for m in moves if m.role == "finish"]
+    for m in moves:
+        cs = [_to_c(fr, p) for p in _pts(m.seg)]
+        ls = LineString(cs)
+        assert not ls.intersects(part_in), f"{m} enters the part + allowance"
+        if m.kind == "rapid":
+            bad = ls.intersection(remaining.buffer(-3 * CHORD))
+            assert bad.length < 1e-6, f"rapid {m} crosses uncut material ({bad.length:g} mm)"
+        else:
+            # shadow: from the move up to u = +L
+            us = [c[1] for c in cs]
+            if max(us) - min(us) < 1e-9 or m.role != "plunge":
+                if m.role == "cut":
+                    u = us[0]
+                    col = box(min(c[0] for c in cs), u + depth + 1e-5, max(c[0] for c in cs), L)
+                    left = col.intersection(remaining).area
+                    assert left < 1e-6, f"pass {m} deeper than Δd ({left:g} mm² above)"
+                    deepest = max(deepest, remaining.intersection(
+                        box(min(c[0] for c in cs), u, max(c[0] for c in cs), L)).area)
+                if m.role == "finish" and m is finish[0]:
+                    above = remaining.difference(
+                        Polygon([(v, u + depth + 1e-5) for u, v in pts]
+                                + [(pts[-1][1], L), (pts[0][1] + L, L)]).buffer(0)
+                        .union(part)).area
+                    # material left more than depth above the offset profile
+                    thick = remaining.difference(_shift_up(part, depth + 1e-5)).area
+                    assert thick < 1e-5, f"{thick:g} mm² thicker than Δd before the last pass"
+                    del above
+                polys = []
+                for a, b in zip(cs, cs[1:]):
+                    q = Polygon([a, b, (b[0], L), (a[0], L)])
+                    if q.area > 0:
+                        polys.append(q)
+                if polys:
+                    remaining = remaining.difference(unary_union(polys).buffer(1e-9))
+    assert remaining.area < 1e-4, f"{remaining.area:g} mm² of stock never cut"
+    # the last pass is the offset profile
+    assert len(finish) >= len(offset)
+    for f, o in zip(finish[-len(offset):], offset):
+        assert same_point(f.seg.start, o.start, 1e-6) and same_point(f.seg.end, o.end, 1e-6)
+        assert type(f.seg) is type(o)
+        if isinstance(o, Arc):
+            assert same_point(f.seg.center, o.center, 1e-6) and f.seg.cw == o.cw
+    assert same_point(moves[-1].seg.end, start, 1e-9)
+    for a, b in zip(moves, moves[1:]):
+        assert same_point(a.seg.end, b.seg.start, 1e-9)
+    assert same_point(moves[0].seg.start, start, 1e-9)
+    return {"cut_area": stock.area}
+
+
+def _shift_up(poly, d):
+    from shapely.affinity import translate
+    return unary_union([translate(poly, 0, d * t / 8) for t in range(9)])
+
+
+def offset_of(segs, dx, dz):
+    return [s.translated(dx, dz) for s in segs[1:]]
+
+
+def cuts(plan):
+    return [m for m in plan.moves if m.role == "cut"]
+
+
+# --------------------------------------------------------------------------- engine tests
+
+def test_3327_type_i_od_passes_and_last_pass():
+    segs, mot = P3327()
+    A = (23.0, 3.0)
+    plan = rough_turn(A, segs, mot, depth=1.5, retract=1.0, allowance=(0.2, 0.1))
+    c = cuts(plan)
+    # levels every 1.5 below A's X, down to the chamfer
+    assert [round(m.seg.start[0], 9) for m in c] == [round(23 - 1.5 * k, 9) for k in range(1, 16)]
+    # every pass starts on the face Z = A.z and ends on the offset profile
+    off = offset_of(segs, 0.2, 0.1)
+    from hnc_cam.geometry.intersect import intersect
+    for m in c:
+        assert m.seg.start[1] == pytest.approx(3.0)
+        assert any(s.distance_to(m.seg.end) < 1e-9 for s in off)
+    # first pass: X21.5 meets the offset taper (17.2,-51.9)-(22.2,-61.9) at Z-60.5
+    assert c[0].seg.end == pytest.approx((21.5, -60.5))
+    # retract r in both axes after the first pass, back to the face, then down by 1.5
+    i = plan.moves.index(c[0])
+    assert plan.moves[i + 1].seg.end == pytest.approx((22.5, -59.5))
+    assert plan.moves[i + 1].kind == "rapid"
+    assert plan.moves[i + 2].seg.end == pytest.approx((22.5, 3.0))
+    assert plan.moves[i + 3].seg.end == pytest.approx((20.0, 3.0))
+    check_region(plan, A, off, Frame(False, 1, 1), 1.5)
+    del intersect
+
+
+def test_3328_type_i_bore():
+    segs, mot = P3328()
+    A = (3.0, 5.0)
+    plan = rough_turn(A, segs, mot, depth=1.0, retract=1.0, allowance=(-0.2, 0.1))
+    assert plan.warnings == []
+    c = cuts(plan)
+    assert c[0].seg.start == pytest.approx((4.0, 5.0))  # levels go outward in a bore
+    assert all(m.seg.end[1] < m.seg.start[1] for m in c)
+    check_region(plan, A, offset_of(segs, -0.2, 0.1), Frame(False, -1, 1), 1.0)
+
+
+def test_3329_type_ii_grooves_in_turn():
+    segs, mot = P3329()
+    A = (21.0, 3.0)
+    with pytest.raises(RoughingError, match="type I profile is not monotonic in X"):
+        rough_turn(A, segs, mot, depth=1.0, retract=1.0, allowance=(0.15, 0.0))
+    plan = rough_turn(A, segs, mot, depth=1.0, retract=1.0, allowance=(0.15, 0.0),
+                      pockets=True)
+    check_region(plan, A, offset_of(segs, 0.15, 0.0), Frame(False, 1, 1), 1.0)
+    c = cuts(plan)
+    # the pocket order: the region open to the face first, down to its bottom, then the
+    # groove at Z-17..-32.5, then the R10 groove
+    face_cuts = [m for m in c if m.seg.start[1] == pytest.approx(3.0)]
+    first_pocket = next(i for i, m in enumerate(c) if m.seg.start[1] < 2.9)
+    assert all(m.seg.start[1] == pytest.approx(3.0) for m in c[:first_pocket])
+    assert len(face_cuts) == first_pocket
+    pockets = c[first_pocket:]
+    zs = [m.seg.start[1] for m in pockets]
+    # grooves entered by a feed plunge, never by a rapid
+    for m in pockets:
+        i = plan.moves.index(m)
+        assert plan.moves[i - 1].role == "plunge" and plan.moves[i - 1].kind == "feed"
+    # the 18-dia groove (Z -17..-32.5) is finished before the R10 groove (Z -37.5..-51.5)
+    in_r10 = [i for i, z in enumerate(zs) if z < -37]
+    in_18 = [i for i, z in enumerate(zs) if -33 < z < -17 and pockets[i].seg.end[1] > -33]
+    assert in_18 and in_r10 and max(in_18) < min(in_r10)
+    # the bottom of the R10 groove is reached: a pass below radius 12.5 exists there
+    assert min(m.seg.start[0] for m in pockets if m.seg.start[1] < -37) < 12.5
+
+
+def test_3346_type_ii():
+    segs, mot = P3346()
+    A = (27.0, 3.0)
+    plan = rough_turn(A, segs, mot, depth=1.0, retract=1.0, allowance=(0.15, 0.0),
+                      pockets=True)
+    check_region(plan, A, offset_of(segs, 0.15, 0.0), Frame(False, 1, 1), 1.0)
+
+
+def test_3331_g72_od_face():
+    segs, mot = P3331()
+    A = (40.0, 1.0)
+    plan = rough_turn(A, segs, mot, depth=1.2, retract=1.0, allowance=(0.1, 0.5), face=True)
+    c = cuts(plan)
+    # passes parallel to X, from the OD (X = A.x) toward the axis, stepping -1.2 in Z
+    assert [m.seg.start for m in c[:3]] == [pytest.approx((40.0, 1 - 1.2 * k)) for k in (1, 2, 3)]
+    assert all(m.seg.end[0] < m.seg.start[0] for m in c)
+    # first pass Z-0.2 meets the offset chamfer (2.1,1.5)-(5.1,-1.5) at X 3.8
+    assert c[0].seg.end == pytest.approx((3.8, -0.2))
+    check_region(plan, A, offset_of(segs, 0.1, 0.5), Frame(True, 1, 1), 1.2)
+
+
+def test_3333_g72_bore_face():
+    segs, mot = P3333()
+    A = (3.0, 3.0)
+    plan = rough_turn(A, segs, mot, depth=1.2, retract=1.0, allowance=(-0.1, 0.5), face=True)
+    assert plan.warnings == []
+    c = cuts(plan)
+    assert all(m.seg.end[0] > m.seg.start[0] for m in c)  # outward from the hole
+    check_region(plan, A, offset_of(segs, -0.1, 0.5), Frame(True, 1, -1), 1.2)
+
+
+@pytest.mark.parametrize("sx,sz", [(1, 1), (-1, 1), (1, -1), (-1, -1)])
+def test_g71_every_quadrant_is_the_mirror_of_the_od(sx, sz):
+    segs, mot = P3327()
+    A = (23.0, 3.0)
+    fr = Frame(False, sx, sz)
+    ms = [fr.seg_fwd(s) for s in segs]
+    Am = fr.fwd(A)
+    plan0 = rough_turn(A, segs, mot, depth=1.5, retract=1.0, allowance=(0.2, 0.1))
+    plan = rough_turn(Am, ms, mot, depth=1.5, retract=1.0, allowance=(sx * 0.2, sz * 0.1))
+    assert plan.warnings == []
+    assert len(plan.moves) == len(plan0.moves)
+    for a, b in zip(plan.moves, plan0.moves):
+        assert a.kind == b.kind and a.role == b.role
+        assert a.seg.end == pytest.approx(fr.fwd(b.seg.end), abs=1e-9)
+        if isinstance(b.seg, Arc):
+            assert a.seg.cw == (b.seg.cw if sx * sz > 0 else not b.seg.cw)
+    check_region(plan, Am, offset_of(ms, sx * 0.2, sz * 0.1), fr, 1.5)
+
+
+@pytest.mark.parametrize("sx,sz", [(1, 1), (-1, 1), (1, -1), (-1, -1)])
+def test_g72_every_quadrant(sx, sz):
+    segs, mot = P3331()
+    A = (40.0, 1.0)
+    mirror = Frame(False, sx, sz)
+    ms = [mirror.seg_fwd(s) for s in segs]
+    Am = mirror.fwd(A)
+    plan = rough_turn(Am, ms, mot, depth=1.2, retract=1.0, allowance=(sx * 0.1, sz * 0.5),
+                      face=True)
+    assert plan.warnings == []
+    check_region(plan, Am, offset_of(ms, sx * 0.1, sz * 0.5), Frame(True, sz, sx), 1.2)
+
+
+def test_g72_is_g71_with_axes_swapped():
+    segs, mot = P3327()
+    A = (23.0, 3.0)
+    swap = Frame(True, 1, 1)  # (x, z) -> (z, x)
+    ss = [swap.seg_fwd(s) for s in segs]
+    p71 = rough_turn(A, segs, mot, depth=1.5, retract=1.0, allowance=(0.2, 0.1))
+    p72 = rough_turn(swap.fwd(A), ss, mot, depth=1.5, retract=1.0, allowance=(0.1, 0.2),
+                     face=True)
+    assert [m.seg.end for m in p72.moves] == [pytest.approx(swap.fwd(m.seg.end)) for m in p71.moves]
+
+
+def test_retract_is_clipped_in_short_passes_and_levels_hit_flats():
+    # a profile with a flat exactly on a level: the pass at that level stops where the flat
+    # starts (it does not rub along the offset profile)
+    segs, mot = path((20, 0), ("G00", 10, 0), ("G01", 10, -10), ("G01", 16, -10),
+                     ("G01", 16, -30))
+    plan = rough_turn((10.0, 0.0), segs, mot, depth=1.0, retract=2.0, allowance=(0.0, 0.0))
+    c = cuts(plan)
+    assert [m.seg.start[0] for m in c] == [9.0, 8.0, 7.0, 6.0]
+    assert c[0].seg.end == pytest.approx((9.0, -30.0))
+    assert c[1].seg.end == pytest.approx((8.0, -10.0))
+    check_region(plan, (10.0, 0.0), segs[1:], Frame(False, 1, 1), 1.0)
+
+
+def test_monotonic_helpers():
+    a = Arc.from_radius((5.0, -20.0), (10.0, -25.0), 5, True)
+    assert is_monotonic(a, 0, +1) and is_monotonic(a, 1, -1)
+    half = Arc((5.0, 0.0), (5.0, -10.0), (5.0, -5.0), False)  # bulges below x = 5
+    assert not is_monotonic(half, 0, +1)
+    assert is_monotonic(half, 1, -1)
+    assert first_non_monotonic([Line((0, 0), (1, -1)), half], 0, +1) == 1
+
+
+def test_engine_errors():
+    segs, mot = P3327()
+    A = (23.0, 3.0)
+    with pytest.raises(RoughingError, match="depth of cut must be > 0"):
+        rough_turn(A, segs, mot, depth=0, retract=1, allowance=(0, 0))
+    # A->A' without X motion
+    bad = [Line(A, (23.0, 0.0))] + [Line((23.0, 0.0), (30.0, -10.0))]
+    with pytest.raises(RoughingError, match="does not move in X") as e:
+        rough_turn(A, bad, ["rapid", "feed"], depth=1, retract=1, allowance=(0, 0))
+    assert e.value.index == 0
+    # profile that turns back toward the start face
+    back, m2 = path((46, 3), ("G00", 10, 3), ("G01", 10, -10), ("G01", 20, -5),
+                    ("G01", 20, -20))
+    with pytest.raises(RoughingError, match="turns back") as e:
+        rough_turn(A, back, m2, depth=1, retract=1, allowance=(0, 0))
+    assert e.value.index == 2
+    # a profile going deeper than its start: does not reach the start side
+    deep, m3 = path((46, 3), ("G00", 30, 3), ("G01", 30, -10), ("G01", 20, -20))
+    with pytest.raises(RoughingError, match="does not reach the start side"):
+        rough_turn(A, deep, m3, depth=1, retract=1, allowance=(0, 0), pockets=True)
+    # wrong-sign allowance: planned, with a warning
+    plan = rough_turn(A, segs, mot, depth=1.5, retract=1, allowance=(-0.2, 0.1))
+    assert plan.warnings and "opposite" in plan.warnings[0]
+
+
+def test_g73_3335_passes():
+    segs, mot = P3335()
+    A = (30.0, 5.0)
+    plan = pattern_repeat(A, segs, mot, stock=(3.0, 0.9), allowance=(0.3, 0.1), count=3)
+    # pass k is the profile shifted by (0.3 + 3(3-k)/3, 0.1 + 0.9(3-k)/3)
+    for k in (1, 2, 3):
+        du, dz = 0.3 + 3.0 * (3 - k) / 3, 0.1 + 0.9 * (3 - k) / 3
+        mv = [m for m in plan.moves if m.role == "cut" and m.level == k]
+        assert len(mv) == len(segs)
+        for m, s in zip(mv, segs):
+            t = s.translated(du, dz)
+            assert m.seg.end == pytest.approx(t.end)
+            if isinstance(s, Arc):
+                assert m.seg.center == pytest.approx(t.center) and m.seg.cw == s.cw
+    # the last pass is the allowance-offset profile; the tool ends on A
+    last = [m for m in plan.moves if m.role == "cut" and m.level == 3]
+    for m, o in zip(last[1:], offset_of(segs, 0.3, 0.1)):
+        assert same_point(m.seg.end, o.end)
+    assert plan.moves[-1].seg.end == A
+    # no move comes into the part + allowance
+    fr = Frame(False, 1, 1)
+    pts = []
+    for s in offset_of(segs, 0.3, 0.1):
+        pts.extend(_pts(s))
+    part = Polygon([(p[1], p[0]) for p in pts] + [(pts[-1][1], -50), (pts[0][1] + 50, -50)])
+    part_in = part.buffer(-3 * CHORD)  # chords of concave arcs lie up to CHORD inside
+    for m in plan.moves:
+        assert not LineString([_to_c(fr, p) for p in _pts(m.seg)]).intersects(part_in)
+    # links between passes go out in X first, then along Z (never across the blank)
+    links = [m for m in plan.moves if m.role == "link"]
+    assert links[0].seg.end[0] > links[0].seg.start[0] and links[0].seg.end[1] == links[0].seg.start[1]
+
+
+def test_g73_bore_and_every_quadrant():
+    segs, mot = P3328()
+    A = (3.0, 5.0)
+    plan = pattern_repeat(A, segs, mot, stock=(-2.0, 0.5), allowance=(-0.2, 0.1), count=4)
+    assert plan.warnings == []
+    last = [m for m in plan.moves if m.level == 4 and m.role == "cut"]
+    for m, o in zip(last[1:], offset_of(segs, -0.2, 0.1)):
+        assert same_point(m.seg.end, o.end)
+    first = [m for m in plan.moves if m.level == 1 and m.role == "cut"]
+    assert first[-1].seg.end == pytest.approx((3.0 - 0.2 - 1.5, -82 + 0.1 + 0.375))
+
+
+# --------------------------------------------------------------------------- cycle module
+
+class FakeCtx:
+    """The CycleContext protocol over a fixed profile; records the emitted moves."""
+
+    def __init__(self, code: int, words: dict, pos: Point, profile=None, *,
+                 diameter_mode: bool = True, blocks: Optional[dict] = None):
+        self.code = code
+        self.line = 4
+        self.incremental = False
+        self.diameter_mode = diameter_mode
+        self.words = dict(words)
+        self._pos = pos
+        self._profile = profile
+        self.moves: list[tuple] = []
+        self.warnings: list[str] = []
+
+    @property
+    def pos(self):
+        return self._pos
+
+    def word(self, letter):
+        return self.words.get(letter)
+
+    def has(self, letter):
+        return letter in self.words
+
+    def alarm(self, message, letter=None):
+        raise NCError(message, line=self.line, col=0)
+
+    def warn(self, message):
+        self.warnings.append(message)
+
+    def profile(self, ns, nf):
+        if self._profile is None:
+            raise NCError(f"block N{ns} not found", line=self.line)
+        segs, mot = self._profile
+        return [(s, 10 + i, m) for i, (s, m) in enumerate(zip(segs, mot))]
+
+    def rapid(self, x, z):
+        self.moves.append(("rapid", self._pos, (x, z)))
+        self._pos = (x, z)
+
+    def feed(self, x, z, feed=None):
+        self.moves.append(("feed", self._pos, (x, z)))
+        self._pos = (x, z)
+
+    def arc(self, x, z, center, cw, feed=None):
+        self.moves.append(("arc", self._pos, (x, z), center, cw))
+        self._pos = (x, z)
+
+
+def test_execute_g71_3327_words():
+    ctx = FakeCtx(71, {"U": 1.5, "R": 1, "P": 5, "Q": 13, "X": 0.4, "Z": 0.1}, (23.0, 3.0),
+                  P3327())
+    cycles_rough.execute(71, ctx)
+    segs, mot = P3327()
+    plan = rough_turn((23.0, 3.0), segs, mot, depth=1.5, retract=1, allowance=(0.2, 0.1))
+    assert len(ctx.moves) == len(plan.moves)
+    assert ctx.moves[-1][2] == (23.0, 3.0)
+    arcs = [m for m in ctx.moves if m[0] == "arc"]
+    assert len(arcs) == 2 and arcs[0][3] == pytest.approx((10.2, -19.9)) and arcs[0][4] is True
+    # radius mode: X is a radius allowance
+    ctx2 = FakeCtx(71, {"U": 1.5, "R": 1, "P": 5, "Q": 13, "X": 0.2, "Z": 0.1}, (23.0, 3.0),
+                   P3327(), diameter_mode=False)
+    cycles_rough.execute(71, ctx2)
+    assert ctx2.moves == ctx.moves
+
+
+def test_execute_type_ii_e_word_and_g72_g73():
+    ctx = FakeCtx(71, {"U": 1, "R": 1, "P": 8, "Q": 19, "E": 0.3}, (21.0, 3.0), P3329())
+    p = cycles_rough.plan_cycle(71, ctx)
+    assert p.offset_profile[0].start == pytest.approx((5.15, 3.0))
+    ctx = FakeCtx(72, {"W": 1.2, "R": 1, "P": 8, "Q": 17, "X": 0.2, "Z": 0.5}, (40.0, 1.0),
+                  P3331())
+    p = cycles_rough.plan_cycle(72, ctx)
+    assert p.offset_profile[-1].end == pytest.approx((2.1, 1.5))
+    ctx = FakeCtx(73, {"U": 3, "W": 0.9, "R": 3, "P": 5, "Q": 13, "X": 0.6, "Z": 0.1},
+                  (30.0, 5.0), P3335())
+    cycles_rough.execute(73, ctx)
+    assert ctx.moves[-1][2] == (30.0, 5.0)
+
+
+ALARMS = [
+    (71, {"R": 1, "P": 5, "Q": 13, "X": 0.4, "Z": 0.1}, "needs U"),
+    (71, {"U": 0, "R": 1, "P": 5, "Q": 13, "X": 0.4, "Z": 0.1}, "must be > 0"),
+    (71, {"U": -1.5, "R": 1, "P": 5, "Q": 13, "X": 0.4, "Z": 0.1}, "must be > 0"),
+    (71, {"U": 1.5, "P": 5, "Q": 13, "X": 0.4, "Z": 0.1}, "needs R"),
+    (71, {"U": 1.5, "R": 1, "Q": 13, "X": 0.4, "Z": 0.1}, "needs P"),
+    (71, {"U": 1.5, "R": 1, "P": 5, "X": 0.4, "Z": 0.1}, "needs Q"),
+    (71, {"U": 1.5, "W": 1, "R": 1, "P": 5, "Q": 13, "X": 0.4, "Z": 0.1}, "W is not a word"),
+    (71, {"U": 1.5, "R": 1, "P": 5, "Q": 13, "X": 0.4, "E": 0.3}, "takes no X/Z"),
+    (72, {"U": 1.2, "W": 1.2, "R": 1, "P": 8, "Q": 17, "X": 0.2, "Z": 0.5}, "U is not a word"),
+    (72, {"W": 0, "R": 1, "P": 8, "Q": 17, "X": 0.2, "Z": 0.5}, "must be > 0"),
+    (73, {"U": 3, "W": 0.9, "R": 2.5, "P": 5, "Q": 13, "X": 0.6, "Z": 0.1}, "whole number"),
+    (73, {"U": 3, "W": 0.9, "R": 0, "P": 5, "Q": 13, "X": 0.6, "Z": 0.1}, "must be > 0"),
+    (73, {"R": 3, "P": 5, "Q": 13, "X": 0.6, "Z": 0.1}, "needs U and/or W"),
+]
+
+
+@pytest.mark.parametrize("code,words,msg", ALARMS)
+def test_alarms_on_words(code, words, msg):
+    prof = {71: P3327(), 72: P3331(), 73: P3335()}[code]
+    pos = {71: (23.0, 3.0), 72: (40.0, 1.0), 73: (30.0, 5.0)}[code]
+    with pytest.raises(NCError, match=msg):
+        cycles_rough.execute(code, FakeCtx(code, words, pos, prof))
+
+
+def test_alarms_on_profiles():
+    # type I on a grooved profile
+    ctx = FakeCtx(71, {"U": 1, "R": 1, "P": 8, "Q": 19, "X": 0.3, "Z": 0}, (21.0, 3.0), P3329())
+    with pytest.raises(NCError, match=r"type I profile is not monotonic in X .*line 15"):
+        cycles_rough.execute(71, ctx)
+    # G72 with an X move in block ns
+    segs, mot = path((80, 1), ("G00", 78, -56), ("G01", 54, -40), ("G01", 54, 1))
+    ctx = FakeCtx(72, {"W": 1, "R": 1, "P": 8, "Q": 10, "X": 0.2, "Z": 0.5}, (40.0, 1.0),
+                  (segs, mot))
+    with pytest.raises(NCError, match="moves in X"):
+        cycles_rough.execute(72, ctx)
+    # the profile does not reach the start side
+    deep = path((46, 3), ("G00", 30, 3), ("G01", 30, -10), ("G01", 20, -20))
+    ctx = FakeCtx(71, {"U": 1, "R": 1, "P": 1, "Q": 3, "E": 0.2}, (23.0, 3.0), deep)
+    with pytest.raises(NCError, match="does not reach the start side"):
+        cycles_rough.execute(71, ctx)
+    # P/Q not found: raised by the interpreter's profile()
+    ctx = FakeCtx(71, {"U": 1, "R": 1, "P": 99, "Q": 100, "X": 0.3, "Z": 0}, (21.0, 3.0), None)
+    with pytest.raises(NCError, match="not found"):
+        cycles_rough.execute(71, ctx)
+
+
+def test_missing_allowance_warns():
+    ctx = FakeCtx(71, {"U": 1.5, "R": 1, "P": 5, "Q": 13}, (23.0, 3.0), P3327())
+    cycles_rough.execute(71, ctx)
+    assert any("allowance" in w for w in ctx.warnings)
