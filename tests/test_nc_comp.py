@@ -333,3 +333,33 @@ def test_program_start_or_cancel_on_arc_alarm(tmp_path, blk, where):
     with pytest.raises(NCError) as e:
         interp.run("\n".join(lines) + "\n", machine(tmp_path, {1: (0.8, 3)}))
     assert e.value.line == where and ("G02" in e.value.message or "arc" in e.value.message)
+
+
+def chords(c, R, a0, a1, n):
+    pts = [(c[0] + R * math.sin(a0 + (a1 - a0) * k / n), c[1] + R * math.cos(a0 + (a1 - a0) * k / n))
+           for k in range(n + 1)]
+    return [Line(a, b) for a, b in zip(pts, pts[1:])]
+
+
+def test_inside_arc_as_short_chords():
+    """A concave quarter circle written as 24 chords: R2 is followed at r=0.8 (every point of
+    the path at r from the chords), R0.5 raises the alarm although each chord is a line."""
+    for R, alarm in ((2.0, False), (0.5, True)):
+        # cylinder dia 20 toward -Z, then an inside quarter round up to the shoulder
+        c = (10 + R, -10 + R)
+        quarter = chords(c, R, -math.pi / 2, -math.pi, 24)  # from (10, -10+R) to (10+R, -10)
+        segs = [Line((10, 0), quarter[0].start)] + quarter + [Line(quarter[-1].end, (20, -10))]
+        items = [item(Line((15, 5), (10, 0)), 1, "start")] + \
+                [item(g, i + 2) for i, g in enumerate(segs)] + \
+                [item(Line((20, -10), (25, 5)), len(segs) + 2, "cancel")]
+        if alarm:
+            with pytest.raises(NCError):
+                compensate_moves(items, 0.8, 0, 42)
+            continue
+        out = compensate_moves(items, 0.8, 0, 42)
+        check_contiguous(out, items)
+        for seg, it in out:
+            if it.mode == "normal":
+                for k in range(21):
+                    p = seg.point_at(k / 20)
+                    assert min(g.distance_to(p) for g in segs) == pytest.approx(0.8, abs=1e-9)

@@ -33,9 +33,10 @@ Method (exact, no sampling of the path):
    whole segment or several concave corners not touched), ``end`` (a stretch at an open end
    of the chain the nose cannot touch, e.g. a final face shorter than ``r`` after a concave
    corner). ``departure`` is the largest distance from that stretch of the part to the
-   reachable contour (the envelope of the nose along the path), measured by evaluating the
-   exact distance densely along the stretch (step <= 0.02 mm, at most 400 points per
-   segment piece) and refining the maximum by golden-section search to 1e-7 mm.
+   reachable contour (the envelope of the nose along the path): the exact distance to the
+   path is maximised over the stretch by branch-and-bound on its Lipschitz bound (to
+   ``MEASURE_TOL`` = 1e-5 mm, at most ``MEASURE_MAX_EVALS`` evaluations) and polished by
+   golden-section search to 1e-7 mm.
 
 ``lookahead`` limits steps 2-4 to segments at most that many positions away in the chain
 (``None``: the whole chain). The CAM side offsets whole part contours and uses ``None``; the
@@ -65,6 +66,10 @@ MATCH_TOL = 1e-6
 GAP_TOL = 1e-6
 #: departures below this (mm) are not reported
 DEPARTURE_TOL = 1e-6
+#: the departure's maximum is found to this tolerance (mm) before polishing
+MEASURE_TOL = 1e-5
+#: distance evaluations per departure, at most
+MEASURE_MAX_EVALS = 5000
 
 
 def side_sign(side) -> int:
@@ -254,11 +259,18 @@ class _Piece:
     valid: bool = False
 
 
-def offset_chain(chain: Sequence[Segment], r: float, side, lookahead: int | None = None
+ALL_KINDS = ("corner", "radius", "groove", "end")
+
+
+def offset_chain(chain: Sequence[Segment], r: float, side, lookahead: int | None = None,
+                 measure: Sequence[str] = ALL_KINDS, lookahead_length: float = 0.0
                  ) -> OffsetResult:
     """Exact offset (nose-centre path) of the open, connected chain ``chain`` at distance
     ``r`` on ``side`` ('left'/'right', 41/42, +1/-1). See the module docstring for the method,
-    the departures and ``lookahead``.
+    the departures and ``lookahead``; ``lookahead_length`` (mm) widens the window to every
+    segment within that length along the chain (so that many short moves, e.g. an arc written
+    as chords, are checked over a stretch comparable to the nose). Departures of kinds not in ``measure`` are listed with
+    ``departure = nan`` and ``at`` = their start (saves time where only some kinds matter).
 
     Zero-length segments are skipped (their index never appears in the result). Raises
     ``ValueError`` for a negative radius or a chain that is not connected.
@@ -278,6 +290,24 @@ def offset_chain(chain: Sequence[Segment], r: float, side, lookahead: int | None
     if r <= TOL:
         return OffsetResult(list(part), [Origin("seg", i, i) for i in kept], [], r, s, chain)
     K = len(part) if lookahead is None else max(1, int(lookahead))
+    nseg = len(part)
+    if lookahead is None:
+        def window(a: int, b: int) -> tuple[int, int]:
+            return 0, nseg - 1
+    else:
+        import bisect
+        cum = [0.0]
+        for g in part:
+            cum.append(cum[-1] + g.length)
+        Lw = max(0.0, lookahead_length)
+
+        def window(a: int, b: int) -> tuple[int, int]:
+            lo, hi = a - K, b + K
+            if Lw > 0:
+                # segments j whose span [cum[j], cum[j+1]] comes within Lw of [cum[a], cum[b+1]]
+                lo = min(lo, bisect.bisect_left(cum, cum[a] - Lw) - 1)
+                hi = max(hi, bisect.bisect_right(cum, cum[b + 1] + Lw) - 1)
+            return max(0, lo), min(nseg - 1, hi)
 
     # 1. raw offset ------------------------------------------------------------------------
     offs = [offset_segment(g, r, s) for g in part]
@@ -306,7 +336,7 @@ def offset_chain(chain: Sequence[Segment], r: float, side, lookahead: int | None
     for ei, el in enumerate(elems):
         e = el.seg
         eb = e.bbox()
-        lo, hi = max(0, el.owners[0] - K), min(len(part) - 1, el.owners[1] + K)
+        lo, hi = window(*el.owners)
         ts: list[float] = []
         L = e.length
         for j in range(lo, hi + 1):
@@ -340,7 +370,7 @@ def offset_chain(chain: Sequence[Segment], r: float, side, lookahead: int | None
     for pc in pieces:
         el = elems[pc.elem]
         m = pc.seg.point_at(0.5)
-        lo, hi = max(0, el.owners[0] - K), min(len(part) - 1, el.owners[1] + K)
+        lo, hi = window(*el.owners)
         ok = True
         for j in range(lo, hi + 1):
             if _point_box_gap(m, pboxes[j]) >= lim:
@@ -362,6 +392,7 @@ def offset_chain(chain: Sequence[Segment], r: float, side, lookahead: int | None
             grid.setdefault(key(pc.seg.start), []).append(pi)
 
     def near(p: Point, after: int, owner_hi: int) -> int | None:
+        reach = window(owner_hi, owner_hi)[1]
         kx, kz = key(p)
         best = None
         for dx in (-1, 0, 1):
@@ -369,7 +400,7 @@ def offset_chain(chain: Sequence[Segment], r: float, side, lookahead: int | None
                 for qi in grid.get((kx + dx, kz + dz), ()):
                     if qi <= after or (best is not None and qi <= best):
                         continue
-                    if elems[pieces[qi].elem].owners[0] > owner_hi + K:
+                    if elems[pieces[qi].elem].owners[0] > reach:
                         continue
                     if dist(pieces[qi].seg.start, p) <= MATCH_TOL:
                         best = qi
@@ -403,7 +434,7 @@ def offset_chain(chain: Sequence[Segment], r: float, side, lookahead: int | None
         spans.append((pc.elem, pc.t0, pc.t1))
 
     res = OffsetResult(out_segs, out_orig, [], r, s, chain)
-    res.departures = _departures(res, part, kept, offs, elems, spans, s, K)
+    res.departures = _departures(res, part, kept, offs, elems, spans, s, K, tuple(measure))
     return res
 
 
@@ -441,8 +472,8 @@ def _fmt(p: Point) -> str:
     return f"X{2 * p[0]:.3f} Z{p[1]:.3f}"
 
 
-def _departures(res: OffsetResult, part, kept, offs, elems, spans, s: int, K: int
-                ) -> list[Departure]:
+def _departures(res: OffsetResult, part, kept, offs, elems, spans, s: int, K: int,
+                measure: tuple[str, ...]) -> list[Departure]:
     touched, corners = _touched(part, elems, spans)
     n = len(part)
     # regions: lists of (q, a, b)
@@ -475,83 +506,129 @@ def _departures(res: OffsetResult, part, kept, offs, elems, spans, s: int, K: in
             kind = "groove"
         else:
             kind = "corner"
-        dep, at = _measure(res, part, reg)
-        if dep <= DEPARTURE_TOL:
-            continue
         p0 = _point(part[reg[0][0]], reg[0][1])
         p1 = _point(part[reg[-1][0]], reg[-1][2])
+        if kind in measure:
+            dep, at = _measure(res, part, reg)
+            if dep <= DEPARTURE_TOL:
+                continue
+        else:
+            if dist(p0, p1) <= GAP_TOL and kind != "radius":
+                continue
+            dep, at = math.nan, p0
         segs = tuple(kept[q] for q in qs)
+        how = f": left up to {dep:.3f} mm oversize (at {_fmt(at)})" if dep == dep else ""
         if kind == "radius":
             R = min(part[q].radius for q in vanished)
             msg = (f"inside arc R{R:g} is smaller than the nose radius {r:g}: the contour from "
-                   f"{_fmt(p0)} to {_fmt(p1)} is left up to {dep:.3f} mm oversize (at {_fmt(at)})")
+                   f"{_fmt(p0)} to {_fmt(p1)} cannot be cut{how}")
         elif kind == "groove":
             msg = (f"concave step/groove from {_fmt(p0)} to {_fmt(p1)} is too narrow for the "
-                   f"nose radius {r:g} (needs width >= {2 * r:g}): left up to {dep:.3f} mm "
-                   f"oversize (at {_fmt(at)})")
+                   f"nose radius {r:g} (needs width >= {2 * r:g}){how}")
         elif kind == "end":
             msg = (f"the nose cannot reach the contour from {_fmt(p0)} to {_fmt(p1)} at the "
-                   f"end of the chain: up to {dep:.3f} mm (at {_fmt(at)})")
+                   f"end of the chain{how}")
         else:
-            msg = (f"concave corner at {_fmt(at)} keeps the nose radius {r:g}: "
-                   f"{dep:.3f} mm from the sharp corner")
+            msg = (f"concave corner from {_fmt(p0)} to {_fmt(p1)} keeps the nose radius {r:g}"
+                   f"{how}")
         out.append(Departure(kind, segs, p0, p1, dep, at, msg))
     return out
 
 
 def _measure(res: OffsetResult, part, reg) -> tuple[float, Point]:
-    """Largest (distance to the path - r) over the stretch, with the contour point."""
+    """Largest (distance to the path - r) over the stretch, with the contour point.
+
+    The distance to the path is 1-Lipschitz along the contour, so a branch-and-bound over
+    the stretch (start grid 0.1 mm, intervals kept while their bound ``(f(a) + f(b)) / 2 +
+    length / 2`` exceeds the best value by more than ``MEASURE_TOL``) finds the maximum to
+    that tolerance; the best point is then polished by golden-section search to 1e-7 mm.
+    """
+    import heapq
+
     path = res.segments
     r = res.radius
     if not path:
         p = _point(part[reg[0][0]], reg[0][1])
         return math.inf, p
-    boxes = [g.bbox() for g in path]
+    boxes_all = [g.bbox() for g in path]
 
-    def f(p: Point) -> float:
+    def dist_path(p: Point, segs, boxes) -> float:
         best = math.inf
-        for g, b in zip(path, boxes):
+        for g, b in zip(segs, boxes):
             if _point_box_gap(p, b) >= best:
                 continue
             d = g.distance_to(p)
             if d < best:
                 best = d
-        return best - r
+        return best
 
-    best_v, best_p = -math.inf, reg[0]
-    best_loc = None
+    # only path segments that can be nearest to some point of the stretch
+    rb = [math.inf, math.inf, -math.inf, -math.inf]
+    for q, _, _ in reg:
+        b = part[q].bbox()
+        rb = [min(rb[0], b[0]), min(rb[1], b[1]), max(rb[2], b[2]), max(rb[3], b[3])]
+    p0 = _point(part[reg[0][0]], reg[0][1])
+    reach = dist_path(p0, path, boxes_all) + math.hypot(rb[2] - rb[0], rb[3] - rb[1]) + TOL
+    near = [(g, b) for g, b in zip(path, boxes_all) if _bbox_gap(b, rb) <= reach]
+    segs = [g for g, _ in near]
+    boxes = [b for _, b in near]
+
+    def f(q: int, t: float) -> float:
+        return dist_path(_point(part[q], t), segs, boxes) - r
+
+    best_v, best_at = -math.inf, (reg[0][0], reg[0][1])
+    heap: list[tuple[float, int, float, float, float, float]] = []
+    evals = 0
     for q, a, b in reg:
-        g = part[q]
-        L = g.length * (b - a)
-        m = max(8, min(400, int(math.ceil(L / 0.02))))
-        h = (b - a) / m
-        for k in range(m + 1):
-            t = a + h * k
-            p = _point(g, t)
-            v = f(p)
+        L = part[q].length
+        m = max(2, min(100, int(math.ceil(L * (b - a) / 0.1))))
+        ts = [a + (b - a) * k / m for k in range(m + 1)]
+        vs = [f(q, t) for t in ts]
+        evals += len(ts)
+        for t, v in zip(ts, vs):
             if v > best_v:
-                best_v, best_p, best_loc = v, p, (q, max(a, t - h), min(b, t + h))
-    if best_loc is not None:
-        q, lo, hi = best_loc
-        g = part[q]
-        gr = (math.sqrt(5) - 1) / 2
-        x1, x2 = hi - gr * (hi - lo), lo + gr * (hi - lo)
-        f1, f2 = f(_point(g, x1)), f(_point(g, x2))
-        while (hi - lo) * g.length > 1e-7:
-            if f1 > f2:
-                hi, x2, f2 = x2, x1, f1
-                x1 = hi - gr * (hi - lo)
-                f1 = f(_point(g, x1))
-            else:
-                lo, x1, f1 = x1, x2, f2
-                x2 = lo + gr * (hi - lo)
-                f2 = f(_point(g, x2))
-        t = (lo + hi) / 2
-        p = _point(g, t)
-        v = f(p)
-        if v > best_v:
-            best_v, best_p = v, p
-    return best_v, best_p
+                best_v, best_at = v, (q, t)
+        for k in range(m):
+            ub = (vs[k] + vs[k + 1]) / 2 + L * (ts[k + 1] - ts[k]) / 2
+            heapq.heappush(heap, (-ub, q, ts[k], ts[k + 1], vs[k], vs[k + 1]))
+    while heap and evals < MEASURE_MAX_EVALS:
+        nub, q, a, b, va, vb = heapq.heappop(heap)
+        if -nub <= best_v + MEASURE_TOL:
+            break
+        m = (a + b) / 2
+        vm = f(q, m)
+        evals += 1
+        if vm > best_v:
+            best_v, best_at = vm, (q, m)
+        L = part[q].length
+        for lo, hi, vl, vh in ((a, m, va, vm), (m, b, vm, vb)):
+            ub = (vl + vh) / 2 + L * (hi - lo) / 2
+            if ub > best_v + MEASURE_TOL:
+                heapq.heappush(heap, (-ub, q, lo, hi, vl, vh))
+    # polish
+    q, t = best_at
+    g = part[q]
+    lo_lim = min(a for qq, a, _ in reg if qq == q)
+    hi_lim = max(b for qq, _, b in reg if qq == q)
+    h = 2 * MEASURE_TOL / max(g.length, EPS) + 1e-9
+    lo, hi = max(lo_lim, t - h), min(hi_lim, t + h)
+    gr = (math.sqrt(5) - 1) / 2
+    x1, x2 = hi - gr * (hi - lo), lo + gr * (hi - lo)
+    f1, f2 = f(q, x1), f(q, x2)
+    while (hi - lo) * g.length > 1e-7:
+        if f1 > f2:
+            hi, x2, f2 = x2, x1, f1
+            x1 = hi - gr * (hi - lo)
+            f1 = f(q, x1)
+        else:
+            lo, x1, f1 = x1, x2, f2
+            x2 = lo + gr * (hi - lo)
+            f2 = f(q, x2)
+    tm = (lo + hi) / 2
+    vm = f(q, tm)
+    if vm > best_v:
+        best_v, best_at = vm, (q, tm)
+    return best_v, _point(part[best_at[0]], best_at[1])
 
 
 def translate_chain(chain: Iterable[Segment], v: Point) -> list[Segment]:

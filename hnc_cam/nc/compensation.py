@@ -25,9 +25,11 @@ Choices where the manual is silent (it only says that start and cancel are G00/G
   that **ends** at the corner (the item the arc leads out of), as a controller does in single
   block mode. A rapid item can therefore receive an arc.
 * **Lookahead**: the gouge check and the trimming consider the moves up to
-  :data:`LOOKAHEAD` positions before and after each move (a controller's block buffer), so a
-  short move between two corners, an inside arc and a narrow groove are handled, while a
-  program that comes back over ground it cut earlier is followed as written.
+  :data:`LOOKAHEAD` positions before and after each move (a controller's block buffer), and
+  every move within :data:`LOOKAHEAD_RADII` nose radii of contour length (so an inside arc
+  written as many short chords is still seen whole), so a short move between two corners,
+  an inside arc and a narrow groove are handled, while a program that comes back over ground
+  it cut earlier is followed as written.
 * A normal move whose compensated path vanishes entirely (it lies inside the trim of a
   concave corner, or it has zero length) is returned as one zero-length line at the current
   point, so that every item keeps at least one segment.
@@ -49,6 +51,8 @@ from ..geometry.tip import tip_vector
 
 #: moves before/after each move that the gouge check looks at
 LOOKAHEAD = 3
+#: ... widened to every move within this many nose radii of contour length
+LOOKAHEAD_RADII = 4.0
 
 
 @dataclass
@@ -98,7 +102,9 @@ def compensate_moves(items: list[CompItem], radius: float, tip: int, side: int
 
     chain = [it.seg for it in normals]
     try:
-        res = offset_chain(chain, radius, 1 if side == 41 else -1, lookahead=LOOKAHEAD)
+        res = offset_chain(chain, radius, 1 if side == 41 else -1, lookahead=LOOKAHEAD,
+                           measure=("radius", "groove"),
+                           lookahead_length=LOOKAHEAD_RADII * radius)
     except ValueError as e:
         raise NCError(f"tool-nose radius compensation: {e}", line=normals[0].line) from None
 
