@@ -3,6 +3,7 @@ validation errors and the turned envelope."""
 from __future__ import annotations
 
 import importlib.util
+import math
 from pathlib import Path
 
 import pytest
@@ -207,6 +208,7 @@ def test_cross_hole_named(shaft_solid):
     env = profile(holed, envelope=True)
     _same_chain(env.outside, profile(shaft_solid).outside)
     assert any("cross hole" in n for n in env.notes)
+    assert not any("fitted" in n for n in env.notes)  # the hole's ellipse is not in the outline
 
 
 def test_off_axis_hole_named(shaft_solid):
@@ -264,3 +266,25 @@ def test_bad_files(tmp_path):
     igs.write_text("")
     with pytest.raises(ProfileError, match="unknown CAD file type"):
         profile(igs)
+
+
+def test_revolved_volume_closed_form():
+    from hnc_cam.cad.extract import revolved_volume
+    cyl = [Line((0.0, 0.0), (10.0, 0.0)), Line((10.0, 0.0), (10.0, -30.0)),
+           Line((10.0, -30.0), (0.0, -30.0))]
+    assert revolved_volume(cyl) == pytest.approx(math.pi * 100 * 30, rel=1e-12)
+    ball = [Arc((0.0, 5.0), (0.0, -5.0), (0.0, 0.0), True)]  # half circle, r=5
+    assert revolved_volume(ball) == pytest.approx(4 / 3 * math.pi * 125, rel=1e-12)
+    cone = [Line((0.0, 0.0), (6.0, -9.0)), Line((6.0, -9.0), (0.0, -9.0))]
+    assert revolved_volume(cone) == pytest.approx(math.pi * 36 * 9 / 3, rel=1e-12)
+
+
+def test_volume_check_is_a_safety_net(shaft_solid, monkeypatch):
+    """Should the face classification miss a milled feature, the volume comparison of the
+    solid with the revolution of its section still refuses the part."""
+    from build123d import Box, Pos
+    from hnc_cam.cad import occ
+    keyed = shaft_solid - Pos(0, 14, -38) * Box(8, 8, 20)
+    monkeypatch.setattr(occ, "classify_faces", lambda shape: ([], []))
+    with pytest.raises(ProfileError, match="differs from the revolution of its section"):
+        profile(keyed)

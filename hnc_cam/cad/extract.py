@@ -37,6 +37,7 @@ How (and the choices made):
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from typing import Any
 
 from ..errors import ProfileError
@@ -90,7 +91,8 @@ def profile(obj: Any, axis: Any = "Z", zero: str | float = "right", envelope: bo
         raise ProfileError("the solid has an internal void (more than one shell): a closed "
                            "cavity cannot be turned")
     bb = occ.bbox(solid)
-    if min(bb[3] - bb[0], bb[4] - bb[1], bb[5] - bb[2]) < 1e-6 or occ.volume(solid) < 1e-9:
+    vol = occ.volume(solid)
+    if min(bb[3] - bb[0], bb[4] - bb[1], bb[5] - bb[2]) < 1e-6 or vol < 1e-9:
         raise ProfileError(f"degenerate geometry: the solid has no volume "
                            f"(extent {bb[3] - bb[0]:.3g} x {bb[4] - bb[1]:.3g} x {bb[5] - bb[2]:.3g} mm)")
 
@@ -110,12 +112,15 @@ def profile(obj: Any, axis: Any = "Z", zero: str | float = "right", envelope: bo
             notes.append(f"ignored (envelope): {islands} inner loop(s) of the section cut by "
                          f"non-turned faces")
     else:
-        chains = _chains(occ.meridian_section(solid, theta, bb), fit_tol, notes)
+        chains = _chains(occ.meridian_section(solid, theta, bb), fit_tol)
         if len(chains) != 1:
             raise ProfileError(f"the meridian section has {len(chains)} separate boundaries: "
                                f"the part is not one connected turned body")
     main = chains[0]
-    outside, bore, left = _split(main)
+    notes += main.notes
+    if not problems:
+        _check_volume(vol, main, fit_tol)
+    outside, bore, left = _split(main.segs)
     if left:
         notes.append(f"a cavity opening on the left face ({len(left)} segment(s), down to "
                      f"z={min(min(s.start[1], s.end[1]) for s in left):.3f} model) is not part "
@@ -229,50 +234,66 @@ def _with_start(s: Segment, p: Point) -> Segment:
     return Line(p, s.end) if isinstance(s, Line) else Arc(p, s.end, s.center, s.cw)
 
 
-def _chains(edges: list[occ.SectionEdge], fit_tol: float, notes: list[str]) -> list[list[Segment]]:
+@dataclass
+class _Chain:
+    segs: list[Segment]
+    notes: list[str]  # fitting notes of the edges in this chain
+
+    @property
+    def closed(self) -> bool:
+        return dist(self.segs[-1].end, self.segs[0].start) <= JOIN_TOL
+
+    @property
+    def on_axis(self) -> bool:
+        return abs(self.segs[0].start[0]) < 1e-6 and abs(self.segs[-1].end[0]) < 1e-6
+
+
+def _chains(edges: list[occ.SectionEdge], fit_tol: float) -> list[_Chain]:
     """Connected chains of the section, the one reaching the largest radius first. Each chain
     is either closed (a loop) or open with both ends on the axis."""
-    segs: list[Segment] = []
+    items: list[tuple[Segment, int]] = []  # (segment, index of its fitting note or -1)
+    notes: list[str] = []
     for e in edges:
-        segs += _edge_segments(e, fit_tol, notes)
-    if not segs:
+        n0 = len(notes)
+        segs = _edge_segments(e, fit_tol, notes)
+        items += [(sg, n0 if len(notes) > n0 else -1) for sg in segs]
+    if not items:
         raise ProfileError("empty section: the meridian half-plane does not cut the solid "
                            "(is the part on the axis?)")
-    unused = list(segs)
-    chains: list[list[Segment]] = []
+    unused = list(items)
+    chains: list[_Chain] = []
     while unused:
         chain = [unused.pop(0)]
-        for _front in (False, True):
+        for _pass in range(2):  # grow at the end, then (reversed) at the other end
             grown = True
-            while grown:
+            while grown and not (len(chain) > 1 and dist(chain[-1][0].end, chain[0][0].start) <= JOIN_TOL):
                 grown = False
-                end = chain[-1].end
-                for i, s in enumerate(unused):
-                    if dist(s.start, end) <= JOIN_TOL:
-                        chain.append(_with_start(s, end))
-                    elif dist(s.end, end) <= JOIN_TOL:
-                        chain.append(_with_start(s.reversed(), end))
+                end = chain[-1][0].end
+                for i, (sg, k) in enumerate(unused):
+                    if dist(sg.start, end) <= JOIN_TOL:
+                        chain.append((_with_start(sg, end), k))
+                    elif dist(sg.end, end) <= JOIN_TOL:
+                        chain.append((_with_start(sg.reversed(), end), k))
                     else:
                         continue
                     unused.pop(i)
                     grown = True
                     break
-                if dist(chain[-1].end, chain[0].start) <= JOIN_TOL and len(chain) > 1:
-                    break
-            if dist(chain[-1].end, chain[0].start) <= JOIN_TOL and len(chain) > 1:
-                last = chain[-1]
-                chain[-1] = (Line(last.start, chain[0].start) if isinstance(last, Line)
-                             else Arc(last.start, chain[0].start, last.center, last.cw))
+            if len(chain) > 1 and dist(chain[-1][0].end, chain[0][0].start) <= JOIN_TOL:
+                last, k = chain[-1]
+                p0 = chain[0][0].start
+                chain[-1] = (Line(last.start, p0) if isinstance(last, Line)
+                             else Arc(last.start, p0, last.center, last.cw), k)
                 break
-            chain = [s.reversed() for s in reversed(chain)]
-        chains.append(chain)
-    for ch in chains:
-        closed = dist(ch[-1].end, ch[0].start) <= JOIN_TOL
-        if not closed and not (abs(ch[0].start[0]) < 1e-6 and abs(ch[-1].end[0]) < 1e-6):
-            raise ProfileError(f"the section boundary is open between (r={ch[-1].end[0]:.4f}, "
-                               f"z={ch[-1].end[1]:.4f}) and (r={ch[0].start[0]:.4f}, "
-                               f"z={ch[0].start[1]:.4f}): invalid or non-closed solid")
-    chains.sort(key=lambda ch: -max(s.bbox()[2] for s in ch))
+            chain = [(sg.reversed(), k) for sg, k in reversed(chain)]
+        ch = _Chain([sg for sg, _ in chain],
+                    [notes[k] for k in sorted({k for _, k in chain if k >= 0})])
+        if not ch.closed and not ch.on_axis:
+            a, b = ch.segs[-1].end, ch.segs[0].start
+            raise ProfileError(f"the section boundary is open between (r={a[0]:.4f}, z={a[1]:.4f}) "
+                               f"and (r={b[0]:.4f}, z={b[1]:.4f}): invalid or non-closed solid")
+        chains.append(ch)
+    chains.sort(key=lambda ch: -max(sg.bbox()[2] for sg in ch.segs))
     return chains
 
 
@@ -289,6 +310,43 @@ def _signed_area(ch: list[Segment]) -> float:
 
 
 AXIS = "axis"  # marker in a loop for the closing run along the axis
+
+
+def revolved_volume(segs: list[Segment]) -> float:
+    """Volume (mm^3) of the solid swept by the closed section boundary ``segs`` (an open
+    chain is closed along the axis) about the Z axis: Pappus/Green, V = pi |closed integral
+    of r^2 dz|, exact for lines and arcs."""
+    total = 0.0
+    for sg in segs:
+        if isinstance(sg, Line):
+            (r0, z0), (r1, z1) = sg.start, sg.end
+            dr = r1 - r0
+            total += (z1 - z0) * (r0 * r0 + r0 * dr + dr * dr / 3)
+        else:
+            xc, R = sg.center[0], sg.radius
+            a0 = sg.start_angle
+            a1 = a0 + sg.sweep
+
+            def F(a: float) -> float:
+                c = math.cos(a)
+                return (xc * xc * (-c) + 2 * xc * R * (a / 2 - math.sin(2 * a) / 4)
+                        + R * R * (-c + c ** 3 / 3))
+            total += -R * (F(a1) - F(a0))
+    return math.pi * abs(total)
+
+
+def _check_volume(vol: float, main: "_Chain", fit_tol: float) -> None:
+    """The solid must be the revolution of its section: a last check that catches what the
+    face classification might let through."""
+    v2 = revolved_volume(main.segs)
+    rmax = max(sg.bbox()[2] for sg in main.segs)
+    zs = [sg.bbox()[1] for sg in main.segs] + [sg.bbox()[3] for sg in main.segs]
+    allowed = 1e-5 * vol + 1e-6
+    if main.notes:  # fitted edges: each mm of fit tolerance is worth 2 pi r L of volume
+        allowed += 2 * math.pi * rmax * (max(zs) - min(zs)) * fit_tol
+    if abs(v2 - vol) > allowed:
+        raise ProfileError(f"not a body of revolution: the solid's volume {vol:.3f} mm^3 differs "
+                           f"from the revolution of its section {v2:.3f} mm^3")
 
 
 def _split(ch: list[Segment]) -> tuple[list[Segment], list[Segment] | None, list[Segment]]:
@@ -335,22 +393,17 @@ def _envelope_section(solid, bb, problems, fit_tol: float, notes: list[str]):
     bad = occ.face_compound([p.face for p in problems])
     for k in range(72):
         theta = THETA + k * 2 * math.pi / 72
-        trial: list[str] = []
         try:
-            chains = _chains(occ.meridian_section(solid, theta, bb), fit_tol, trial)
+            chains = _chains(occ.meridian_section(solid, theta, bb), fit_tol)
         except ProfileError:
             continue
-        main = chains[0]
-        if not (dist(main[-1].end, main[0].start) <= JOIN_TOL
-                or (abs(main[0].start[0]) < 1e-6 and abs(main[-1].end[0]) < 1e-6)):
-            continue
+        main = chains[0].segs
         bad_pts: list[Point] = []
         for e in occ.meridian_section(bad, theta, bb):
             for j in range(5):
                 bad_pts.append(e.rz(e.first + (e.last - e.first) * j / 4))
         if any(min(s.distance_to(p) for s in main) < 1e-4 for p in bad_pts):
             continue
-        notes += trial
         notes.append(f"envelope taken in the meridian half-plane at {math.degrees(theta):.1f} deg")
         return chains, theta, len(chains) - 1
     raise ProfileError("envelope: every meridian half-plane cuts a non-turned face on the "
