@@ -21,6 +21,8 @@ Coordinates and offsets (choices where the manual is silent, also in the README)
   ``diameter_mode = false`` or ``run(..., diameter=False)`` starts in G37), I K R always radii.
 * The tool starts at work X0 Z0 of G54 unless ``start=`` is given (programs set it with G92).
 * Work position = machine position - (G54..G59 origin + G92 shift + G52 local shift).
+  Moves are reported in the work system active when they run (what the control displays);
+  a program that switches G54..G59 or G52 between moves shows that jump between moves.
 * Reported positions are those of the controlled point in work coordinates. With ``Tttoo``
   the slide is moved by register ``oo``'s offset (geometry + wear); the tool's own
   displacement is taken to be the one recorded in register ``tt`` (the usual setup where
@@ -231,8 +233,9 @@ class Interp:
     def alarm(self, message: str, line: int, col: int = 0) -> NCError:
         return NCError(message, line, col, self.src.block_text(line), self.src.file)
 
-    def balarm(self, b: Blk, message: str, letter: Optional[str] = None) -> NCError:
-        col = P.word_col(b.text, letter) if letter else 0
+    def balarm(self, b: Blk, message: str, letter: Optional[str] = None,
+               value: Optional[float] = None) -> NCError:
+        col = P.word_col(b.text, letter, value) if letter else 0
         return self.alarm(message, b.line, col)
 
     def warn(self, line: int, message: str, once: Any = None) -> None:
@@ -708,8 +711,12 @@ class Interp:
                 if self.cyc_code:
                     self.cyc_code = 0
             if not b.axes:
+                if b.extra:
+                    self._check_letters(b, 0, 0)
                 return None
             m = self.motion
+            if b.extra and m < 2:
+                self._check_letters(b, 0, 0)
             if m == 1:
                 return self._g01(b, w)
             if m == 0:
@@ -730,7 +737,7 @@ class Interp:
         for g in gs:
             grp = G_GROUP.get(g)
             if grp is None:
-                raise self.balarm(b, f"unknown G code G{g:02d} (table 3.2)", "G")
+                raise self.balarm(b, f"unknown G code G{g:02d} (table 3.2)", "G", g)
             bit = 1 << grp
             if seen & bit and grp != 13:
                 raise self.balarm(b, f"two G codes of modal group {grp:02d} in one block", "G")
@@ -778,7 +785,7 @@ class Interp:
         flow = 0
         for mc in ms:
             if mc not in M_KNOWN:
-                raise self.balarm(b, f"unknown M code M{mc:02d} (table 3.1)", "M")
+                raise self.balarm(b, f"unknown M code M{mc:02d} (table 3.1)", "M", mc)
             if mc == 3 or mc == 4:
                 self.sdir = mc
             elif mc == 7:
@@ -1082,6 +1089,7 @@ class Interp:
         self.last_g00 = 4
         if self.dry is not None:
             return
+        self._flush_comp()  # the dwell happens after the buffered moves
         x, z = self.x + self.tdx, self.z + self.tdz
         self.moves.append(Move("dwell", (x, z), (x, z), b.line, None, None, None, self.tool, self.reg,
                                self._rpm(self.x), self.sdir, self.coolant, float(p), 0.0, 0.0, 0.0,
@@ -1292,6 +1300,9 @@ class Interp:
     # -- tool nose radius compensation -----------------------------------------------------------
     def _comp_command(self, b: Blk, g: int) -> None:
         if g == 40:
+            if b.axes and self.motion in (2, 3) and self.dry is None:
+                raise self.balarm(b, "tool nose compensation must be cancelled (G40) on a G00/G01 "
+                                     "move, not G02/G03", "G")
             if self.comp_mode:
                 self.comp_mode = "cancel"
             self.comp = 40

@@ -78,6 +78,12 @@ def tokenize(text: str, line: int = 0, file: str = "<program>", block: str | Non
             toks.append(("num", num, m.start(1) + 1))
         elif word is not None:
             col = m.start(2) + 1
+            if word == "ATAN" and text.startswith("2", m.end()) and \
+                    text[m.end() + 1:].lstrip().startswith("["):
+                word = "ATAN2"
+                toks.append(("kw", word, col))
+                pos = m.end() + 1
+                continue
             if len(word) == 1:
                 toks.append(("addr", word, col))
             elif word in KEYWORDS:

@@ -195,15 +195,29 @@ def fast_words(text: str) -> Optional[list[tuple[str, str]]]:
     return None
 
 
-def word_col(text: str, letter: str) -> int:
-    """1-based column of the first word ``letter`` in a cleaned line (0 if absent)."""
+def word_col(text: str, letter: str, value: Optional[float] = None) -> int:
+    """1-based column of the first word ``letter`` in a cleaned line (0 if absent); with
+    ``value``, of the first such word whose written number equals it (else the first one)."""
+    first = 0
     try:
-        for kind, val, col in tokenize(text):
-            if kind == "addr" and val == letter:
-                return col
+        toks = tokenize(text)
     except NCError:
-        pass
-    return 0
+        return 0
+    for i, (kind, val, col) in enumerate(toks):
+        if kind == "addr" and val == letter:
+            if value is None:
+                return col
+            first = first or col
+            j = i + 1
+            neg = False
+            if j < len(toks) and toks[j][0] == "op" and toks[j][1] in "+-":
+                neg = toks[j][1] == "-"
+                j += 1
+            if j < len(toks) and toks[j][0] == "num":
+                v = float(toks[j][1])
+                if (-v if neg else v) == value:
+                    return col
+    return first
 
 
 class _P:
