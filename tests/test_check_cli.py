@@ -1,0 +1,119 @@
+"""The simulate and verify commands: exit codes, JSON contract, plots, bad input."""
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from hnc_cam.cli import main
+
+GOOD = """%1
+T0101
+M03 S800
+G00 X42 Z2
+X30
+G01 Z-30 F200
+X42
+G00 X80 Z80
+M30
+"""
+CRASH = GOOD.replace("G00 X80 Z80", "G00 X20 Z-10\nG00 X80 Z80")
+SHARP = "use_tool_library = false\n[machine]\nname = \"sharp\"\n"
+
+
+@pytest.fixture
+def files(tmp_path):
+    (tmp_path / "good.nc").write_text(GOOD)
+    (tmp_path / "crash.nc").write_text(CRASH)
+    (tmp_path / "sharp.toml").write_text(SHARP)
+    (tmp_path / "part.py").write_text(
+        "from hnc_cam.cad.sketch import Outline, revolve\n"
+        "def sketch(d: float = 30.0, length: float = 30.0):\n"
+        "    s = Outline((0.0, 0.0))\n"
+        "    s.line_to(d / 2, 0.0)\n"
+        "    s.line_to(d / 2, -length)\n"
+        "    s.line_to(20.0, -length)\n"
+        "    s.line_to(20.0, -50.0)\n"
+        "    s.line_to(0.0, -50.0)\n"
+        "    return s.segments()\n"
+        "def part(d: float = 30.0, length: float = 30.0):\n"
+        "    return revolve(sketch(d, length))\n")
+    return tmp_path
+
+
+def test_simulate_ok_json_and_plots(files, capsys):
+    out = files / "sim.json"
+    rc = main(["simulate", str(files / "good.nc"), "--stock", "40x60", "--machine",
+               str(files / "sharp.toml"), "--json", str(out), "--plot", str(files / "sim.png")])
+    assert rc == 0
+    assert "no collisions" in capsys.readouterr().out
+    js = json.loads(out.read_text())
+    assert set(js) == {"machined", "collisions", "cycle_time_s", "removed_volume_mm3"}
+    assert js["collisions"] == []
+    assert js["removed_volume_mm3"] == pytest.approx(3.14159265 * 175 * 30, rel=1e-6)
+    pts = [p for ring in js["machined"] for p in ring]
+    assert [30.0, -30.0] in pts and [40.0, -60.0] in pts  # X as diameter
+    assert (files / "sim.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    rc = main(["simulate", str(files / "good.nc"), "--stock", "40x60", "--plot",
+               str(files / "sim.svg")])
+    assert rc == 0 and b"<svg" in (files / "sim.svg").read_bytes()[:400]
+
+
+def test_simulate_collision_exit_1(files, capsys):
+    out = files / "c.json"
+    rc = main(["simulate", str(files / "crash.nc"), "--stock", "40x60", "--json", str(out)])
+    assert rc == 1
+    js = json.loads(out.read_text())
+    assert js["collisions"][0]["line"] == CRASH.splitlines().index("G00 X20 Z-10") + 1
+    assert js["collisions"][0]["block"] == "G00 X20 Z-10"
+    assert "collision" in js["collisions"][0]["message"]
+
+
+@pytest.mark.parametrize("argv,msg", [
+    (["--stock", "40y60"], "stock"),
+    (["--stock", "offset:2"], "needs --model"),
+    (["--stock", "40x60", "--machine", "/nonexistent.toml"], "cannot read"),
+])
+def test_simulate_bad_input_exit_2(files, capsys, argv, msg):
+    rc = main(["simulate", str(files / "good.nc"), *argv])
+    assert rc == 2
+    err = capsys.readouterr().err
+    assert msg in err and "Traceback" not in err
+
+
+def test_simulate_missing_program_and_alarm(files, capsys):
+    assert main(["simulate", str(files / "nope.nc"), "--stock", "40x60"]) == 2
+    (files / "bad.nc").write_text("%1\nG00 X10 Z5\nG999\nM30\n")
+    assert main(["simulate", str(files / "bad.nc"), "--stock", "40x60"]) == 2
+    assert "alarm" in capsys.readouterr().err
+
+
+def test_plot_suffix_checked_and_nothing_written(files, capsys):
+    rc = main(["simulate", str(files / "good.nc"), "--stock", "40x60", "--plot",
+               str(files / "x.jpg")])
+    assert rc == 2 and not (files / "x.jpg").exists()
+
+
+@pytest.mark.cad
+def test_verify_pass_fail_and_json(files, capsys):
+    out = files / "v.json"
+    rc = main(["verify", str(files / "good.nc"), "--model", str(files / "part.py"), "--stock",
+               "40x60", "--machine", str(files / "sharp.toml"), "--json", str(out),
+               "--plot", str(files / "v.png")])
+    assert rc == 0, capsys.readouterr().out
+    js = json.loads(out.read_text())
+    assert set(js) == {"pass", "max_overcut_mm", "max_undercut_mm", "unreachable", "collisions",
+                       "cycle_time_s", "air_cut_fraction"}
+    assert js["pass"] is True and js["max_overcut_mm"] < 0.001
+    assert (files / "v.png").stat().st_size > 10000
+    # the same program against a 28 mm model leaves 1 mm of undercut: fail, exit 1
+    rc = main(["verify", str(files / "good.nc"), "--model", str(files / "part.py"), "--set",
+               "d=28", "--stock", "40x60", "--machine", str(files / "sharp.toml"), "--json",
+               str(out)])
+    assert rc == 1
+    js = json.loads(out.read_text())
+    assert js["pass"] is False and js["max_undercut_mm"] == pytest.approx(1.0, abs=0.001)
+    assert main(["verify", str(files / "good.nc"), "--model", str(files / "part.py"),
+                 "--stock", "40x60", "--tol", "-1"]) == 2
+    assert main(["verify", str(files / "crash.nc"), "--model", str(files / "part.py"),
+                 "--stock", "40x60"]) == 1
