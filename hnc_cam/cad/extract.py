@@ -48,6 +48,8 @@ from .fit import circle3, fit_curve, merge_segments
 
 #: polar angle of the default meridian half-plane (radians): away from the seam at 0
 THETA = 0.3
+#: half-planes tried in turn should OpenCascade's section misbehave at the first (radians)
+THETAS = (THETA, 1.1, 2.3)
 #: end points closer than this are joined when chaining (mm; STEP files carry ~1e-7 gaps)
 JOIN_TOL = 1e-4
 #: a free-form section edge within this of a line or circle is taken as that line/arc (mm)
@@ -98,7 +100,6 @@ def profile(obj: Any, axis: Any = "Z", zero: str | float = "right", envelope: bo
 
     problems, fnotes = occ.classify_faces(solid)
     notes += fnotes
-    theta = THETA
     if problems:
         if not envelope:
             first = problems[0].describe()
@@ -107,19 +108,14 @@ def profile(obj: Any, axis: Any = "Z", zero: str | float = "right", envelope: bo
                                f"{first}{more}; use envelope=True to profile the turned envelope")
         for p in problems:
             notes.append(f"ignored (envelope): {p.describe()}")
-        chains, theta, islands = _envelope_section(solid, bb, problems, fit_tol, notes)
+        chains, islands = _envelope_section(solid, bb, problems, fit_tol, notes)
         if islands:
             notes.append(f"ignored (envelope): {islands} inner loop(s) of the section cut by "
                          f"non-turned faces")
+        main = chains[0]
     else:
-        chains = _chains(occ.meridian_section(solid, theta, bb), fit_tol)
-        if len(chains) != 1:
-            raise ProfileError(f"the meridian section has {len(chains)} separate boundaries: "
-                               f"the part is not one connected turned body")
-    main = chains[0]
+        main = _clean_section(solid, bb, vol, fit_tol)
     notes += main.notes
-    if not problems:
-        _check_volume(vol, main, fit_tol)
     outside, bore, left = _split(main.segs)
     if left:
         notes.append(f"a cavity opening on the left face ({len(left)} segment(s), down to "
@@ -312,6 +308,24 @@ def _signed_area(ch: list[Segment]) -> float:
 AXIS = "axis"  # marker in a loop for the closing run along the axis
 
 
+def _clean_section(solid, bb, vol: float, fit_tol: float) -> "_Chain":
+    """The section boundary of a validated turned solid, checked against its volume; another
+    half-plane is tried when a section comes out broken."""
+    first: ProfileError | None = None
+    for theta in THETAS:
+        try:
+            chains = _chains(occ.meridian_section(solid, theta, bb), fit_tol)
+            if len(chains) != 1:
+                raise ProfileError(f"the meridian section has {len(chains)} separate "
+                                   f"boundaries: the part is not one connected turned body")
+            _check_volume(vol, chains[0], fit_tol)
+            return chains[0]
+        except ProfileError as e:
+            first = first or e
+    assert first is not None
+    raise first
+
+
 def revolved_volume(segs: list[Segment]) -> float:
     """Volume (mm^3) of the solid swept by the closed section boundary ``segs`` (an open
     chain is closed along the axis) about the Z axis: Pappus/Green, V = pi |closed integral
@@ -405,7 +419,7 @@ def _envelope_section(solid, bb, problems, fit_tol: float, notes: list[str]):
         if any(min(s.distance_to(p) for s in main) < 1e-4 for p in bad_pts):
             continue
         notes.append(f"envelope taken in the meridian half-plane at {math.degrees(theta):.1f} deg")
-        return chains, theta, len(chains) - 1
+        return chains, len(chains) - 1
     raise ProfileError("envelope: every meridian half-plane cuts a non-turned face on the "
                        "outline (a hex or a flat along the whole part?); cannot find the turned "
                        "envelope")

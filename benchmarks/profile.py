@@ -1,0 +1,83 @@
+"""Profile benchmark: ms per part for build + profile of each parts/ family (defaults), for 200
+variants of family 1 (stepped_shaft), and the cold import time of build123d (in a fresh
+subprocess, so it is not hidden by this process's own import).
+
+    /work/venv/bin/python benchmarks/profile.py [--variants N]
+"""
+from __future__ import annotations
+
+import argparse
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+FAMILIES = ["stepped_shaft", "grooved_shaft", "flange", "bushing", "cast_blank",
+            "threaded_stud", "cq_pin"]
+
+
+def cold_import(module: str, repeats: int = 3) -> float:
+    """Best wall time (s) of `python -c "import <module>"` in a fresh interpreter, minus the
+    bare interpreter start-up."""
+    def run(code: str) -> float:
+        t = time.perf_counter()
+        subprocess.run([sys.executable, "-c", code], check=True)
+        return time.perf_counter() - t
+    base = min(run("pass") for _ in range(repeats))
+    return min(run(f"import {module}") for _ in range(repeats)) - base
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--variants", type=int, default=200)
+    args = ap.parse_args()
+
+    t0 = time.perf_counter()
+    from hnc_cam.cad import load_part, profile
+    from hnc_cam.cad.loader import load_module
+    import build123d  # noqa: F401
+    import cadquery  # noqa: F401
+    t_import = time.perf_counter() - t0
+
+    print(f"in-process import of hnc_cam.cad + build123d + cadquery: {t_import:.2f} s")
+    print()
+    print(f"{'family':<16}{'build ms':>10}{'profile ms':>12}{'total ms':>10}{'segments':>10}")
+    for fam in FAMILIES:
+        mod = load_module(ROOT / "parts" / f"{fam}.py")
+        mod.part(); profile(mod.part())  # warm
+        n = 10
+        tb = tp = 0.0
+        for _ in range(n):
+            t = time.perf_counter()
+            solid = mod.part()
+            tb += time.perf_counter() - t
+            t = time.perf_counter()
+            prof = profile(solid)
+            tp += time.perf_counter() - t
+        segs = len(prof.outside) + len(prof.bore or [])
+        print(f"{fam:<16}{tb / n * 1e3:>10.1f}{tp / n * 1e3:>12.1f}{(tb + tp) / n * 1e3:>10.1f}{segs:>10}")
+
+    n = args.variants
+    t = time.perf_counter()
+    for i in range(n):
+        k = i / max(1, n - 1)
+        load_part(ROOT / "parts" / "stepped_shaft.py",
+                  {"length": str(90 + 40 * k), "d1": str(16 + 4 * k), "d2": str(26 + 6 * k),
+                   "d3": str(38 + 10 * k), "fillet": str(0.8 + 0.8 * k),
+                   "dome_radius": str(12 + 20 * k)})
+    dt = time.perf_counter() - t
+    print()
+    print(f"stepped_shaft, {n} variants through load_part (build + profile): "
+          f"{dt:.2f} s total, {dt / n * 1e3:.1f} ms per part")
+
+    print()
+    print(f"cold import of build123d (fresh interpreter): {cold_import('build123d'):.2f} s")
+    print(f"cold import of OCP + hnc_cam.cad.extract (STEP path, no build123d): "
+          f"{cold_import('hnc_cam.cad.extract'):.2f} s")
+
+
+if __name__ == "__main__":
+    main()
