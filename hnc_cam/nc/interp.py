@@ -236,6 +236,8 @@ class Interp:
     def balarm(self, b: Blk, message: str, letter: Optional[str] = None,
                value: Optional[float] = None) -> NCError:
         col = P.word_col(b.text, letter, value) if letter else 0
+        if col == 0:  # the word is implicit (modal): point at the block
+            col = len(b.text) - len(b.text.lstrip()) + 1
         return self.alarm(message, b.line, col)
 
     def warn(self, line: int, message: str, once: Any = None) -> None:
