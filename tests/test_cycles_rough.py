@@ -562,3 +562,164 @@ def test_missing_allowance_warns():
     ctx = FakeCtx(71, {"U": 1.5, "R": 1, "P": 5, "Q": 13}, (23.0, 3.0), P3327())
     cycles_rough.execute(71, ctx)
     assert any("allowance" in w for w in ctx.warnings)
+
+
+@pytest.mark.parametrize("depth,retract", [(0.7, 2.5), (1.3, 0.4), (2.0, 2.0)])
+def test_type_ii_any_depth_and_retract(depth, retract):
+    """Large retracts over short groove passes stay over the pass just cut (clipped in Z)."""
+    for prof, A in ((P3329, (21.0, 3.0)), (P3346, (27.0, 3.0))):
+        segs, mot = prof()
+        plan = rough_turn(A, segs, mot, depth=depth, retract=retract, allowance=(0.15, 0.0),
+                          pockets=True)
+        check_region(plan, A, offset_of(segs, 0.15, 0.0), Frame(False, 1, 1), depth)
+
+
+def test_short_pass_at_the_bottom_of_a_v_groove_retracts_over_itself():
+    # V groove 45 deg down to radius 5: the deepest pass (radius 5.35) is 0.7 long, shorter
+    # than the retract 0.9; a full 45 deg retract would rapid into the groove wall's stair
+    segs, mot = path((24.7, 0), ("G00", 16, 0), ("G01", 20, -2), ("G01", 20, -10),
+                     ("G01", 10, -15), ("G01", 20, -20), ("G01", 20, -30), ("G01", 24.7, -30))
+    A = (12.35, 0.0)
+    plan = rough_turn(A, segs, mot, depth=1.0, retract=0.9, allowance=(0.0, 0.0), pockets=True)
+    bottom = min(cuts(plan), key=lambda m: m.seg.start[0])
+    assert bottom.seg.start == pytest.approx((5.35, -14.65))
+    assert bottom.seg.end == pytest.approx((5.35, -15.35))
+    i = plan.moves.index(bottom)
+    assert plan.moves[i + 1].seg.end == pytest.approx((6.25, -14.65))
+    check_region(plan, A, segs[1:], Frame(False, 1, 1), 1.0)
+
+
+# --------------------------------------------------------------------------- end to end
+
+interp = pytest.importorskip("hnc_cam.nc.interp")
+
+
+def _machine(sharp: bool):
+    from hnc_cam.tooling import Register, load_machine
+    m = load_machine()
+    if sharp:  # zero nose radius: G41/G42 leave the finishing path on the profile
+        m = m.with_registers({n: Register(number=n) for n in list(m.registers) + list(range(1, 10))})
+    return m
+
+
+def cycle_moves(tp, op: str, start: Point, offset: list[Segment], fr: Frame):
+    """The cycle's moves of a Toolpath as RoughMoves with roles read from the geometry:
+    the last pass is the run that ends on the offset profile's end (its first move is the
+    approach to A″), feeds at constant level are cuts, the other feeds plunges."""
+    from hnc_cam.geometry.roughing import RoughMove
+    ms = [m for m in tp.moves if m.op == op]
+    assert ms and same_point(ms[0].start, start, 1e-9)
+    segs = [m.segment() for m in ms]
+    j = max(i for i, s in enumerate(segs) if same_point(s.end, offset[0].start, 1e-9))
+    out = []
+    for i, (m, s) in enumerate(zip(ms, segs)):
+        kind = "rapid" if m.kind == "rapid" else "feed"
+        if j <= i <= j + len(offset):
+            role = "finish"
+        elif kind == "feed":
+            u0, u1 = fr.fwd(s.start)[0], fr.fwd(s.end)[0]
+            role = "cut" if abs(u0 - u1) < 1e-9 else "plunge"
+        else:
+            role = "link"
+        out.append(RoughMove(kind, s, role))
+
+    class _Plan:
+        moves = out
+    return _Plan(), ms
+
+
+def ends_on_profile(tp, profile: list[Segment], lines: set[int], tol=1e-6):
+    """Every finishing move (the profile blocks run after the cycle) lies on the programmed
+    profile, and the last of them ends on its end point B."""
+    fin = [m for m in tp.moves if m.line in lines and not m.op.startswith("G7")
+           and m.kind != "rapid"]
+    assert fin
+    for m in fin:
+        for p in _pts(m.segment()):
+            assert min(s.distance_to(p) for s in profile) < tol, (m, p)
+    assert same_point(fin[-1].end, profile[-1].end, tol)
+
+
+E2E = [
+    # file, cycle, A, profile, allowance (radius), frame, depth, profile lines
+    ("3327.nc", "G71", (23.0, 3.0), P3327, (0.2, 0.1), Frame(False, 1, 1), 1.5),
+    ("3328.nc", "G71", (3.0, 5.0), P3328, (-0.2, 0.1), Frame(False, -1, 1), 1.0),
+    ("3329.nc", "G71", (21.0, 3.0), P3329, (0.15, 0.0), Frame(False, 1, 1), 1.0),
+    ("3331fix.nc", "G72", (40.0, 1.0), P3331, (0.1, 0.5), Frame(True, 1, 1), 1.2),
+    ("3333.nc", "G72", (3.0, 3.0), P3333, (-0.1, 0.5), Frame(True, 1, -1), 1.2),
+    ("3346.nc", "G71", (27.0, 3.0), P3346, (0.15, 0.0), Frame(False, 1, 1), 1.0),
+]
+
+
+@pytest.mark.parametrize("name,op,A,prof,allow,fr,depth", E2E, ids=[e[0] for e in E2E])
+def test_manual_examples_end_to_end(manual, name, op, A, prof, allow, fr, depth):
+    from hnc_cam.nc import run_file
+    tp = run_file(str(manual(name)), _machine(False))
+    segs, _ = prof()
+    offset = offset_of(segs, *allow)
+    plan, ms = cycle_moves(tp, op, A, offset, fr)
+    check_region(plan, A, offset, fr, depth)
+    assert all(m.feed == pytest.approx(100.0) for m in ms if m.kind != "rapid")
+    # after the cycle the program runs ns..nf as the finishing pass, ending on the profile
+    tp0 = run_file(str(manual(name)), _machine(True))
+    ends_on_profile(tp0, segs[1:], profile_lines(manual(name).read_text()))
+
+
+def profile_lines(text: str) -> set[int]:
+    """1-based source lines of the blocks N(ns)..N(nf) named by the program's G71/G72/G73
+    block (P, Q), excluding the block ns itself (A→A′ is an approach, not the profile)."""
+    import re
+    lines = text.splitlines()
+    cyc = next(ln for ln in lines if re.search(r"G7[123]", ln.split("(")[0]))
+    ns = int(re.search(r"P(\d+)", cyc).group(1))
+    nf = int(re.search(r"Q(\d+)", cyc).group(1))
+    out, inside = set(), False
+    for i, ln in enumerate(lines, 1):
+        m = re.match(r"\s*N\s*(\d+)", ln)
+        n = int(m.group(1)) if m else None
+        if n == ns:
+            inside = True
+            continue
+        if inside:
+            out.add(i)
+        if n == nf:
+            break
+    return out
+
+
+def test_3331_as_printed_alarms_on_the_erratum(manual):
+    from hnc_cam.nc import run_file
+    with pytest.raises(NCError, match="G03 needs R or I/K") as e:
+        run_file(str(manual("3331.nc")))
+    # N16 Z-2 after N15 G03: G01 missing (see 3331fix.nc); the alarm is raised while the
+    # G72 reads its profile
+    text = manual("3331.nc").read_text().splitlines()
+    assert text[e.value.line - 1].startswith("N16 Z-2")
+
+
+def test_3335_g73_end_to_end(manual):
+    from hnc_cam.nc import run_file
+    tp = run_file(str(manual("3335.nc")), _machine(True))
+    segs, _ = P3335()
+    ms = [m for m in tp.moves if m.op == "G73"]
+    assert same_point(ms[0].start, (30.0, 5.0)) and same_point(ms[-1].end, (30.0, 5.0))
+    # each pass ends on B shifted by the remaining stock + allowance
+    for k in (1, 2, 3):
+        du, dz = 0.3 + (3 - k), 0.1 + 0.3 * (3 - k)
+        b = (27.0 + du, -62.0 + dz)
+        assert any(same_point(m.end, b, 1e-9) and m.kind == "line" for m in ms), k
+    # the last pass is the allowance-offset profile, exactly
+    off = offset_of(segs, 0.3, 0.1)
+    segs_tp = [m.segment() for m in ms if m.kind != "rapid"]
+    tail = segs_tp[-len(off):]
+    for a, b in zip(tail, off):
+        assert same_point(a.start, b.start, 1e-9) and same_point(a.end, b.end, 1e-9)
+    # no move comes into the part + allowance
+    pts = []
+    for s in off:
+        pts.extend(_pts(s))
+    part = Polygon([(p[1], p[0]) for p in pts] + [(pts[-1][1], -50), (pts[0][1], -50)]).buffer(0)
+    part_in = part.buffer(-3 * CHORD)
+    for m in ms:
+        assert not LineString([(p[1], p[0]) for p in _pts(m.segment())]).intersects(part_in), m
+    ends_on_profile(tp, segs[1:], profile_lines(manual("3335.nc").read_text()))
