@@ -19,7 +19,7 @@ def test_run_prints_summary_and_warnings(tmp_path):
     r = cli("run", str(p))
     assert r.returncode == 0, r.stderr
     out = r.stdout.strip()
-    assert out.startswith(f"{p}: 8 blocks executed, 5 moves")
+    assert out.startswith(f"{p}: 7 blocks executed, 5 moves")
     for part in ("feed ", "rapid ", "cycle time", "X 0.000..40.000 (dia)", "Z -24.000..5.000"):
         assert part in out
     assert f"{p}:5: warning: feed move before any F" in r.stderr
