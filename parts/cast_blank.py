@@ -10,7 +10,6 @@ Stock: the casting, 2 mm all round (``offset:2``).
 """
 from __future__ import annotations
 
-import math
 
 from hnc_cam.cad.sketch import Outline, revolve
 

@@ -2,7 +2,6 @@
 parameter sets; default stock fits; threads; the part-file loader's errors."""
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 import pytest

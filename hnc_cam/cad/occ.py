@@ -27,9 +27,10 @@ from OCP.GProp import GProp_GProps
 from OCP.IFSelect import IFSelect_RetDone
 from OCP.STEPControl import STEPControl_Reader
 from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE, TopAbs_SHELL, TopAbs_SOLID
-from OCP.TopExp import TopExp_Explorer
+from OCP.TopExp import TopExp
+from OCP.TopTools import TopTools_IndexedMapOfShape
 from OCP.TopoDS import TopoDS, TopoDS_Compound, TopoDS_Shape
-from OCP.gp import gp_Ax1, gp_Ax3, gp_Dir, gp_Pln, gp_Pnt, gp_Trsf
+from OCP.gp import gp_Ax1, gp_Ax3, gp_Dir, gp_Pln, gp_Pnt, gp_Trsf, gp_Vec
 
 from ..errors import ProfileError
 
@@ -134,14 +135,11 @@ def axis_transform(shape: TopoDS_Shape, axis: Any) -> TopoDS_Shape:
 
 # ---------------------------------------------------------------------------- topology
 def sub_shapes(shape: TopoDS_Shape, kind) -> Iterator[TopoDS_Shape]:
-    ex = TopExp_Explorer(shape, kind)
-    seen: list[TopoDS_Shape] = []
-    while ex.More():
-        s = ex.Current()
-        if not any(s.IsSame(o) for o in seen):
-            seen.append(s)
-            yield s
-        ex.Next()
+    """The distinct sub-shapes of a kind (each shared face/edge once)."""
+    m = TopTools_IndexedMapOfShape()
+    TopExp.MapShapes_s(shape, kind, m)
+    for i in range(1, m.Extent() + 1):
+        yield m.FindKey(i)
 
 
 def solids(shape: TopoDS_Shape) -> list[TopoDS_Shape]:
@@ -197,15 +195,6 @@ def _coaxial(ax: gp_Ax1) -> tuple[bool, bool]:
     else:
         on = False
     return par, on
-
-
-def _face_point(ad: BRepAdaptor_Surface) -> tuple[float, float, float]:
-    u = (ad.FirstUParameter() + ad.LastUParameter()) / 2
-    v = (ad.FirstVParameter() + ad.LastVParameter()) / 2
-    if not all(math.isfinite(t) and abs(t) < 1e7 for t in (u, v)):
-        u = v = 0.0
-    p = ad.Value(u, v)
-    return (p.X(), p.Y(), p.Z())
 
 
 def _face_centre(face) -> tuple[float, float, float]:
@@ -329,7 +318,6 @@ class SectionEdge:
 
     def rz_d1(self, t: float):
         p = gp_Pnt()
-        from OCP.gp import gp_Vec
         v = gp_Vec()
         self.adaptor.D1(t, p, v)
         return ((p.X() * self.u[0] + p.Y() * self.u[1], p.Z()),
