@@ -1,0 +1,272 @@
+"""Shape analysis of a profile chain for planning: direction checks, monotony, pockets
+(undercuts) and the steepest descending wall in each, normals for allowance checks.
+
+Every function works on an **OD-normalised** chain: travelling from the right face toward
+the chuck (Z decreasing), material below (smaller X). A bore chain is brought to that form by
+mirroring X (:func:`mirror_x`), as the house rule "ID is OD mirrored in X" says.
+
+Angles: the *descent* of a direction is the angle by which it dips below the -Z direction
+(0 deg along -Z, 90 deg straight down toward the axis); walls with a descent > 0 are the
+undercut walls a turning insert must reach with its trailing edge.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Sequence
+
+from ..errors import PlanError
+from ..geometry import Arc, Line, Point, Segment, point_at_angle
+from ..geometry.intersect import horizontal_hits
+
+TOL = 1e-6
+#: tangent samples per arc for angle extremes (the exact extremes at the ends and at the
+#: arc's X-extreme points are added separately)
+ARC_SAMPLES = 32
+
+
+def mirror_x(seg: Segment) -> Segment:
+    if isinstance(seg, Line):
+        return Line((-seg.start[0], seg.start[1]), (-seg.end[0], seg.end[1]))
+    return Arc((-seg.start[0], seg.start[1]), (-seg.end[0], seg.end[1]),
+               (-seg.center[0], seg.center[1]), not seg.cw)
+
+
+def mirror_chain(chain: Sequence[Segment]) -> list[Segment]:
+    return [mirror_x(s) for s in chain]
+
+
+def translate_chain(chain: Sequence[Segment], dz: float) -> list[Segment]:
+    return [s.translated(0.0, dz) for s in chain]
+
+
+def tangents(seg: Segment) -> list[Point]:
+    """Unit tangents (dx, dz) along a segment: the ends, samples, and for arcs the tangents at
+    its extreme points (where the extremes of the angle functions lie)."""
+    if isinstance(seg, Line):
+        return [seg.direction]
+    out = [seg.tangent_at_start(), seg.tangent_at_end()]
+    for i in range(1, ARC_SAMPLES):
+        p = seg.point_at(i / ARC_SAMPLES)
+        out.append(seg._tangent(p))
+    for ang in (0.0, math.pi / 2, math.pi, -math.pi / 2, math.pi / 4, -math.pi / 4,
+                3 * math.pi / 4, -3 * math.pi / 4):
+        if seg.contains_angle(ang):
+            out.append(seg._tangent(point_at_angle(seg.center, seg.radius, ang)))
+    return out
+
+
+def normals(seg: Segment) -> list[Point]:
+    """Outward unit normals (material below) along a segment: n = (-dz, dx)."""
+    return [(-t[1], t[0]) for t in tangents(seg)]
+
+
+def descent_deg(d: Point) -> float:
+    """Descent of a direction below -Z in degrees (negative when climbing)."""
+    dx, dz = d
+    return math.degrees(math.atan2(-dx, -dz)) if dz <= TOL else (180.0 if dx < 0 else -180.0)
+
+
+def split_x_extremes(chain: Sequence[Segment]) -> list[Segment]:
+    """Split arcs at their X-extreme points so that every piece is monotonic in X."""
+    out: list[Segment] = []
+    for s in chain:
+        if isinstance(s, Arc):
+            cuts = []
+            for ang in (math.pi / 2, -math.pi / 2):  # polar angle measured from +Z toward +X
+                if s.contains_angle(ang):
+                    p = point_at_angle(s.center, s.radius, ang)
+                    if math.dist(p, s.start) > 1e-7 and math.dist(p, s.end) > 1e-7:
+                        a0, sw = s.start_angle, s.sweep
+                        d = (ang - a0) % (2 * math.pi) if sw > 0 else (a0 - ang) % (2 * math.pi)
+                        cuts.append((d, p))
+            cuts.sort()
+            cur = s.start
+            for _d, p in cuts:
+                out.append(Arc(cur, p, s.center, s.cw))
+                cur = p
+            out.append(Arc(cur, s.end, s.center, s.cw))
+        else:
+            out.append(s)
+    return out
+
+
+def check_turnable(chain: Sequence[Segment], what: str) -> None:
+    """Refuse a chain that turns back toward the right face (a back-facing undercut)."""
+    for s in chain:
+        for t in tangents(s):
+            if t[1] > 1e-6 and abs(t[1]) > 1e-6 and s.length > 1e-6:
+                p = s.start
+                raise PlanError(f"{what}: the profile turns back toward the right face at "
+                                f"X{2 * abs(p[0]):.3f} Z{p[1]:.3f} (a back-facing undercut that no "
+                                f"tool can reach from the right; it needs a back-turning tool)")
+
+
+def is_monotonic(chain: Sequence[Segment]) -> bool:
+    """X never decreases along the (OD-normalised) chain."""
+    return all(t[0] >= -1e-6 for s in chain if s.length > 1e-9 for t in tangents(s))
+
+
+@dataclass
+class Pocket:
+    """A stretch where the chain dips below the highest X reached before it (an undercut)."""
+    segments: list[Segment]
+    level: float  # the X the chain had reached before the pocket (radius, normalised)
+    entry: Point
+    exit: Point | None  # None: the chain ends inside (open toward the chuck)
+    max_descent: float  # steepest descending wall, deg
+    bottom: float = 0.0  # lowest X
+    steep_walls: list[Segment] = field(default_factory=list)
+
+    @property
+    def z_right(self) -> float:
+        return self.entry[1]
+
+    @property
+    def z_left(self) -> float:
+        return self.exit[1] if self.exit is not None else min(s.bbox()[1] for s in self.segments)
+
+    @property
+    def width(self) -> float:
+        return self.z_right - self.z_left
+
+    @property
+    def depth(self) -> float:
+        return self.level - self.bottom
+
+
+def _split_line_at_x(s: Line, x: float) -> tuple[Segment, Segment] | None:
+    x0, x1 = s.start[0], s.end[0]
+    if abs(x1 - x0) < 1e-12:
+        return None
+    t = (x - x0) / (x1 - x0)
+    if t <= 1e-12 or t >= 1 - 1e-12:
+        return None
+    p = s.point_at(t)
+    return Line(s.start, p), Line(p, s.end)
+
+
+def _split_at_x(s: Segment, x: float) -> tuple[Segment, Segment] | None:
+    if isinstance(s, Line):
+        return _split_line_at_x(s, x)
+    hits = [z for _i, z in horizontal_hits([s], x)]
+    best = None
+    for z in hits:
+        p = (x, z)
+        if math.dist(p, s.start) > 1e-9 and math.dist(p, s.end) > 1e-9:
+            best = p
+    if best is None:
+        return None
+    return Arc(s.start, best, s.center, s.cw), Arc(best, s.end, s.center, s.cw)
+
+
+def pockets(chain: Sequence[Segment]) -> tuple[list[Segment], list[Pocket]]:
+    """Find the undercut pockets of an OD-normalised chain.
+
+    Returns the *hull chain* (the chain with each closed pocket bridged by a straight line at
+    its level, open pockets kept) and the pockets in order from the right face.
+    """
+    items = pocket_items(chain)
+    return assemble(items, bridge=lambda p: p.exit is not None), [
+        it for it in items if isinstance(it, Pocket)]
+
+
+def assemble(items: Sequence["Segment | Pocket"], bridge) -> list[Segment]:
+    """The chain from :func:`pocket_items`, each pocket for which ``bridge(pocket)`` is true
+    replaced by the straight line across its top."""
+    out: list[Segment] = []
+    for it in items:
+        if isinstance(it, Pocket):
+            if bridge(it):
+                end = it.exit if it.exit is not None else (it.level, it.segments[-1].end[1])
+                out.append(Line(it.entry, end))
+            else:
+                out.extend(it.segments)
+        else:
+            out.append(it)
+    return out
+
+
+def pocket_items(chain: Sequence[Segment]) -> list["Segment | Pocket"]:
+    """The chain as a sequence of plain segments and :class:`Pocket` s."""
+    segs = split_x_extremes(chain)
+    hull: list = []
+    m = -math.inf
+    cur: list[Segment] | None = None
+    level = 0.0
+    entry: Point = (0.0, 0.0)
+    i = 0
+    work = list(segs)
+    while i < len(work):
+        s = work[i]
+        i += 1
+        if cur is None:
+            if s.end[0] < s.start[0] - TOL and s.start[0] >= m - TOL:
+                cur, level, entry = [s], max(m, s.start[0]), s.start
+            else:
+                hull.append(s)
+                m = max(m, s.start[0], s.end[0])
+            continue
+        # inside a pocket: does this segment climb back to the level?
+        if s.end[0] >= level - TOL and s.end[0] > s.start[0]:
+            if s.end[0] > level + TOL:
+                parts = _split_at_x(s, level)
+                if parts is not None:
+                    cur.append(parts[0])
+                    work.insert(i, parts[1])
+                    exit_ = parts[0].end
+                else:
+                    cur.append(s)
+                    exit_ = s.end
+            else:
+                cur.append(s)
+                exit_ = s.end
+            hull.append(_pocket(cur, level, entry, exit_))
+            cur = None
+            m = level
+            continue
+        cur.append(s)
+    if cur is not None:
+        hull.append(_pocket(cur, level, entry, None))
+    return hull
+
+
+def _pocket(segs: list[Segment], level: float, entry: Point, exit_: Point | None) -> Pocket:
+    md = 0.0
+    steep: list[Segment] = []
+    for s in segs:
+        d = max((descent_deg(t) for t in tangents(s)), default=0.0)
+        if d > md:
+            md = d
+        if d > 0:
+            steep.append(s)
+    bottom = min(s.bbox()[0] for s in segs)
+    return Pocket(segments=list(segs), level=level, entry=entry, exit=exit_, max_descent=md,
+                  bottom=bottom, steep_walls=steep)
+
+
+def max_descent(chain: Sequence[Segment]) -> float:
+    return max((descent_deg(t) for s in chain if s.length > 1e-9 for t in tangents(s)),
+               default=0.0)
+
+
+def square_groove(p: Pocket) -> tuple[float, float, float] | None:
+    """(z_left, z_right, x_bottom) when the pocket is a square groove: vertical walls (within
+    2 deg) and a flat bottom; None otherwise."""
+    if p.exit is None:
+        return None
+    bottom_x = p.bottom
+    for s in p.segments:
+        if isinstance(s, Arc):
+            return None
+        dx = s.end[0] - s.start[0]
+        dz = s.end[1] - s.start[1]
+        if abs(dz) < 1e-6:
+            continue  # a wall
+        if abs(dx) > 1e-6:
+            if abs(math.degrees(math.atan2(abs(dx), abs(dz)))) < 88.0:
+                return None
+            continue
+        if abs(s.start[0] - bottom_x) > 1e-6:
+            return None  # a flat at another level: a stepped groove
+    return (p.exit[1], p.entry[1], bottom_x)

@@ -1,0 +1,175 @@
+"""``generate``: part (file, loaded part or profile) + stock -> a checked HNC-21T program.
+
+Every program is run through the interpreter before it is returned (an alarm there is a bug
+of the generator and raises), and, when ``verify`` is true and the simulator is installed,
+simulated and compared with the model; a program that fails verification is refused with
+:class:`VerificationError` (exit code 1), so no failing program is ever written.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Mapping
+
+from ..errors import HncError, NCError, PlanError, StockError
+from ..geometry import TurnedProfile
+from ..tooling import Machine, Stock, ToolLibrary, load_machine, load_tools
+from .model import Plan
+from .planner import Options, make_plan
+
+
+class VerificationError(HncError):
+    """The generated program failed verification against its model (exit code 1)."""
+
+    exit_code = 1
+
+    def __init__(self, message: str, program: "Program | None" = None):
+        super().__init__(message)
+        self.program = program
+
+
+@dataclass
+class Program:
+    """A generated program: its text, the plan behind it, the interpreter's toolpath and,
+    when verified, the simulator's report."""
+    text: str
+    plan: Plan
+    toolpath: Any = None
+    report: Any = None
+    warnings: list[str] = field(default_factory=list)
+
+    @property
+    def cycle_time_s(self) -> float:
+        return float(self.toolpath.cycle_time_s) if self.toolpath is not None else 0.0
+
+    @property
+    def operations(self) -> list[str]:
+        return [f"{op.name} {op.cycle}" for op in self.plan.operations]
+
+    def summary(self) -> str:
+        t = self.cycle_time_s
+        s = (f"O{self.plan.program_number:04d} {self.plan.name}: "
+             f"{', '.join(self.operations)}; {self.text.count(chr(10))} lines; "
+             f"cycle time {t:.1f} s ({int(t // 60)}:{t % 60:04.1f})")
+        if self.report is not None:
+            s += "; verified: " + _report_line(self.report)
+        else:
+            s += "; not verified"
+        return s
+
+
+def _report_line(rep: Any) -> str:
+    ok = getattr(rep, "passed", getattr(rep, "pass_", getattr(rep, "ok", None)))
+    parts = ["pass" if ok else "FAIL"]
+    for attr, lab in (("max_overcut", "overcut"), ("max_undercut", "undercut")):
+        v = getattr(rep, attr, getattr(rep, attr + "_mm", None))
+        if v is not None:
+            parts.append(f"{lab} {float(v):.4f} mm")
+    return ", ".join(parts)
+
+
+def _load_part(part: Any, params: Mapping[str, str] | None):
+    """(profile, default stock, name, params) from a path, a LoadedPart or a profile."""
+    if isinstance(part, TurnedProfile):
+        if params:
+            raise PlanError("parameters given for a profile (they apply to part files only)")
+        return part, None, part.name, dict(part.params)
+    if isinstance(part, (str, Path)):
+        from ..cad import load_part
+        loaded = load_part(str(part), {k: str(v) for k, v in (params or {}).items()})
+    else:
+        loaded = part
+        if params:
+            raise PlanError("parameters given for an already loaded part")
+    prof = loaded.profile
+    threads = list(getattr(loaded, "threads", None) or [])
+    if threads and not prof.threads:
+        prof.threads = threads
+    name = getattr(loaded, "name", None) or prof.name
+    return prof, getattr(loaded, "stock", None), name, dict(getattr(loaded, "params", {}) or {})
+
+
+def _interpret(text: str, machine: Machine, file: str):
+    try:
+        from ..nc import run
+    except ImportError:
+        return None
+    try:
+        return run(text, machine=machine, file=file)
+    except NCError as e:
+        raise PlanError(f"internal error: the generated program raises an alarm in the "
+                        f"interpreter (a generator bug, please report): {e.one_line()}") from e
+
+
+def _verify(prof: TurnedProfile, plan: Plan, stock: Stock, toolpath, machine: Machine,
+            tools: ToolLibrary, tol: float):
+    try:
+        from .. import sim
+        simulate = sim.simulate
+        verify = sim.verify
+    except (ImportError, AttributeError):
+        return None
+    machined = simulate(toolpath, stock, machine=machine, model=prof)
+    return verify(machined, prof, tol=tol)
+
+
+def generate(part: Any, stock: str | Stock | None = None, *, params: Mapping[str, str] | None = None,
+             tools: str | Path | ToolLibrary | None = None,
+             machine: str | Path | Machine | None = None, comp: str = "cam",
+             templates: str | Path | None = None, program_number: int | None = None,
+             verify: bool = True, tol: float = 0.01, number_format: str = "plain",
+             block_numbers: str = "every", thread_cycle: str = "g76",
+             face_cycle: str = "g81", file: str = "<generated>") -> Program:
+    """Plan, render, interpret (and verify) a program for ``part``.
+
+    ``part``: a part file path (``parts/*.py``, ``.step``/``.stp``), a loaded part
+    (``hnc_cam.cad.load_part``) or a :class:`TurnedProfile` (the model itself, in which case
+    the profile's right face is program zero). ``stock``: a spec string or :class:`Stock`;
+    default: the part file's ``STOCK``. ``tools``/``machine``: files or loaded tables
+    (defaults: the bundled library, whose registers also fill the default machine).
+    """
+    from .. import __version__
+    from ..post import render
+
+    prof, default_stock, name, pparams = _load_part(part, params)
+    if stock is None:
+        stock = default_stock
+    if stock is None:
+        raise StockError(f"part {name}: no stock given and the part declares no STOCK")
+    st = stock if isinstance(stock, Stock) else Stock.parse(str(stock))
+    lib = tools if isinstance(tools, ToolLibrary) else load_tools(tools)
+    if isinstance(machine, Machine):
+        mach = machine
+    else:
+        mach = load_machine(machine, tools=lib)
+    if program_number is None:
+        program_number = 1
+    if not 0 <= int(program_number) <= 9999:
+        raise PlanError(f"program number {program_number} out of range 0-9999")
+    if thread_cycle not in ("g76", "g82"):
+        raise PlanError(f"thread cycle must be g76 or g82, got {thread_cycle!r}")
+    if face_cycle not in ("g81", "g01"):
+        raise PlanError(f"face cycle must be g81 or g01, got {face_cycle!r}")
+    opts = Options(comp=comp, program_number=int(program_number), thread_cycle=thread_cycle,
+                   face_cycle=face_cycle)
+    plan = make_plan(prof, st, lib, mach, opts, name=name, params=pparams, version=__version__)
+    text = render(plan, templates=templates, number_format=number_format,
+                  block_numbers=block_numbers)
+    tp = _interpret(text, mach, file)
+    prog = Program(text=text, plan=plan, toolpath=tp)
+    if tp is None:
+        prog.warnings.append("the interpreter is not available: program not run")
+        return prog
+    if verify:
+        rep = _verify(plan.profile, plan, st if st.kind != "offset" else st, tp, mach, lib, tol)
+        prog.report = rep
+        if rep is None:
+            prog.warnings.append("the simulator is not available: program not verified")
+        else:
+            ok = getattr(rep, "passed", getattr(rep, "pass_", getattr(rep, "ok", True)))
+            if not ok:
+                detail = rep.summary().replace("\n", "; ") if hasattr(rep, "summary") \
+                    else _report_line(rep)
+                raise VerificationError(f"{name}: the generated program fails verification "
+                                        f"(tol {tol:g} mm): {detail}", prog)
+    return prog

@@ -1,0 +1,204 @@
+"""The contours a program runs: part chains oriented and trimmed, lead-in and exit lines,
+the tool-nose compensated tip path (``--comp cam``, through :mod:`hnc_cam.compensate`),
+and their conversion to program blocks.
+
+Choices:
+
+* the outside chain runs from the right face toward the chuck and stops where it first
+  reaches the part's left end (the left face is the parting plane, not turned here);
+* a contour starts with a lead-in along -Z from the cycle's start Z down to the first profile
+  point, and ends with an exit line straight out in X at the last Z up to the start X, so
+  that the ns block is a one-axis G00 and the nf block leaves the material;
+* arcs are written with ``R`` when they sweep at most 170 deg, otherwise with ``I``/``K``
+  (radius values, start to centre); also with ``I``/``K`` when the arc starts at an X or Z
+  extreme (tangent parallel to an axis), so that the centre stays exactly where the extreme
+  is the start point (see :func:`ease_arc_ends` for the ends); a segment whose rounded end points coincide is dropped,
+  an arc with a chord under 0.01 mm is written as a line (its sagitta is then far below the
+  0.001 mm resolution of the program).
+"""
+from __future__ import annotations
+
+import math
+from typing import Sequence
+
+from ..errors import PlanError
+from ..geometry import Arc, Line, Point, Segment, same_point
+from .analysis import mirror_chain
+from .model import Block
+
+DEC = 3
+
+
+def orient(chain: Sequence[Segment], z_right: float) -> list[Segment]:
+    """The chain running from the right face toward the chuck."""
+    segs = list(chain)
+    if not segs:
+        return segs
+    if abs(segs[0].start[1] - z_right) > abs(segs[-1].end[1] - z_right) + 1e-9:
+        segs = [s.reversed() for s in reversed(segs)]
+    return segs
+
+
+def trim_left(chain: Sequence[Segment], z_left: float) -> list[Segment]:
+    """Cut the chain where it first reaches the left end ``z_left`` (drops the left face)."""
+    out: list[Segment] = []
+    for s in chain:
+        if s.length < 1e-9:
+            continue
+        if abs(s.start[1] - z_left) < 1e-6 and out and abs(out[-1].end[1] - z_left) < 1e-6:
+            break
+        if abs(s.start[1] - z_left) < 1e-6 and abs(s.end[1] - z_left) < 1e-6:
+            break  # a segment on the left face
+        out.append(s)
+        if abs(s.end[1] - z_left) < 1e-6:
+            break
+    return out
+
+
+def with_leads(chain: Sequence[Segment], z_start: float, x_exit: float) -> list[Segment]:
+    """Lead-in along Z from ``z_start`` to the first point, exit along X to ``x_exit``."""
+    segs = list(chain)
+    first, last = segs[0].start, segs[-1].end
+    out: list[Segment] = []
+    if z_start > first[1] + 1e-9:
+        out.append(Line((first[0], z_start), first))
+    out.extend(segs)
+    if abs(x_exit - last[0]) > 1e-9:
+        out.append(Line(last, (x_exit, last[1])))
+    return out
+
+
+def tip_path(contour: Sequence[Segment], radius: float, tip: int, bore: bool) -> list[Segment]:
+    """The imaginary-tip path of a tool with nose ``radius`` and ``tip`` code following the
+    part contour (OD toward -Z: tool on the right, G42 side; bore: G41 side).
+
+    The offset itself is :func:`hnc_cam.compensate.compensate` (one implementation, shared
+    with the interpreter's G41/G42); a feature the nose cannot reach is refused here.
+    """
+    if radius <= 0:
+        return list(contour)
+    try:
+        from ..compensate import compensate
+    except ImportError:
+        raise PlanError("--comp cam needs hnc_cam.compensate, which is not available in this "
+                        "installation; use --comp control") from None
+    side = "left" if bore else "right"
+    res = compensate(list(contour), radius, tip, side)
+    bad = [d for d in res.unreachable if d.kind != "end"]
+    if bad:
+        raise PlanError(f"the finishing tool (nose radius {radius:g}) cannot make "
+                        + "; ".join(d.message for d in bad))
+    return list(res.segments)
+
+
+def _r(v: float) -> float:
+    return round(v, DEC)
+
+
+def _key(p: Point) -> tuple[float, float]:
+    return (round(2 * p[0], DEC), round(p[1], DEC))
+
+
+#: largest deviation of a chord written for the end piece of an arc (mm)
+END_CHORD_SAG = 1e-4
+
+
+def _axis_parallel(t: Point) -> bool:
+    return abs(t[0]) < 1e-7 or abs(t[1]) < 1e-7
+
+
+def _tangent_join(t0: Point, t1: Point) -> bool:
+    return t0[0] * t1[0] + t0[1] * t1[1] > 0.9998
+
+
+def ease_arc_ends(segs: Sequence[Segment]) -> list[Segment]:
+    """Split off a short chord (sagitta <= 0.0001 mm) at each arc end where the arc's tangent
+    is parallel to an axis.
+
+    There the arc reaches an X or Z extreme exactly at its end; once the end points are
+    rounded to the program's 0.001 mm the recomputed arc could pass that extreme inside
+    itself by a few tenths of a micron, and the roughing cycles would see a profile that is not
+    monotonic. The chord keeps the written arc clear of the extreme.
+    """
+    out: list[Segment] = []
+    segs = list(segs)
+    for j, s in enumerate(segs):
+        if not isinstance(s, Arc):
+            out.append(s)
+            continue
+        r = s.radius
+        sweep = abs(s.sweep)
+        d = math.sqrt(8 * END_CHORD_SAG / r) if r > 0 else sweep
+        # only where the neighbour continues tangentially: a chord in a sharp concave corner
+        # would be a step too narrow for the control's nose-radius compensation
+        a = _axis_parallel(s.tangent_at_start()) and j > 0 and \
+            _tangent_join(segs[j - 1].tangent_at_end(), s.tangent_at_start())
+        b = _axis_parallel(s.tangent_at_end()) and j + 1 < len(segs) and \
+            _tangent_join(s.tangent_at_end(), segs[j + 1].tangent_at_start())
+        if not (a or b):
+            out.append(s)
+            continue
+        if sweep <= d * ((1 if a else 0) + (1 if b else 0)) * 1.5:
+            if r * (1 - math.cos(sweep / 2)) <= END_CHORD_SAG:
+                out.append(Line(s.start, s.end))
+                continue
+        t0 = (d / sweep) if a else 0.0
+        t1 = (1 - d / sweep) if b else 1.0
+        if t1 <= t0:
+            out.append(s)
+            continue
+        p0 = s.point_at(t0) if a else s.start
+        p1 = s.point_at(t1) if b else s.end
+        if a:
+            out.append(Line(s.start, p0))
+        out.append(Arc(p0, p1, s.center, s.cw))
+        if b:
+            out.append(Line(p1, s.end))
+    return out
+
+
+def to_blocks(contour: Sequence[Segment], first_axis: str, feed: float,
+              ns: str, nf: str) -> list[Block]:
+    """Program blocks for a contour: the first block is ``G00`` along ``first_axis`` ("x" or
+    "z") to the contour's first point, the rest G01/G02/G03 with end points; labels ``ns`` on
+    the first and ``nf`` on the last block."""
+    segs = ease_arc_ends(contour)
+    if not segs:
+        raise PlanError("empty contour")
+    p0 = segs[0].start
+    blocks = [Block(0, x=p0[0] if first_axis == "x" else None,
+                    z=p0[1] if first_axis == "z" else None, label=ns)]
+    cur = _key(p0)
+    fed = False
+    for s in segs:
+        k = _key(s.end)
+        if k == cur:
+            continue
+        if isinstance(s, Arc) and math.dist(s.start, s.end) >= 0.01:
+            sweep = abs(math.degrees(s.sweep))
+            g = 2 if s.cw else 3
+            if sweep <= 170.0 and not _axis_parallel(s.tangent_at_start()):
+                b = Block(g, x=s.end[0], z=s.end[1], r=s.radius)
+            else:
+                b = Block(g, x=s.end[0], z=s.end[1], i=s.center[0] - s.start[0],
+                          k=s.center[1] - s.start[1])
+        else:
+            b = Block(1, x=s.end[0], z=s.end[1])
+        if not fed:
+            b.feed = feed
+            fed = True
+        blocks.append(b)
+        cur = k
+    if len(blocks) < 2:
+        raise PlanError("contour too short to write")
+    if nf:
+        blocks[-1].label = nf
+    return blocks
+
+
+def mirror_if(chain: Sequence[Segment], bore: bool) -> list[Segment]:
+    return mirror_chain(chain) if bore else list(chain)
+
+
+def join_ok(chain: Sequence[Segment]) -> bool:
+    return all(same_point(a.end, b.start, 1e-5) for a, b in zip(chain, chain[1:]))

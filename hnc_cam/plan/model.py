@@ -1,0 +1,99 @@
+"""What the planner produces and the templates read: blocks, operations, the plan.
+
+Positions are (x radius, z) in work coordinates with program zero on the part's right face;
+the templates write X as a diameter (filter ``dia``).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+from ..geometry import Point, Segment
+from ..tooling import Machine, Stock, Tool
+
+
+@dataclass
+class Block:
+    """One motion block of a contour: G00/G01 with X and/or Z, or G02/G03 with R or I/K.
+
+    ``x``/``z`` None means the word is not written (a move along the other axis only, as the
+    ns block of a G71/G72 needs). ``label`` names the block for a P/Q reference.
+    """
+    g: int
+    x: float | None = None
+    z: float | None = None
+    r: float | None = None
+    i: float | None = None
+    k: float | None = None
+    label: str = ""
+    feed: float | None = None
+    comment: str = ""
+
+    @property
+    def gcode(self) -> str:
+        return f"G{self.g:02d}"
+
+
+@dataclass
+class Operation:
+    """One step of the program, rendered by ``template``.
+
+    ``name``: face | rough | bore_rough | finish | bore_finish | groove | thread.
+    ``cycle``: the code that does the work (G81, G01, G71, G71E, G72, G73, G76, G82, contour).
+    ``start``: the cycle start point A (or the approach point of a contour).
+    ``words``: the cycle's parameter words (numbers, internal units; templates format them).
+    ``blocks``: the contour blocks (finish operations), ``ns``/``nf``: their first/last labels.
+    ``passes``: facing Z levels, groove plunge positions, G82 pass diameters ...
+    """
+    name: str
+    cycle: str
+    template: str
+    tool: Tool
+    reason: str
+    start: Point
+    speed_mode: str = "G96"  # G96 (m/min) or G97 (rpm)
+    speed: float = 0.0
+    feed: float = 0.0  # mm/rev (G95)
+    words: dict[str, Any] = field(default_factory=dict)
+    blocks: list[Block] = field(default_factory=list)
+    ns: str = ""
+    nf: str = ""
+    comp: int = 40  # 40 (cam / none), 41, 42 (control)
+    passes: list[Any] = field(default_factory=list)
+    new_tool: bool = True
+    contour: list[Segment] = field(default_factory=list)  # program geometry of the blocks
+    retract: list[Point] = field(default_factory=list)  # after the operation, G00 in order
+
+    @property
+    def tool_word(self) -> str:
+        return f"T{self.tool.number:02d}{self.tool.register:02d}"
+
+
+@dataclass
+class Plan:
+    name: str
+    params: dict[str, Any]
+    stock: Stock
+    machine: Machine
+    comp: str  # cam | control
+    program_number: int
+    operations: list[Operation] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
+    version: str = ""
+    tool_change: Point = (100.0, 80.0)
+    profile: Any = None  # the TurnedProfile planned (program zero on the right face)
+    shift: float = 0.0  # Z shift applied to the model to put its right face at Z0
+
+    @property
+    def tools(self) -> list[Tool]:
+        seen: dict[int, Tool] = {}
+        for op in self.operations:
+            seen.setdefault(op.tool.number, op.tool)
+        return list(seen.values())
+
+    @property
+    def max_rpm(self) -> float:
+        return self.machine.max_rpm
+
+    def summary(self) -> str:
+        return ", ".join(f"{op.name} {op.cycle}" for op in self.operations)

@@ -1,0 +1,571 @@
+"""Operation choice: from a turned profile, a stock and a tool library to an ordered plan.
+
+Rules (each operation records its reason, which the program prints as a comment):
+
+* **Facing** when a bar or tube has face stock F > 0: G81 passes (or G01 passes) of at most
+  the tool's depth, ending exactly on Z0, with the first tool that lists ``face`` (else
+  ``rough``).
+* **OD roughing**
+  - ``offset:A`` stock (a near-net blank) -> ``G73`` with U = W = A and as many passes as the
+    tool's depth needs;
+  - otherwise the outside chain is analysed for *pockets* (stretches below the diameter
+    already reached, i.e. undercuts). A pocket whose steepest descending wall a turning tool
+    reaches (back clearance, see :mod:`hnc_cam.plan.tools`) stays in the contour; a square
+    groove no turning insert reaches is bridged and plunged with a grooving insert; anything
+    else is refused, naming the feature and the tool it needs;
+  - contour monotonic in X -> ``G71`` type I, unless the part is *face-dominated* (its
+    radial extent, largest minus smallest radius of the outside contour, exceeds its length)
+    -> ``G72``; a contour with pockets -> ``G71`` type II (``E``).
+* **ID roughing** of a bore from a tube: ``G71`` type I with a negative X allowance (type II
+  with a negative E for a bore with undercuts) with the boring bar; finished with the same or
+  a finishing boring bar.
+* **Finishing**: the ns..nf contour after roughing (tool change when the library's finishing
+  tool is another tool) at G96 surface speed; the spindle limit is the machine's max rpm,
+  which on the HNC-21T is a system parameter (manual 3.3.6), stated in the header.
+* **Threads** declared by the part: ``G76`` (or ``G82`` passes) to the standard's depth
+  (:attr:`hnc_cam.geometry.Thread.depth`), refused when the relief after the thread is
+  shorter than half the lead plus 0.2 mm.
+* Roughing allowances: 0.2 mm radial / 0.1 mm axial by default, increased where the roughing
+  tool, following the program contour uncompensated (``--comp control``) or the finishing
+  tool's tip path (``--comp cam``), would otherwise come closer than 0.1 mm to the part
+  (walls descending into undercuts); type II and G73 allow in X only.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any, Sequence
+
+from ..errors import PlanError
+from ..geometry import Line, Point, Segment, Thread, TurnedProfile
+from ..geometry.intersect import vertical_hits
+from ..tooling import Machine, Stock, Tool, ToolLibrary
+from . import analysis as an
+from . import contour as ct
+from .model import Operation, Plan
+from .tools import (back_reach, can_square_shoulder, describe, thread_pitch, thread_tools,
+                    turning_tools)
+
+
+@dataclass
+class Options:
+    comp: str = "cam"
+    program_number: int = 1
+    thread_cycle: str = "g76"  # g76 | g82
+    face_cycle: str = "g81"  # g81 | g01
+    clearance: float = 1.0  # radial clearance of start points above the stock, mm
+    z_clear: float = 2.0  # axial clearance in front of the face, mm
+    allowance_x: float = 0.2  # radial finishing allowance, mm
+    allowance_z: float = 0.1
+    margin: float = 0.1  # least stock the roughing tool leaves normal to the part, mm
+    retract: float = 0.5  # G71/G72 retract R, mm
+
+
+def _fmt(v: float) -> str:
+    return f"{v:.3f}".rstrip("0").rstrip(".")
+
+
+def _where(p: Point) -> str:
+    return f"X{_fmt(2 * abs(p[0]))} Z{_fmt(p[1])}"
+
+
+def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine: Machine,
+              opts: Options, *, name: str = "part", params: dict[str, Any] | None = None,
+              version: str = "") -> Plan:
+    if opts.comp not in ("cam", "control"):
+        raise PlanError(f"compensation mode must be cam or control, got {opts.comp!r}")
+    if not profile.outside:
+        raise PlanError(f"part {name}: the profile has no outside contour")
+    shift = -profile.z_max
+    outside = an.translate_chain(profile.outside, shift)
+    bore = an.translate_chain(profile.bore, shift) if profile.bore else None
+    threads = [Thread(t.z_start + shift, t.z_end + shift, t.diameter, t.pitch, t.starts,
+                      t.internal, t.standard, t.angle) for t in profile.threads]
+    prof = TurnedProfile(outside=outside, bore=bore, threads=threads, name=profile.name,
+                         params=dict(profile.params), notes=list(profile.notes))
+    z_min = prof.z_min
+    length = -z_min
+    od = ct.trim_left(ct.orient(outside, 0.0), z_min)
+    if not od:
+        raise PlanError(f"part {name}: the outside contour is empty after trimming")
+    an.check_turnable(od, f"part {name} outside")
+    r_max = max(max(s.bbox()[2] for s in od), 0.0)
+    bore_chain = None
+    if bore:
+        bore_chain = ct.trim_left(ct.orient(bore, 0.0), z_min)
+        an.check_turnable(an.mirror_chain(bore_chain), f"part {name} bore")
+
+    plan = Plan(name=name, params=dict(params or {}), stock=stock, machine=machine,
+                comp=opts.comp, program_number=opts.program_number, version=version,
+                tool_change=machine.tool_change, profile=prof, shift=shift)
+    if abs(shift) > 1e-9:
+        plan.notes.append(f"model shifted by {_fmt(shift)} mm in Z to put its right face at Z0")
+
+    # ---------------- stock against part ----------------
+    if stock.kind == "offset":
+        r_stock = r_max + stock.allowance
+        z_face = stock.allowance
+    else:
+        r_stock = stock.diameter / 2
+        z_face = stock.face
+        if r_stock < r_max - 1e-6:
+            raise PlanError(f"stock {stock.spec}: diameter {_fmt(stock.diameter)} is smaller than "
+                            f"the part's largest diameter {_fmt(2 * r_max)}")
+        if stock.z_left > z_min + 1e-6:
+            raise PlanError(f"stock {stock.spec} is too short: it reaches Z{_fmt(stock.z_left)}, "
+                            f"the part needs Z{_fmt(z_min)} (part length {_fmt(length)} mm"
+                            + (f" + {_fmt(stock.face)} mm face stock" if stock.face else "") + ")")
+        if stock.kind == "tube":
+            rb = stock.bore / 2
+            if not bore_chain:
+                raise PlanError(f"stock {stock.spec}: the tube's bore (diameter {_fmt(stock.bore)}) "
+                                f"cuts into the solid part {name}; use a bar")
+            rmin = min(s.bbox()[0] for s in bore_chain)
+            if rb > rmin + 1e-6:
+                raise PlanError(f"stock {stock.spec}: the tube's bore (diameter {_fmt(stock.bore)}) "
+                                f"is larger than the part's smallest bore diameter {_fmt(2 * rmin)}")
+        elif bore_chain:
+            raise PlanError(f"part {name} has a bore (diameter "
+                            f"{_fmt(2 * min(s.bbox()[0] for s in bore_chain))}) but the stock "
+                            f"{stock.spec} is a solid bar: give a tube stock D/dxL with a "
+                            f"pre-drilled hole (this planner does not drill)")
+
+    x_a = r_stock + opts.clearance  # OD start X (radius)
+    ops: list[Operation] = []
+
+    # ---------------- facing ----------------
+    if stock.kind in ("bar", "tube") and stock.face > 1e-6:
+        ft = (turning_tools(tools, "face") or turning_tools(tools, "rough"))
+        if not ft:
+            raise PlanError("facing the face stock needs a turning tool with uses 'face' or "
+                            "'rough' in the tool library; there is none")
+        t = ft[0]
+        n = max(1, math.ceil(stock.face / t.depth - 1e-9))
+        levels = [stock.face * (1 - i / n) for i in range(1, n + 1)]
+        levels[-1] = 0.0
+        x_end = 0.0 if stock.kind == "bar" else max(0.0, stock.bore / 2 - opts.clearance)
+        cyc = "G81" if opts.face_cycle == "g81" else "G01"
+        ops.append(Operation(
+            name="face", cycle=cyc, template="face.j2", tool=t,
+            reason=(f"stock has {_fmt(stock.face)} mm face stock: facing to Z0 in {n} "
+                    f"{cyc} pass{'es' if n > 1 else ''} of at most {_fmt(t.depth)} mm"),
+            start=(x_a, stock.face + opts.z_clear), speed=t.vc_rough, feed=t.feed_rough,
+            passes=levels, words={"x_end": x_end}))
+        z_face = 0.0
+    z_a = z_face + opts.z_clear
+
+    # ---------------- OD ----------------
+    od_ops, grooves = _plan_od(od, prof, stock, tools, opts, name, x_a, z_a, r_stock, length)
+
+    # ---------------- bore ----------------
+    bore_ops: list[Operation] = []
+    if bore_chain:
+        bore_ops = _plan_bore(bore_chain, stock, tools, opts, name, z_a)
+
+    rough_od, finish_od = od_ops
+    ops.append(rough_od)
+    if finish_od.tool.number == rough_od.tool.number:
+        finish_od.new_tool = False
+        ops.append(finish_od)
+        ops.extend(bore_ops)
+    else:
+        ops.extend(bore_ops)
+        ops.append(finish_od)
+    ops.extend(grooves)
+
+    # ---------------- threads ----------------
+    for th in prof.threads:
+        ops.append(_plan_thread(th, od, bore_chain, stock, tools, machine, opts, r_stock))
+
+    prev = None
+    for op in ops:
+        if prev is not None and prev.tool.number == op.tool.number:
+            op.new_tool = False
+        prev = op
+    plan.operations = ops
+    return plan
+
+
+# ------------------------------------------------------------------------------------------
+# OD
+# ------------------------------------------------------------------------------------------
+
+def _pocket_text(p: an.Pocket, bore: bool = False) -> str:
+    kind = "bore undercut" if bore else "undercut"
+    return (f"{kind} from Z{_fmt(p.z_right)} to Z{_fmt(p.z_left)} down to diameter "
+            f"{_fmt(2 * abs(p.bottom))} (walls descending at up to {p.max_descent:.0f} deg)")
+
+
+def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibrary,
+             opts: Options, name: str, x_a: float, z_a: float, r_stock: float,
+             length: float) -> tuple[tuple[Operation, Operation], list[Operation]]:
+    items = an.pocket_items(od)
+    pockets = [it for it in items if isinstance(it, an.Pocket)]
+    finishers = [t for t in turning_tools(lib, "finish") if can_square_shoulder(t)]
+    roughers = [t for t in turning_tools(lib, "rough") if can_square_shoulder(t)]
+    if not finishers:
+        raise PlanError("the tool library has no OD finishing tool (kind turn, uses 'finish')")
+    if not roughers:
+        raise PlanError("the tool library has no OD roughing tool (kind turn, uses 'rough')")
+    best_reach = max(back_reach(t) for t in finishers)
+    grooving = [t for t in lib.tools if t.kind == "groove"]
+    groove_ops: list[Operation] = []
+    bridged: set[int] = set()
+    profilers = [t for t in lib.tools if t.kind == "turn" and
+                 ("profile" in t.uses or "finish" in t.uses)]
+    end_ops: list[Operation] = []
+    for p in pockets:
+        if p.exit is None and stock.kind != "offset" and len(pockets) == 1 + len(end_ops) - 0 \
+                and p is pockets[-1]:
+            # an open pocket at the left end (e.g. the chamfer of the left edge): bridged in
+            # the main contour and profiled afterwards with a tool that reaches it, when it
+            # is shallow enough for one pass
+            pt = [t for t in profilers if back_reach(t) >= p.max_descent - 1e-9
+                  and t.depth >= p.depth - 1e-9]
+            if pt:
+                bridged.add(id(p))
+                end_ops.append(_end_pocket_op(p, pt[0], opts, x_a, name))
+                continue
+        if stock.kind != "offset" and p.max_descent <= best_reach + 1e-9 \
+                and any(back_reach(t) >= p.max_descent - 1e-9 and t in roughers for t in finishers):
+            continue  # turned: kept in the contour (G71 type II)
+        if stock.kind == "offset" and p.max_descent <= best_reach + 1e-9:
+            continue
+        sq = an.square_groove(p)
+        if sq is None:
+            need = p.max_descent + 2.0
+            raise PlanError(f"part {name}: {_pocket_text(p)}: no tool in the library can reach "
+                            f"it; it needs a turning tool whose trailing edge clears {need:.0f} deg "
+                            f"(e.g. a 35 deg VNMG in a 93 deg holder reaches 50 deg)"
+                            + ("" if p.max_descent < 89 else " or a form/grooving tool for this shape"))
+        z_l, z_r, x_b = sq
+        width = z_r - z_l
+        fits = [t for t in grooving if 0 < t.insert.width <= width + 1e-9]
+        if not fits:
+            have = ", ".join(f"T{t.number:02d} {t.insert.width:g} mm" for t in grooving) or "none"
+            raise PlanError(f"part {name}: square groove from Z{_fmt(z_r)} to Z{_fmt(z_l)} "
+                            f"({_fmt(width)} mm wide, down to diameter {_fmt(2 * x_b)}) is "
+                            f"unreachable: no tool in the library can cut it; it needs a grooving "
+                            f"insert at most {_fmt(width)} mm wide (grooving tools in the library: {have})")
+        t = max(fits, key=lambda t: t.insert.width)
+        bridged.add(id(p))
+        groove_ops.append(_groove_op(t, z_l, z_r, x_b, p.level, x_a))
+    contour = an.assemble(items, bridge=lambda p: id(p) in bridged)
+    groove_ops = end_ops + groove_ops
+    monotonic = an.is_monotonic(contour)
+    reach_needed = an.max_descent(contour)
+    fin = [t for t in finishers if back_reach(t) >= reach_needed - 1e-9]
+    if not fin:
+        raise PlanError(f"part {name}: no finishing tool reaches walls descending at "
+                        f"{reach_needed:.0f} deg")
+    finisher = fin[0]
+    if monotonic:
+        rougher = roughers[0]
+    elif "rough" in finisher.uses:
+        rougher = finisher
+    else:
+        rr = [t for t in roughers if back_reach(t) >= reach_needed - 1e-9]
+        if not rr:
+            raise PlanError(f"part {name}: no roughing tool reaches walls descending at "
+                            f"{reach_needed:.0f} deg")
+        rougher = rr[0]
+
+    xs = [s.bbox()[0] for s in contour]
+    radial_extent = r_stock - min(xs)
+    x0 = contour[0].start[0]
+    if stock.kind == "offset":
+        cycle, tmpl = "G73", "g73.j2"
+        reason = (f"near-net blank (stock {stock.spec}): G73 repeats the contour "
+                  f"offset by the blank allowance")
+        base_dir = (1.0, 0.0)
+    elif monotonic and radial_extent > length:
+        cycle, tmpl = "G72", "g72.j2"
+        reason = (f"face-dominated: radial extent {_fmt(radial_extent)} mm > length "
+                  f"{_fmt(length)} mm, so G72 passes parallel to X")
+        base_dir = (opts.allowance_x, opts.allowance_z)
+    elif monotonic:
+        cycle, tmpl = "G71", "g71.j2"
+        reason = "outside contour monotonic in X: G71 type I"
+        if bridged:
+            reason += f" (with {len(bridged)} groove(s) bridged, plunged later)"
+        base_dir = (opts.allowance_x, opts.allowance_z)
+    else:
+        cycle, tmpl = "G71E", "g71_type2.j2"
+        kept = [p for p in pockets if id(p) not in bridged]
+        reason = ("undercuts the tool reaches: G71 type II (E); "
+                  + "; ".join(_pocket_text(p) for p in kept)
+                  + f"; {describe(rougher)} reaches {back_reach(rougher):.0f} deg")
+        base_dir = (1.0, 0.0)
+
+    base = ct.with_leads(contour, z_a, x_a)
+    if opts.comp == "cam":
+        prog = ct.tip_path(base, finisher.nose_radius, finisher.tip, bore=False)
+        delta = rougher.nose_radius - finisher.nose_radius
+    else:
+        prog = base
+        delta = rougher.nose_radius
+    ax, az = _allowance(contour, delta, base_dir, opts, what=f"part {name} outside")
+    ns, nf = "od_ns", "od_nf"
+    if cycle == "G72":
+        prog_run = [s.reversed() for s in reversed(prog)]
+        first_axis, comp = "z", 41
+    else:
+        prog_run, first_axis, comp = prog, "x", 42
+    blocks = ct.to_blocks(prog_run, first_axis, finisher.feed_finish, ns, nf)
+    if opts.comp == "cam":
+        comp = 40
+    words: dict[str, Any] = {"U": rougher.depth, "R": opts.retract, "X": ax, "Z": az,
+                             "E": ax, "W": rougher.depth}
+    if cycle == "G73":
+        a = stock.allowance
+        words.update(U=a, W=a, R=max(1, math.ceil(a / rougher.depth - 1e-9)))
+    if cycle == "G72":
+        words.update(W=rougher.depth)
+    start = (x_a, z_a)
+    rough = Operation(name="rough", cycle=cycle, template=tmpl, tool=rougher, reason=reason,
+                      start=start, speed=rougher.vc_rough, feed=rougher.feed_rough, words=words,
+                      ns=ns, nf=nf)
+    last = prog_run[-1].end
+    if cycle == "G72":
+        retract = [(x_a, z_a)]
+    else:
+        retract = [(x_a, last[1]), (x_a, z_a)]
+    finish = Operation(name="finish", cycle="contour", template="finish.j2", tool=finisher,
+                       reason=(f"finish the outside contour with {describe(finisher)}"
+                               + (" (tip path of this tool, G40)" if opts.comp == "cam"
+                                  else f" (G{comp} from register {finisher.register})")),
+                       start=start, speed=finisher.vc_finish, feed=finisher.feed_finish,
+                       blocks=blocks, ns=ns, nf=nf, comp=comp, contour=prog_run,
+                       retract=retract)
+    return (rough, finish), groove_ops
+
+
+def _end_pocket_op(p: an.Pocket, t: Tool, opts: Options, x_a: float, name: str) -> Operation:
+    """Profile an open pocket at the left end (bridged in the main contour) in one pass."""
+    z_in = p.entry[1] + 1.0
+    base = [Line((p.entry[0], z_in), p.entry)] + list(p.segments)
+    last = base[-1].end
+    base.append(Line(last, (x_a, last[1])))
+    if opts.comp == "cam":
+        prog = ct.tip_path(base, t.nose_radius, t.tip, bore=False)
+        comp = 40
+    else:
+        prog = base
+        comp = 42
+    blocks = ct.to_blocks(prog, "x", t.feed_finish, "", "")
+    return Operation(
+        name="profile", cycle="contour", template="finish.j2", tool=t,
+        reason=(f"{_pocket_text(p)} at the left end: one pass with {describe(t)}, which "
+                f"reaches {back_reach(t):.0f} deg (bridged in the roughing contour)"),
+        start=(x_a, z_in), speed=t.vc_finish, feed=t.feed_finish, blocks=blocks, comp=comp,
+        contour=prog, retract=[(x_a, last[1]), (x_a, z_in)])
+
+
+def _allowance(chain: Sequence[Segment], delta: float, base: Point, opts: Options,
+               what: str) -> tuple[float, float]:
+    """Radial and axial finishing allowance (ax, az) along ``base`` direction, scaled so that
+    the roughing tool stays >= margin from the part where the allowance can act (see the
+    module docstring). ``chain`` is OD-normalised."""
+    bx, bz = base
+    if bz == 0:
+        bx = opts.allowance_x
+    scale = 1.0
+    for s in chain:
+        if s.length < 1e-9:
+            continue
+        for n in an.normals(s):
+            g = delta * (1.0 - (n[0] + n[1]))  # gouge the tool offset would cause
+            ns_ = n[0] * bx + n[1] * bz
+            if ns_ > 0.05 * math.hypot(bx, bz):
+                scale = max(scale, (opts.margin + g) / ns_)
+            elif g > 0.002:
+                raise PlanError(f"{what}: the roughing tool would cut {g:.3f} mm into the wall at "
+                                f"{_where(s.start)} and no finishing allowance can prevent it; "
+                                f"use the same tool for roughing and finishing")
+    return bx * scale, bz * scale
+
+
+def _groove_op(t: Tool, z_l: float, z_r: float, x_b: float, level: float,
+               x_a: float) -> Operation:
+    w = t.insert.width
+    first, last = z_r - w, z_l
+    step = max(0.1 * w, w - 2 * t.nose_radius - 0.05)
+    n = max(1, math.ceil((first - last) / step - 1e-9) + 1) if first - last > 1e-9 else 1
+    pos = [first - (first - last) * i / (n - 1) for i in range(n)] if n > 1 else [last]
+    return Operation(
+        name="groove", cycle="G01", template="groove.j2", tool=t,
+        reason=(f"square groove Z{_fmt(z_r)}..Z{_fmt(z_l)} to diameter {_fmt(2 * x_b)}: walls "
+                f"steeper than any turning insert reaches, plunged with {describe(t)} in "
+                f"{len(pos)} plunge{'s' if len(pos) > 1 else ''}"),
+        start=(x_a, pos[0]), speed=t.vc_finish, feed=t.feed_finish, passes=pos,
+        words={"x_bottom": x_b, "x_clear": level + 0.5})
+
+
+# ------------------------------------------------------------------------------------------
+# bore
+# ------------------------------------------------------------------------------------------
+
+def _plan_bore(chain: list[Segment], stock: Stock, lib: ToolLibrary, opts: Options, name: str,
+               z_a: float) -> list[Operation]:
+    rb = stock.bore / 2
+    bars = [t for t in lib.tools if t.kind == "bore" and "rough" in t.uses]
+    if not bars:
+        raise PlanError(f"part {name} has a bore: the tool library has no boring bar "
+                        f"(kind bore, uses 'rough')")
+    fits = [t for t in bars if t.min_bore <= stock.bore + 1e-9]
+    if not fits:
+        t = min(bars, key=lambda t: t.min_bore)
+        raise PlanError(f"part {name}: the stock's hole (diameter {_fmt(stock.bore)}) is smaller "
+                        f"than the smallest bore the boring bar T{t.number:02d} enters (diameter "
+                        f"{_fmt(t.min_bore)}): it needs a boring bar for diameter "
+                        f"{_fmt(stock.bore)} or a larger pre-drilled hole")
+    norm = an.mirror_chain(chain)
+    items = an.pocket_items(norm)
+    pockets = [it for it in items if isinstance(it, an.Pocket)]
+    monotonic = not pockets
+    need = an.max_descent(norm)
+    ok = [t for t in fits if back_reach(t) >= need - 1e-9]
+    if not ok:
+        p = max(pockets, key=lambda p: p.max_descent)
+        q = an.Pocket([an.mirror_x(s) for s in p.segments], -p.level, (-p.entry[0], p.entry[1]),
+                      None if p.exit is None else (-p.exit[0], p.exit[1]), p.max_descent,
+                      -p.bottom)
+        raise PlanError(f"part {name}: {_pocket_text(q, bore=True)}: no boring bar in the library "
+                        f"reaches it; it needs a boring bar whose trailing edge clears "
+                        f"{need + 2:.0f} deg")
+    rough_t = ok[0]
+    fin = [t for t in ok if "finish" in t.uses]
+    fin_t = rough_t if "finish" in rough_t.uses else (fin[0] if fin else rough_t)
+    x_a = max(0.0, rb - opts.clearance)
+    base = ct.with_leads(chain, z_a, x_a)
+    if opts.comp == "cam":
+        prog = ct.tip_path(base, fin_t.nose_radius, fin_t.tip, bore=True)
+        delta = rough_t.nose_radius - fin_t.nose_radius
+        comp = 40
+    else:
+        prog = base
+        delta = rough_t.nose_radius
+        comp = 41
+    base_dir = (opts.allowance_x, opts.allowance_z) if monotonic else (1.0, 0.0)
+    ax, az = _allowance(norm, delta, base_dir, opts, what=f"part {name} bore")
+    ns, nf = "id_ns", "id_nf"
+    blocks = ct.to_blocks(prog, "x", fin_t.feed_finish, ns, nf)
+    cycle = "G71" if monotonic else "G71E"
+    start = (x_a, z_a)
+    rough = Operation(
+        name="bore_rough", cycle=cycle, template="bore.j2", tool=rough_t,
+        reason=(f"tube stock {stock.spec}: bore roughed with {describe(rough_t)}, "
+                + ("G71 type I with a negative X allowance" if monotonic
+                   else "G71 type II with a negative E (bore undercuts)")),
+        start=start, speed=rough_t.vc_rough, feed=rough_t.feed_rough, ns=ns, nf=nf,
+        words={"U": rough_t.depth, "R": opts.retract, "X": -ax, "Z": az, "E": -ax})
+    last = prog[-1].end
+    finish = Operation(
+        name="bore_finish", cycle="contour", template="finish.j2", tool=fin_t,
+        reason=(f"finish the bore with {describe(fin_t)}"
+                + (" (tip path of this tool, G40)" if opts.comp == "cam"
+                   else f" (G41 from register {fin_t.register})")),
+        start=start, speed=fin_t.vc_finish, feed=fin_t.feed_finish, blocks=blocks, ns=ns,
+        nf=nf, comp=comp, contour=prog, retract=[(x_a, last[1]), (x_a, z_a)])
+    return [rough, finish]
+
+
+# ------------------------------------------------------------------------------------------
+# threads
+# ------------------------------------------------------------------------------------------
+
+def _radius_at(chain: Sequence[Segment], z: float, inner: bool) -> float | None:
+    hits = [x for _i, x in vertical_hits(chain, z)]
+    if not hits:
+        return None
+    return min(hits) if inner else max(hits)
+
+
+def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stock: Stock,
+                 lib: ToolLibrary, machine: Machine, opts: Options, r_stock: float) -> Operation:
+    label = (f"{'internal' if th.internal else 'external'} thread M{_fmt(th.diameter)}x"
+             f"{_fmt(th.pitch)}" + (f" {th.starts}-start" if th.starts > 1 else "")
+             + f" from Z{_fmt(th.z_start)} to Z{_fmt(th.z_end)}")
+    cands = thread_tools(lib, th.internal)
+    if not cands:
+        raise PlanError(f"{label}: no {'internal' if th.internal else 'external'} threading tool "
+                        f"in the library (needs e.g. "
+                        f"{'11IR' if th.internal else '16ER'}{_fmt(th.pitch)}ISO)")
+    fits = [t for t in cands if thread_pitch(t) in (None, th.pitch)
+            and abs(t.insert.angle - th.angle) < 1e-6]
+    if not fits:
+        have = ", ".join(f"T{t.number:02d} {t.insert.code}" for t in cands)
+        raise PlanError(f"{label}: no threading insert in the library for pitch {_fmt(th.pitch)} "
+                        f"and {th.angle:g} deg (have {have}); needs e.g. "
+                        f"{'11IR' if th.internal else '16ER'}{_fmt(th.pitch)}ISO")
+    t = fits[0]
+    chain = bore if th.internal else od
+    if chain is None:
+        raise PlanError(f"{label}: the part has no bore for an internal thread")
+    sgn = -1.0 if th.internal else 1.0
+    r_major = th.diameter / 2
+    depth = th.depth
+    r_root = r_major - depth if not th.internal else r_major
+    r_crest = r_major if not th.internal else r_major - depth  # the surface the thread is cut in
+    z_lo = min(th.z_start, th.z_end)
+    z_hi = max(th.z_start, th.z_end)
+    # the thread zone must not lie under a larger diameter (smaller for internal)
+    n = 40
+    for i in range(n + 1):
+        z = z_hi - (z_hi - z_lo) * i / n
+        r = _radius_at(chain, z, th.internal)
+        if r is not None and sgn * (r - r_crest) > 0.01:
+            raise PlanError(f"{label}: the part is at diameter {_fmt(2 * r)} at Z{_fmt(z)}, "
+                            f"beyond the thread's diameter {_fmt(2 * r_crest)}")
+    # relief after the thread end
+    lead = th.lead
+    need = 0.5 * lead + 0.2
+    z_wall = None
+    step = min(0.05, lead / 20)
+    z = z_lo
+    z_stop = stock.z_left if stock.kind != "offset" else z_lo - 10 * lead
+    part_left = min(s.bbox()[1] for s in chain)
+    while z > z_lo - need - step:
+        z -= step
+        if z < part_left - 1e-9:
+            # beyond the part: the remaining stock (bar) is a wall at the part's left end
+            if stock.kind != "offset" and z > z_stop:
+                z_wall = part_left
+            break
+        r = _radius_at(chain, z, th.internal)
+        if r is not None and sgn * (r - r_root) > 0.005:
+            z_wall = z
+            break
+    if z_wall is not None and z_lo - z_wall < need - 1e-9:
+        raise PlanError(f"{label} is longer than the relief allows: it ends "
+                        f"{_fmt(max(0.0, z_lo - z_wall))} mm before the wall at Z{_fmt(z_wall)}, and "
+                        f"the threading insert needs {_fmt(need)} mm (half the lead plus 0.2 mm)")
+    # start point: clear of everything to the right of the thread
+    xs = [s.bbox()[2] if not th.internal else s.bbox()[0] for s in chain
+          if s.bbox()[3] >= z_hi - 1e-9]
+    if th.internal:
+        x_a = min([r_crest] + xs) - opts.clearance
+        x_a = max(0.0, x_a)
+    else:
+        x_a = max([r_crest] + xs) + opts.clearance
+    z_a = max(z_hi, 0.0) + max(3.0, 2 * lead)
+    rpm = min(t.rpm or 500.0, machine.max_rpm)
+    q = round(min(0.5, max(0.1, depth * 0.4)), 3)
+    words: dict[str, Any] = {
+        "C": 1, "R": 0.0, "E": 0.0, "A": th.angle, "X": r_root, "Z": z_lo, "K": depth,
+        "U": 0.05, "V": 0.05, "Q": q, "F": lead, "starts": th.starts,
+        "angles": [360.0 * i / th.starts for i in range(th.starts)],
+    }
+    if opts.thread_cycle == "g82":
+        npass = max(3, math.ceil((depth / q) ** 2))
+        passes = [r_crest - sgn * depth * math.sqrt(i / npass) for i in range(1, npass + 1)]
+        passes.append(passes[-1])  # spring pass
+        cycle, tmpl = "G82", "g82.j2"
+    else:
+        passes = []
+        cycle, tmpl = "G76", "g76.j2"
+    return Operation(
+        name="thread", cycle=cycle, template=tmpl, tool=t,
+        reason=(f"{label}: {cycle}, depth {_fmt(depth)} mm ("
+                f"{'0.5413' if th.internal else '0.6134'} x pitch), with {describe(t)}"),
+        start=(x_a, z_a), speed_mode="G97", speed=rpm, feed=lead, words=words, passes=passes)
