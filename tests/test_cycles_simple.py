@@ -376,3 +376,137 @@ def test_dispatch_through_cycles_module():
     cycles.execute(80, ctx)
     assert len(ctx.moves) == 4
     assert cycles_simple.THREAD_ANGLES == (80, 60, 55, 30, 29, 0)
+
+
+# ----------------------------------------------------------------------------- end to end
+# The manual's examples through the interpreter (hnc_cam.nc.run); positions in the
+# assertions are diameters, as the programs and their comments give them.
+
+def _interp():
+    return pytest.importorskip("hnc_cam.nc.interp", reason="the interpreter core is not there yet")
+
+
+def _moves(path, op=None, **kw):
+    interp = _interp()
+    tp = interp.run(path.read_text(), file=str(path), **kw)
+    return tp, [m for m in tp.moves if op is None or m.op == op]
+
+
+def _dia(p):
+    return (round(2 * p[0], 6), round(p[1], 6))
+
+
+def _threads(moves):
+    return [m for m in moves if m.kind == "thread"]
+
+
+def test_3317_g80_legs_reach_the_commented_diameters(manual):
+    # the tool is assumed at A = X40 Z3 (header); each cycle cuts 3 mm more on diameter
+    tp, ms = _moves(manual("3317.nc"), "G80", start=(20.0, 3.0))
+    cuts = [m for m in ms if m.kind == "line"]
+    b_to_c, c_to_d = cuts[0::2], cuts[1::2]
+    assert [_dia(m.start) for m in b_to_c] == [(19.0, 3.0), (16.0, 3.0), (13.0, 3.0)]
+    assert [_dia(m.end) for m in b_to_c] == [(30.0, -30.0), (27.0, -30.0), (24.0, -30.0)]
+    assert all(_dia(m.end) == (40.0, -30.0) for m in c_to_d)
+    ends = [m.end[0] * 2 for m in b_to_c]
+    assert [a - b for a, b in zip(ends, ends[1:])] == pytest.approx([3, 3])
+    # last pass: the finished taper from dia 14 at Z0 to dia 24 at Z-30 lies on B->C
+    last = b_to_c[-1]
+    x_at_0 = last.start[0] + (last.end[0] - last.start[0]) * (0 - last.start[1]) / (last.end[1] - last.start[1])
+    assert 2 * x_at_0 == pytest.approx(14.0)
+    assert all(m.kind == "rapid" for m in ms if m not in cuts)
+    assert all(m.feed == pytest.approx(100) for m in cuts)  # F100 kept by the modal cycle
+    assert _dia(tp.moves[-1].end) == (40.0, 3.0)
+
+
+def test_3320_g81_legs_reach_the_commented_depths(manual):
+    tp, ms = _moves(manual("3320.nc"), "G81")
+    cuts = [m for m in ms if m.kind == "line"]
+    b_to_c = cuts[0::2]
+    assert [_dia(m.end) for m in b_to_c] == [(25.0, 31.5), (25.0, 29.5), (25.0, 27.5), (25.0, 25.5)]
+    assert [_dia(m.start) for m in b_to_c] == [(60.0, 28.0), (60.0, 26.0), (60.0, 24.0), (60.0, 22.0)]
+    assert all(_dia(m.end) == (25.0, 45.0) for m in cuts[1::2])  # C->D feed back to Z of A
+    assert _dia(ms[-1].end) == (60.0, 45.0)
+    # fig. 3.3.20: the last cone passes dia 55 at Z22.5 (3 below the Z25.5 shoulder)
+    b, c = b_to_c[-1].start, b_to_c[-1].end
+    z55 = b[1] + (c[1] - b[1]) * (b[0] - 27.5) / (b[0] - c[0])
+    assert z55 == pytest.approx(22.5)
+
+
+def test_3312_vs_3323_same_depths_two_starts(manual):
+    _, g32 = _moves(manual("3312.nc"), "G32")
+    _, g82 = _moves(manual("3323.nc"), "G82")
+    t32, t82 = _threads(g32), _threads(g82)
+    # 3312: four G32 passes Z101.5 -> Z19 at dia 29.2, 28.6, 28.2, 28.04 (0.8/0.6/0.4/0.16)
+    assert [_dia(m.start) for m in t32] == [(29.2, 101.5), (28.6, 101.5), (28.2, 101.5), (28.04, 101.5)]
+    assert all(_dia(m.end)[1] == 19.0 and m.end[0] == m.start[0] for m in t32)
+    d32 = [2 * m.end[0] for m in t32]
+    assert [a - b for a, b in zip([30.0] + d32, d32)] == pytest.approx([0.8, 0.6, 0.4, 0.16])
+    assert all(m.lead == 1.5 and m.angle == 0 and m.thread_angle == 60 for m in t32)
+    # 3323: the same four depths, each cut for two starts at spindle angles 0 and 180, lead 3
+    assert [2 * m.end[0] for m in t82] == pytest.approx([d for d in d32 for _ in (0, 1)])
+    assert [m.angle for m in t82] == [0, 180] * 4
+    assert all(m.lead == 3 and _dia(m.start)[1] == 104.0 and _dia(m.end)[1] == 18.5 for m in t82)
+    # each start is a complete A->B->C->D->A loop: back on A = X35 Z104 between the starts
+    loops = [i for i, m in enumerate(g82) if m.kind == "thread"]
+    for i in loops:
+        assert _dia(g82[i - 1].end) == _dia(g82[i].start)  # rapid A->B ends on the thread start
+        assert (g82[i + 1].kind, _dia(g82[i + 1].end)) == ("rapid", (35.0, 18.5))  # C->D
+        assert (g82[i + 2].kind, _dia(g82[i + 2].end)) == ("rapid", (35.0, 104.0))  # D->A
+
+
+def test_3346_threads_three_starts_at_the_stated_depths(manual):
+    tp, ms = _moves(manual("3346.nc"))
+    g82 = _threads([m for m in ms if m.op == "G82"])
+    g76 = _threads([m for m in ms if m.op == "G76"])
+    main82, run82 = g82[0::2], g82[1::2]
+    # N38..N41: X19.3 / 18.9 / 18.7 / 18.7, depth 0.7, 0.4, 0.2 (diameter) from the dia 20 crest
+    d = [2 * m.end[0] for m in main82[0::2]]
+    assert d == pytest.approx([19.3, 18.9, 18.7, 18.7])
+    assert [a - b for a, b in zip([20.0] + d, d)][:3] == pytest.approx([0.7, 0.4, 0.2])
+    assert [m.angle for m in main82] == [0, 120] * 4
+    # run-out R-3 E1: from the thread end Z-20 to Z-23, 1 mm out on radius
+    assert all(_dia(r.end) == (round(2 * m.end[0] + 2, 6), -23.0) for m, r in zip(main82, run82))
+    # N42 G76 K0.65 U0.1 Q0.6 P240: Q > K-U, so the first pass lies on K-U = 0.55, then C2 at K
+    main76 = g76[0::2]
+    crest = 18.7 / 2 + 0.65
+    assert [crest - m.end[0] for m in main76] == pytest.approx([0.55, 0.65, 0.65])
+    assert {m.angle for m in g76} == {240}
+    # together the three starts of M20x1 three-start: 0, 120, 240
+    assert {m.angle for m in g82} | {m.angle for m in g76} == {0, 120, 240}
+    assert all(m.thread_angle == 60 and m.lead == 3 for m in g82 + g76)
+    assert _dia(next(m for m in reversed(ms) if m.op == "G76").end) == (30.0, 5.0)
+
+
+def test_3338_g76_depths_follow_dd_sqrt_n(manual):
+    tp, ms = _moves(manual("3338.nc"), "G76")
+    th = _threads(ms)
+    main, runs = th[0::2], th[1::2]
+    k, d, q = 1.299, 0.1, 0.9
+    crest_c = 58.15 / 2 + k
+    depths = [crest_c - m.end[0] for m in main]
+    assert depths[0] == pytest.approx(q * math.sqrt(1))  # pass 1: Δd
+    assert q * math.sqrt(2) > k - d and depths[1] == pytest.approx(k - d)  # pass 2 capped at K-d
+    assert depths[2:] == pytest.approx([k, k])  # C2 finishing passes at K: the root X58.15
+    assert _dia(main[-1].end)[0] == 58.15
+    tan30 = math.tan(math.radians(30))
+    for m, t in zip(main, depths):
+        assert m.end[1] == pytest.approx(-24 - t * tan30)  # single-flank shift toward -Z
+        assert m.start[0] == pytest.approx(m.end[0] - 0.94)  # taper I-0.94 (radius)
+        assert m.lead == 2 and m.thread_angle == 60
+    for m, r in zip(main, runs):  # run-out R-3 E1.3
+        assert (r.end[0] - m.end[0], r.end[1] - m.end[1]) == pytest.approx((1.3, -3))
+    assert _dia(ms[-1].end) == (90.0, 4.0)
+    assert all(m.kind in ("rapid", "thread") for m in ms)
+
+
+def test_alarm_through_the_interpreter_names_the_block():
+    interp = _interp()
+    prog = "%1\nG00 X30 Z5\nG76 C1 A45 X18 Z-20 K1 U0.1 V0.1 Q0.3 F2\nM30\n"
+    with pytest.raises(NCError) as e:
+        interp.run(prog)
+    assert e.value.line == 3 and "A45" in e.value.message
+    with pytest.raises(NCError, match="incremental U"):
+        interp.run("%1\nG00 X30 Z5\nG80 U-2 Z-20 F100\nM30\n")
+    with pytest.raises(NCError, match="lead 0"):
+        interp.run("%1\nG00 X30 Z5\nG32 Z-20 F0\nM30\n")
