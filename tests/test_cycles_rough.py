@@ -723,3 +723,134 @@ def test_3335_g73_end_to_end(manual):
     for m in ms:
         assert not LineString([(p[1], p[0]) for p in _pts(m.segment())]).intersects(part_in), m
     ends_on_profile(tp, segs[1:], profile_lines(manual("3335.nc").read_text()))
+
+
+# --- own programs: every quadrant of G71/G72/G73, written as program text
+
+B3327 = [("G00", 0, 3), ("G01", 10, -2), ("G01", 10, -20), ("G02", 20, -25, 5), ("G01", 20, -35),
+         ("G03", 34, -42, 7), ("G01", 34, -52), ("G01", 44, -62), ("G01", 44, -82)]
+B3328 = [("G00", 44, 5), ("G01", 44, -15), ("G01", 34, -25), ("G01", 34, -35), ("G03", 20, -42, 7),
+         ("G01", 20, -52), ("G02", 10, -57, 5), ("G01", 10, -80), ("G01", 6, -82)]
+B3331 = [("G00", 80, -56), ("G01", 54, -40), ("G01", 54, -30), ("G02", 46, -26, 4),
+         ("G01", 30, -26), ("G01", 30, -15), ("G01", 14, -15), ("G03", 10, -13, 2),
+         ("G01", 10, -2), ("G01", 4, 1)]
+B3333 = [("G00", 6, -61), ("G01", 12, -58), ("G01", 12, -48), ("G03", 16, -46, 2),
+         ("G01", 30, -46), ("G01", 30, -34), ("G01", 46, -34), ("G02", 54, -30, 4),
+         ("G01", 54, -20), ("G01", 74, -10), ("G01", 74, 3)]
+
+
+def _mz(blocks):
+    """Mirror in Z (a part cut toward +Z): Z negated, G02 <-> G03."""
+    sw = {"G02": "G03", "G03": "G02"}
+    return [(sw.get(b[0], b[0]), b[1], -b[2]) + tuple(b[3:]) for b in blocks]
+
+
+def program(start_dia, cycle: str, blocks) -> str:
+    out = ["%1234", "N1 T0101", "N2 M03 S500", f"N3 G00 X{start_dia[0]:g} Z{start_dia[1]:g}",
+           f"N4 {cycle} P10 Q{9 + len(blocks)} F120" if " P" not in cycle and " Q" not in cycle
+           else f"N4 {cycle} F120"]
+    for i, b in enumerate(blocks):
+        w = f"N{10 + i} {b[0]} X{b[1]:g} Z{b[2]:g}" + (f" R{b[3]:g}" if len(b) > 3 else "")
+        out.append(w)
+    out += ["N90 G00 X100 Z100", "N91 M30"]
+    return "\n".join(out) + "\n"
+
+
+OWN = [
+    # name, cycle words, start (dia, z), blocks, allowance (radius, z), frame, depth
+    ("G71 OD -Z", "G71 U1.5 R1 X0.4 Z0.1", (46, 3), B3327, (0.2, 0.1), Frame(False, 1, 1), 1.5),
+    ("G71 ID -Z", "G71 U1 R0.5 X-0.4 Z0.1", (6, 5), B3328, (-0.2, 0.1), Frame(False, -1, 1), 1.0),
+    ("G71 OD +Z", "G71 U1.5 R1 X0.4 Z-0.1", (46, -3), _mz(B3327), (0.2, -0.1),
+     Frame(False, 1, -1), 1.5),
+    ("G71 ID +Z", "G71 U1 R0.5 X-0.4 Z-0.1", (6, -5), _mz(B3328), (-0.2, -0.1),
+     Frame(False, -1, -1), 1.0),
+    ("G72 OD -Z", "G72 W1.2 R1 X0.2 Z0.5", (80, 1), B3331, (0.1, 0.5), Frame(True, 1, 1), 1.2),
+    ("G72 ID -Z", "G72 W1.2 R1 X-0.2 Z0.5", (6, 3), B3333, (-0.1, 0.5), Frame(True, 1, -1), 1.2),
+    ("G72 OD +Z", "G72 W1.2 R1 X0.2 Z-0.5", (80, -1), _mz(B3331), (0.1, -0.5),
+     Frame(True, -1, 1), 1.2),
+    ("G72 ID +Z", "G72 W0.8 R0.3 X-0.2 Z-0.5", (6, -3), _mz(B3333), (-0.1, -0.5),
+     Frame(True, -1, -1), 0.8),
+    ("G71 II ID", "G71 U0.7 R0.4 E-0.3", (6, 5), B3328, (-0.15, 0.0), Frame(False, -1, 1), 0.7),
+]
+
+
+@pytest.mark.parametrize("name,words,start,blocks,allow,fr,depth", OWN, ids=[o[0] for o in OWN])
+def test_own_programs_every_quadrant(name, words, start, blocks, allow, fr, depth):
+    from hnc_cam.nc import run
+    text = program(start, words, blocks)
+    tp = run(text, _machine(True))
+    segs, _ = path(start, *blocks)
+    A = (start[0] / 2, float(start[1]))
+    offset = offset_of(segs, *allow)
+    plan, ms = cycle_moves(tp, words.split()[0], A, offset, fr)
+    assert not [w for w in tp.warnings if "opposite" in str(w)]
+    check_region(plan, A, offset, fr, depth)
+    assert all(m.feed == pytest.approx(120.0) for m in ms if m.kind != "rapid")
+    ends_on_profile(tp, segs[1:], profile_lines(text))
+
+
+@pytest.mark.parametrize("mirror", [False, True])
+def test_own_g73_bore_program(mirror):
+    from hnc_cam.nc import run
+    blocks = _mz(B3328) if mirror else B3328
+    z0 = -5 if mirror else 5
+    sz = -1 if mirror else 1
+    text = program((6, z0), f"G73 U-2 W{0.6 * sz:g} R4 X-0.4 Z{0.1 * sz:g}", blocks)
+    tp = run(text, _machine(True))
+    segs, _ = path((6, z0), *blocks)
+    A = (3.0, float(z0))
+    ms = [m for m in tp.moves if m.op == "G73"]
+    cut = [m for m in ms if m.kind != "rapid"]
+    # 4 passes, each the profile (less the rapid approach) shifted by the remaining stock
+    n = len(segs) - 1
+    assert len(cut) == 4 * n
+    for k in range(1, 5):
+        f = (4 - k) / 4
+        d = (-0.2 - 2 * f, sz * (0.1 + 0.6 * f))
+        for m, s in zip(cut[(k - 1) * n:k * n], segs[1:]):
+            t = s.translated(*d)
+            assert same_point(m.start, t.start, 1e-9) and same_point(m.end, t.end, 1e-9)
+    assert same_point(ms[-1].end, A)
+    ends_on_profile(tp, segs[1:], profile_lines(text))
+
+
+# --- alarms through the interpreter
+
+ALARM_PROGRAMS = [
+    ("P missing", "G71 U1 R1 Q12 X0.4 Z0.1", [("G00", 0, 3), ("G01", 10, -2), ("G01", 10, -20)],
+     "needs P"),
+    ("Q not found", "G71 U1 R1 P10 Q55 X0.4 Z0.1",
+     [("G00", 0, 3), ("G01", 10, -2), ("G01", 10, -20)], "N55 .*not found"),
+    ("ns is an arc", "G71 U1 R1 P10 Q12 X0.4 Z0.1",
+     [("G02", 0, 3, 20), ("G01", 10, -2), ("G01", 10, -20)], "must be G00 or G01"),
+    ("G72 ns with X", "G72 W1 R1 P10 Q12 X0.4 Z0.1",
+     [("G00", 40, -20), ("G01", 10, -10), ("G01", 10, 1)], "moves in X"),
+    ("type I with a groove", "G71 U1 R1 P10 Q14 X0.4 Z0.1",
+     [("G00", 0, 3), ("G01", 20, -2), ("G01", 20, -10), ("G01", 12, -15), ("G01", 30, -30)],
+     "type I profile is not monotonic"),
+    ("not reaching the start side", "G71 U1 R1 P10 Q12 E0.4",
+     [("G00", 30, 3), ("G01", 30, -10), ("G01", 20, -20)], "does not reach the start side"),
+    ("depth 0", "G71 U0 R1 P10 Q12 X0.4 Z0.1", [("G00", 0, 3), ("G01", 10, -2), ("G01", 10, -20)],
+     "must be > 0"),
+    ("W on G71", "G71 U1 W1 R1 P10 Q12 X0.4 Z0.1",
+     [("G00", 0, 3), ("G01", 10, -2), ("G01", 10, -20)], "W is not a word of G71"),
+    ("U on G72", "G72 U1 W1 R1 P10 Q12 X0.4 Z0.1",
+     [("G00", 46, -20), ("G01", 10, -10), ("G01", 10, 1)], "U is not a word of G72"),
+]
+
+
+@pytest.mark.parametrize("name,words,blocks,msg", ALARM_PROGRAMS, ids=[a[0] for a in ALARM_PROGRAMS])
+def test_alarms_through_the_interpreter(name, words, blocks, msg):
+    from hnc_cam.nc import run
+    text = program((46, 3), words, blocks)
+    with pytest.raises(NCError, match=msg) as e:
+        run(text, _machine(True))
+    assert e.value.line >= 5
+
+
+def test_m98_inside_the_profile_alarms():
+    from hnc_cam.nc import run
+    text = ("%1\nN1 G00 X46 Z3\nN2 G71 U1 R1 P10 Q12 X0.4 Z0.1 F100\nN10 G00 X0\n"
+            "N11 M98 P2\nN12 G01 X40 Z-20\nN13 M30\n%2\nG01 X10\nM99\n")
+    with pytest.raises(NCError, match="M98/M99 inside the profile"):
+        run(text, _machine(True))
