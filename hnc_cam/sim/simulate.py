@@ -17,10 +17,10 @@ Model (the choices made where the issue leaves room):
   of consecutive placements.
 * Union in an efficient order: moves are taken in batches of consecutive moves (a batch is
   local, a few passes at most); each batch's sweeps are united with ``union_all`` and taken out
-  of the material once, and the per-move figures (what each move removed, for the checks and
-  the air-cut time) are computed against the material clipped to the batch's bounding box minus
-  the earlier sweeps of the same batch. Cost grows about linearly with the number of moves for a
-  given detail of the part.
+  of the whole material once. Per move (what it removed, for the checks and the air-cut time)
+  the sweep is taken out of the material clipped to the batch's bounding box, in program
+  order, so each move costs in proportion to the detail near it, not to the whole part: the
+  cost grows about linearly with the number of moves for a given detail of the part.
 * Material that is no longer connected to the chucked end (the minimum-Z end of the stock)
   falls off and counts as removed, checked after every batch.
 
@@ -246,7 +246,7 @@ class _Sweeper:
             o = self.shape(m).outline
             pts = self.path_points(m)
             paths.append(pts)
-            if len(pts) == 2 and np.allclose(pts[0], pts[1]):
+            if len(pts) == 2 and abs(pts[0, 0] - pts[1, 0]) + abs(pts[0, 1] - pts[1, 1]) < 1e-12:
                 pts = pts[:1]
             if len(pts) == 1:
                 coords.append(o + pts[0])
@@ -309,23 +309,22 @@ def simulate(toolpath: Toolpath, stock: Stock | BaseGeometry, machine: Machine |
         if local.is_empty:
             continue
         shapely.prepare(local)
+        # the local material only shrinks: a sweep that misses it now misses it later too
         hit = shapely.intersects(local, geoms)
+        shapely.destroy_prepared(local)
+        local_area = local.area
         for j, k in enumerate(idx):
             if not hit[j]:
                 continue
-            rem = clean(shapely.intersection(geoms[j], local))
-            if rem.is_empty:
-                continue
-            if j:
-                earlier = geoms[:j]
-                near = earlier[shapely.intersects(rem, earlier)]
-                if len(near):
-                    rem = clean(rem.difference(shapely.union_all(near)))
-            a = rem.area
-            if a <= 0:
-                continue
-            removed_area[b0 + k] = a
-            _check_move(bm[k], rem, sweeper.shape(bm[k]), paths[k], toolpath, issues)
+            after = clean(local.difference(geoms[j]))
+            after_area = after.area
+            a = local_area - after_area
+            if a > 1e-12:
+                removed_area[b0 + k] = a
+                if a > TOUCH_AREA:
+                    _check_move(bm[k], local, geoms[j], sweeper.shape(bm[k]), paths[k],
+                                toolpath, issues)
+            local, local_area = after, after_area
         material = clean(material.difference(union))
         # pieces cut loose from the chucked end fall off
         parts = polygons(material)
@@ -347,49 +346,73 @@ def _where(rem: BaseGeometry) -> str:
     return f"Z {z0:.3f}..{z1:.3f}, X {2 * x0:.3f}..{2 * x1:.3f} (dia)"
 
 
-def _check_move(m: Move, rem: BaseGeometry, shape: ToolShape, path: np.ndarray,
-                tp: Toolpath, issues: list[Issue]) -> None:
-    touches = rem.area > TOUCH_AREA and _thickness(rem) > TOUCH_THICK
-    if not touches:
-        return
-    block = tp.block(m.line)
-    if m.kind == "rapid":
-        issues.append(Issue(m.line, block, f"rapid move cuts material ({rem.area:.3f} mm^2 at "
-                            f"{_where(rem)}): collision", "collision"))
-        return
-    if m.kind in ("line", "arc") and m.spindle <= 0:
-        issues.append(Issue(m.line, block, f"feed move with the spindle stopped cuts material "
-                            f"({rem.area:.3f} mm^2 at {_where(rem)})", "spindle"))
-    if m.kind in FEED_KINDS and (m.feed is None or m.feed <= 0):
-        issues.append(Issue(m.line, block, f"move at zero feed cuts material "
-                            f"({rem.area:.3f} mm^2 at {_where(rem)})", "feed"))
-    if shape.non_cutting and len(path) >= 2:
-        hit = _non_cutting_hit(shape, path, rem)
+def _check_move(m: Move, local: BaseGeometry, sweep: BaseGeometry, shape: ToolShape,
+                path: np.ndarray, tp: Toolpath, issues: list[Issue]) -> None:
+    """The checks for a move that removed more than TOUCH_AREA from ``local`` (the material
+    around it just before the move) with its swept region ``sweep``."""
+    stopped = m.kind in ("line", "arc") and m.spindle <= 0
+    no_feed = m.kind in FEED_KINDS and (m.feed is None or m.feed <= 0)
+    if m.kind == "rapid" or stopped or no_feed:
+        rem = clean(local.intersection(sweep))
+        if not (rem.area > TOUCH_AREA and _thickness(rem) > TOUCH_THICK):
+            return
+        block = tp.block(m.line)
+        if m.kind == "rapid":
+            issues.append(Issue(m.line, block, f"rapid move cuts material ({rem.area:.3f} mm^2 at "
+                                f"{_where(rem)}): collision", "collision"))
+            return
+        if stopped:
+            issues.append(Issue(m.line, block, f"feed move with the spindle stopped cuts material "
+                                f"({rem.area:.3f} mm^2 at {_where(rem)})", "spindle"))
+        if no_feed:
+            issues.append(Issue(m.line, block, f"move at zero feed cuts material "
+                                f"({rem.area:.3f} mm^2 at {_where(rem)})", "feed"))
+    if m.kind in FEED_KINDS and shape.non_cutting and len(path) >= 2:
+        hit = _non_cutting_hit(shape, path, local)
         if hit is not None:
-            issues.append(Issue(m.line, block, f"cuts with a non-cutting side of the tool "
-                                f"({shape.description}): {hit.area:.3f} mm^2 at {_where(hit)}",
+            issues.append(Issue(m.line, tp.block(m.line), f"cuts with a non-cutting side of the "
+                                f"tool ({shape.description}): {hit.area:.3f} mm^2 at {_where(hit)}",
                                 "non-cutting"))
 
 
-def _non_cutting_hit(shape: ToolShape, path: np.ndarray, rem: BaseGeometry) -> BaseGeometry | None:
-    """Material of ``rem`` swept by a leading non-cutting side of the tool, if significant."""
-    pieces = []
-    centroid = shape.outline.mean(axis=0)
-    for a, b in shape.non_cutting:
-        a = np.asarray(a)
-        b = np.asarray(b)
+_SIDES: dict[tuple, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
+
+
+def _sides(shape: ToolShape) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(starts, ends, outward normals) of a shape's non-cutting sides, cached."""
+    got = _SIDES.get(shape.key)
+    if got is None:
+        a = np.array([s[0] for s in shape.non_cutting], dtype=float)
+        b = np.array([s[1] for s in shape.non_cutting], dtype=float)
         d = b - a
-        normal = np.array([d[1], -d[0]])
-        if np.dot(normal, (a + b) / 2 - centroid) < 0:
-            normal = -normal  # outward
-        for p, q in zip(path[:-1], path[1:]):
-            mv = q - p
-            if np.dot(normal, mv) <= 1e-12 * (np.linalg.norm(mv) + 1e-12):
-                continue
-            pieces.append(shapely.convex_hull(shapely.MultiPoint([a + p, b + p, a + q, b + q])))
-    if not pieces:
+        nrm = np.column_stack([d[:, 1], -d[:, 0]])
+        out = np.einsum("ij,ij->i", nrm, (a + b) / 2 - shape.outline.mean(axis=0)) < 0
+        nrm[out] = -nrm[out]
+        got = (a, b, nrm)
+        _SIDES[shape.key] = got
+    return got
+
+
+def _non_cutting_hit(shape: ToolShape, path: np.ndarray, rem: BaseGeometry) -> BaseGeometry | None:
+    """Material of ``rem`` (the material before the move) swept by a leading non-cutting side
+    of the tool, if significant.
+
+    Only sides whose outward normal has a positive component along the motion lead; a trailing
+    side passes only where the tool body already was. A side translated along a straight piece
+    of the path sweeps a parallelogram."""
+    a, b, nrm = _sides(shape)
+    p, q = path[:-1], path[1:]
+    mv = q - p
+    lead = (mv @ nrm.T) > 1e-12 * (np.hypot(mv[:, 0], mv[:, 1])[:, None] + 1e-12)  # (pieces, sides)
+    pi, si = np.nonzero(lead)
+    if not len(pi):
         return None
-    hit = clean(rem.intersection(shapely.union_all(pieces)))
+    quads = np.stack([a[si] + p[pi], b[si] + p[pi], b[si] + q[pi], a[si] + q[pi]], axis=1)
+    polys = shapely.polygons(quads)
+    hits = polys[shapely.intersects(rem, polys)]
+    if not len(hits):
+        return None
+    hit = clean(rem.intersection(shapely.union_all(hits)))
     if hit.area > 1e-3 and _thickness(hit) > 2e-3:
         return hit
     return None
