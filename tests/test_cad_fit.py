@@ -95,3 +95,13 @@ def test_merge_collinear_and_cocircular():
     # opposite directions or different centres stay apart
     assert len(merge_segments([Line((0, 0), (5, 0)), Line((5, 0), (4, 0))])) == 2
     assert len(merge_segments([a1, Arc(a1.end, (10.0, 0.0), c, True)])) == 2
+
+
+def test_cad_package_import_is_lazy():
+    """Importing hnc_cam.cad (e.g. for parse_set) must not pull in OpenCascade."""
+    import subprocess
+    import sys
+    code = ("import sys, hnc_cam.cad as c; c.parse_set(['a=1']); "
+            "print(any(m == 'OCP' or m.startswith(('OCP.', 'build123d', 'cadquery')) for m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"
