@@ -247,6 +247,7 @@ def test_g32_alarms():
     alarm(32, {"Z": -20, "F": 0}, match="lead 0")
     alarm(32, {"X": 20, "U": 1, "Z": -20, "F": 1}, match="both X and U")
     alarm(32, {"Z": 5, "F": 1}, pos=(10.0, 5.0), match="no length")
+    alarm(32, {"Z": -20, "C": 1, "F": 1}, match="chamfer C")
 
 
 # ----------------------------------------------------------------------------- G76

@@ -58,7 +58,10 @@ Choices where the manual is silent or contradicts itself (also in the README):
    K > 0, Q > 0, V >= 0, 0 <= U < K, F > 0; at most 1000 passes (more is taken for a
    unit mistake and alarmed).
 6. **U/W.** U and W may not appear on G80/G81/G82 blocks (manual §3.3.2); on G76 U is the
-   finishing allowance, so only W is refused there. G32 takes U/W (incremental X/Z).
+   finishing allowance, so only W is refused there. G32 takes U/W (incremental X/Z), but no
+   chamfer C (§3.3.3(2); its R is the run-out).
+7. **Lead.** G32/G82/G76 take the lead from their own F word (G82 keeps it between its
+   modal blocks); a G32 block without F is alarmed rather than guessing a modal lead.
 """
 from __future__ import annotations
 
@@ -266,6 +269,8 @@ def _g32(ctx: Any) -> None:
             ctx.alarm(f"G32: both {abs_l} and {inc_l} given", inc_l)
     if not any(ctx.has(c) for c in "XZUW"):
         ctx.alarm("G32: missing end point (X/U or Z/W)")
+    if ctx.has("C"):
+        ctx.alarm("G32: chamfer C is not allowed in a thread block", "C")
     lead = _lead(ctx)
     scale = 0.5 if ctx.diameter_mode else 1.0
     x, z = a
