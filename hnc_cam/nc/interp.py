@@ -43,6 +43,21 @@ Coordinates and offsets (choices where the manual is silent, also in the README)
   (0 when absent, as appendix 1 says), ``#30``/``#32`` with the X (radius) / Z work position.
 * A subprogram that reaches the end of its text without M99 returns with a warning (the
   manual prints %9990 cut short); the main program must end with M02/M30.
+
+Hooks for the other parts
+-------------------------
+* Cycles: G32/G80/G81/G82 (modal, run when a block has axis words; the words of the
+  previous block of the same cycle are kept for the words a block leaves out) and
+  G71/G72/G73/G76 (one block) call ``hnc_cam.nc.cycles.execute(code, ctx)`` with a
+  :class:`CycleCtx`. ``ctx.profile(ns, nf)`` dry-runs blocks N ns..N nf through the normal
+  block executor with emission redirected and the modal state restored afterwards.
+  Cycle moves are not nose-radius compensated (a pending compensation run is flushed
+  before the cycle and resumes after it). While a cycle module is missing the cycle
+  alarms "not yet supported".
+* G41/G42: the moves from the G41/G42 block's move to the G40 block's move are buffered as
+  ``compensation.CompItem`` and handed to ``compensation.compensate_moves`` (flushed early
+  at a cycle, M98/G65, G28/G29, G04, a T word and the program end); with nose radius 0
+  the moves pass through. G41/G42/G40 on a G02/G03 move is an alarm.
 """
 from __future__ import annotations
 
@@ -93,6 +108,10 @@ _RANGES: dict[str, tuple[float, float, bool]] = {  # letter -> (min, max, intege
 _UNKNOWN_LETTERS = {"H": "H is not an HNC-21T address (table 2.1)",
                     "O": "O is a program header, not a word inside a block",
                     "Y": "this lathe has no Y axis"}
+
+
+_SHAPES: dict = {}  # letters of a plain block -> (letters, extra, axes, uw), shared
+_GS = [(0,), (1,), (2,), (3,)]
 
 
 class _Halt(Exception):
@@ -255,17 +274,18 @@ class Interp:
         text = src.text[i]
         line = src.lineno[i]
         k = src.kind[i]
+        if k is P.OTHER:
+            fw = P.fast_words(text)
+            if fw is not None:
+                b = self._compile_plain(i, line, text, fw)
+                if b is not None:
+                    return b
         block = src.block_text(line)
         if k != P.OTHER:
             p = P.parse_statement(text, line, src.file, block)
             if p.kind in (P.IF, P.WHILE):
                 return Cond(i, line, p.cond)
             return None
-        fw = P.fast_words(text)
-        if fw is not None:
-            b = self._compile_plain(i, line, text, fw)
-            if b is not None:
-                return b
         b = Blk(i, line, text)
         if fw is not None:
             words = [(L, float(v), 0) for L, v in fw]
@@ -342,13 +362,15 @@ class Interp:
                 return None
         b = Blk(i, line, text)
         b.words = w
+        key = (g >= 0, *w)
+        shape = _SHAPES.get(key)
+        if shape is None:
+            letters = frozenset(w)
+            shape = _SHAPES[key] = (letters | {"G"} if g >= 0 else letters, letters - _BASE_LETTERS,
+                                    bool(letters & _AXIS), "U" in w or "W" in w)
+        b.letters, b.extra, b.axes, b.uw = shape
         if g >= 0:
-            b.gs = (g,)
-        letters = frozenset(w)
-        b.letters = letters | {"G"} if g >= 0 else letters
-        b.extra = letters - _BASE_LETTERS
-        b.axes = "X" in w or "Z" in w or "U" in w or "W" in w
-        b.uw = "U" in w or "W" in w
+            b.gs = _GS[g]
         b.plain = True
         return b
 
@@ -1369,6 +1391,9 @@ class Interp:
                 (self.op, F, self.F, self.per_rev, self.css, self.s_rpm, self.vc, self.sdir,
                  self.coolant, self.tool, self.reg, self.tdx, self.tdz, self.comp) = it.payload
                 if isinstance(seg, Arc):
+                    if it.kind == "rapid":  # a corner arc handed to a rapid: at the slower rapid rate
+                        self.per_rev = False
+                        F = min(self.m.rapid_x, self.m.rapid_z)
                     self._emit_arc(seg.start[0], seg.start[1], seg.end[0], seg.end[1],
                                    seg.center[0], seg.center[1], seg.cw, it.line, F)
                 else:
@@ -1398,6 +1423,8 @@ class Interp:
         from . import cycles
         ctx = CycleCtx(self, code, b, words)
         save_motion = self.motion
+        save_comp = self.comp_mode
+        self.comp_mode = ""  # cycle moves are emitted as the cycle computes them (see module doc)
         try:
             cycles.execute(code, ctx)
         except NCError:
@@ -1409,6 +1436,8 @@ class Interp:
             raise self.balarm(b, f"internal error in the G{code} cycle: {type(e).__name__}: {e}", "G") from None
         except Exception as e:  # a bug in a cycle module must still give an alarm, not a traceback
             raise self.balarm(b, f"internal error in the G{code} cycle: {type(e).__name__}: {e}", "G") from None
+        finally:
+            self.comp_mode = save_comp
         self.motion = save_motion
         return None
 
