@@ -66,7 +66,7 @@ Choices where the manual is silent or contradicts itself (also in the README):
 from __future__ import annotations
 
 import math
-from typing import Any, Optional
+from typing import Any
 
 from ..geometry import Point
 
