@@ -237,3 +237,11 @@ def test_step_file_loads_without_parameters():
     assert lp.stock is None and lp.params == {} and lp.threads == [] and lp.name == "stepped_shaft"
     with pytest.raises(PartError, match="no parameters"):
         load_part(step, {"length": "3"})
+
+
+def test_loaded_part_pickles(loaded):
+    import pickle
+    lp = loaded("threaded_stud", 0)
+    back = pickle.loads(pickle.dumps(lp))
+    assert back.module is None and back.profile.outside == lp.profile.outside
+    assert back.threads == lp.threads and back.stock == lp.stock and back.params == lp.params

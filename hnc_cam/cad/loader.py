@@ -30,6 +30,7 @@ import importlib.util
 import inspect
 import dataclasses
 import math
+import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 from types import ModuleType
@@ -51,6 +52,12 @@ class LoadedPart:
     params: dict[str, Any] = field(default_factory=dict)
     module: ModuleType | None = None
     path: Path | None = None
+
+    def __getstate__(self) -> dict[str, Any]:
+        """Picklable (e.g. to send to a worker process): the module is left behind."""
+        state = dict(self.__dict__)
+        state["module"] = None
+        return state
 
 
 def parse_set(items: Iterable[str] | None) -> dict[str, str]:
@@ -75,11 +82,14 @@ def _import_file(path: Path) -> ModuleType:
     if spec is None or spec.loader is None:
         raise PartError(f"{path}: not importable as a Python module")
     mod = importlib.util.module_from_spec(spec)
+    sys.modules[modname] = mod  # dataclasses/pickle inside the part file look it up
     try:
         spec.loader.exec_module(mod)
     except HncError:
+        sys.modules.pop(modname, None)
         raise
     except Exception as e:  # noqa: BLE001 - any error in a user's file is reported as its own
+        sys.modules.pop(modname, None)
         raise PartError(f"{path}: import failed: {type(e).__name__}: {e}") from e
     return mod
 
