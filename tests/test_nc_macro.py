@@ -147,3 +147,8 @@ def test_loop_is_compiled_once_and_fast():
     it = interp("%1\n#1=0\nWHILE #1 LT 20000\n#1=#1+1\nENDW\nM30\n")
     assert it._read(1) == 20000
     assert time.perf_counter() - t0 < 2.0
+
+
+def test_if_with_assignment_on_its_line_as_the_appendix_prints_it():
+    assert g("#1=91\nIF #1 EQ 91 #50=1 #51=2\n#52=3\nENDIF", 50, 51, 52) == [1, 2, 3]
+    assert g("#50=0\n#1=90\nIF #1 EQ 91 #50=1\nENDIF", 50) == [0]

@@ -155,12 +155,13 @@ class Asg:
 
 
 class Cond:
-    __slots__ = ("stmt", "line", "expr")
+    __slots__ = ("stmt", "line", "expr", "tail")
 
-    def __init__(self, stmt: int, line: int, expr: Expr):
+    def __init__(self, stmt: int, line: int, expr: Expr, tail: Optional[Asg] = None):
         self.stmt = stmt
         self.line = line
         self.expr = expr
+        self.tail = tail  # IF cond #n=expr: assignments run when the condition holds
 
 
 def _range_error(letter: str, v: float) -> Optional[str]:
@@ -284,7 +285,7 @@ class Interp:
         if k != P.OTHER:
             p = P.parse_statement(text, line, src.file, block)
             if p.kind in (P.IF, P.WHILE):
-                return Cond(i, line, p.cond)
+                return Cond(i, line, p.cond, Asg(i, line, p.assigns) if p.assigns else None)
             return None
         b = Blk(i, line, text)
         if fw is not None:
@@ -342,8 +343,15 @@ class Interp:
         Returns None for anything else (the general compiler then handles it)."""
         w: dict = {}
         g = -1
+        n = None
         for L, v in fw:
-            if L == "G":
+            if L == "N":
+                if n is not None or "." in v or v[0] in "+-":
+                    return None
+                n = int(v)
+                if n > 4294967295:
+                    return None
+            elif L == "G":
                 if g >= 0:
                     return None
                 f = float(v)
@@ -362,6 +370,7 @@ class Interp:
                 return None
         b = Blk(i, line, text)
         b.words = w
+        b.n = n
         key = (g >= 0, *w)
         shape = _SHAPES.get(key)
         if shape is None:
@@ -590,6 +599,8 @@ class Interp:
                     if c is None:
                         c = comp[pc] = self._compile(pc)
                     if self._eval(c.expr, c.line) != 0.0:
+                        if c.tail is not None:
+                            self._assign(c.tail)
                         pc += 1
                     else:
                         pc = jump[pc]

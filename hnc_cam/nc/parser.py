@@ -393,6 +393,26 @@ class _P:
                        col)
 
 
+def _assignments(p: _P) -> list:
+    """``#n = expr`` (one or more) up to the end of the line."""
+    assigns = []
+    while p.peek()[0] is not None:
+        k, v, c = p.peek()
+        if not (k == "op" and v == "#"):
+            raise p.err(f"bad expression: expected '#' to start an assignment, found {v!r}")
+        p.i += 1
+        idx = p.var_index()
+        p.expect_op("=", "in the assignment")
+        if p.peek()[0] is None:
+            raise p.err("bad expression: nothing after '='")
+        ecol = p.peek()[2]
+        val = p.expr()
+        cv = constant_value(idx)
+        target = cv if cv is not None else Expr(idx, c)
+        assigns.append((target, Expr(val, ecol), c))
+    return assigns
+
+
 def parse_statement(text: str, line: int, file: str = "<program>", block: str | None = None) -> Parsed:
     """Parse one cleaned line (not a header)."""
     blk = block if block is not None else text.strip()
@@ -415,29 +435,19 @@ def parse_statement(text: str, line: int, file: str = "<program>", block: str | 
                 raise p.err(f"bad expression: {v} needs a condition")
             col = p.peek()[2]
             cond = p.expr()
-            if p.peek()[0] is not None:
+            tail: list = []
+            if kind == IF and p.peek()[:2] == ("op", "#"):
+                # "IF cond #n=expr" (as the appendix macros are printed): the assignments
+                # are the first statements of the IF body
+                tail = _assignments(p)
+            elif p.peek()[0] is not None:
                 raise p.err(f"bad expression: unexpected {p.peek()[1]!r} after the {v} condition")
-            return Parsed(kind, n, cond=Expr(cond, col))
+            return Parsed(kind, n, cond=Expr(cond, col), assigns=tail)
         if p.peek()[0] is not None:
             raise p.err(f"unexpected {p.peek()[1]!r} after {v}")
         return Parsed(kind, n)
     if k == "op" and v == "#":
-        assigns = []
-        while p.peek()[0] is not None:
-            k, v, c = p.peek()
-            if not (k == "op" and v == "#"):
-                raise p.err(f"bad expression: expected '#' to start an assignment, found {v!r}")
-            p.i += 1
-            idx = p.var_index()
-            p.expect_op("=", "in the assignment")
-            if p.peek()[0] is None:
-                raise p.err("bad expression: nothing after '='")
-            ecol = p.peek()[2]
-            val = p.expr()
-            cv = constant_value(idx)
-            target = cv if cv is not None else Expr(idx, c)
-            assigns.append((target, Expr(val, ecol), c))
-        return Parsed("assign", n, assigns=assigns)
+        return Parsed("assign", n, assigns=_assignments(p))
     words = []
     if n is not None:
         words.append(("N", float(n), 0))
