@@ -22,3 +22,18 @@ def manual_file(name: str) -> Path:
 @pytest.fixture
 def manual():
     return manual_file
+
+
+# Property tests: reproducible in CI (same examples every run, no wall-clock deadline on a
+# loaded 2-core machine); locally HYPOTHESIS_PROFILE=dev explores new examples each run.
+try:
+    import os
+
+    from hypothesis import HealthCheck, settings
+
+    settings.register_profile("ci", derandomize=True, deadline=None,
+                              suppress_health_check=[HealthCheck.too_slow])
+    settings.register_profile("dev", deadline=None, suppress_health_check=[HealthCheck.too_slow])
+    settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
+except ImportError:  # pragma: no cover - hypothesis is a test dependency
+    pass
