@@ -73,7 +73,7 @@ def test_profile_dry_run_resolves_the_contour(calls):
     assert cyc[0].start == pytest.approx((23.0, 3.0)) and cyc[0].feed == 100
     after = [m for m in tp.moves if m.line > 4]
     assert after[0].start == pytest.approx((23.0, 3.0))
-    assert any(m.kind == "arc" and m.line == 10 for m in after)
+    assert any(m.kind == "arc" and m.line == 9 for m in after)
     assert not tp.warnings
 
 
