@@ -130,7 +130,6 @@ def check_region(plan, start: Point, offset: list[Segment], fr: Frame, depth: fl
     stock = box(vB, -L, vA, uA).difference(part)
     part_in = part.buffer(-3 * CHORD)  # chords of concave arcs lie up to CHORD inside
     remaining = stock
-    deepest = 0.0
     moves = plan.moves
     finish = [m for m in moves if m.role == "finish"]
     for m in moves:
@@ -140,33 +139,22 @@ def check_region(plan, start: Point, offset: list[Segment], fr: Frame, depth: fl
         if m.kind == "rapid":
             bad = ls.intersection(remaining.buffer(-3 * CHORD))
             assert bad.length < 1e-6, f"rapid {m} crosses uncut material ({bad.length:g} mm)"
-        else:
-            # shadow: from the move up to u = +L
-            us = [c[1] for c in cs]
-            if max(us) - min(us) < 1e-9 or m.role != "plunge":
-                if m.role == "cut":
-                    u = us[0]
-                    col = box(min(c[0] for c in cs), u + depth + 1e-5, max(c[0] for c in cs), L)
-                    left = col.intersection(remaining).area
-                    assert left < 1e-6, f"pass {m} deeper than Δd ({left:g} mm² above)"
-                    deepest = max(deepest, remaining.intersection(
-                        box(min(c[0] for c in cs), u, max(c[0] for c in cs), L)).area)
-                if m.role == "finish" and m is finish[0]:
-                    above = remaining.difference(
-                        Polygon([(v, u + depth + 1e-5) for u, v in pts]
-                                + [(pts[-1][1], L), (pts[0][1] + L, L)]).buffer(0)
-                        .union(part)).area
-                    # material left more than depth above the offset profile
-                    thick = remaining.difference(_shift_up(part, depth + 1e-5)).area
-                    assert thick < 1e-5, f"{thick:g} mm² thicker than Δd before the last pass"
-                    del above
-                polys = []
-                for a, b in zip(cs, cs[1:]):
-                    q = Polygon([a, b, (b[0], L), (a[0], L)])
-                    if q.area > 0:
-                        polys.append(q)
-                if polys:
-                    remaining = remaining.difference(unary_union(polys).buffer(1e-9))
+            continue
+        us = [c[1] for c in cs]
+        if m.role == "cut":
+            # nothing left more than Δd above the pass over its length
+            col = box(min(c[0] for c in cs), us[0] + depth + 1e-5, max(c[0] for c in cs), L)
+            left = col.intersection(remaining).area
+            assert left < 1e-6, f"pass {m} deeper than Δd ({left:g} mm² above)"
+        if m is finish[0]:
+            # before the last pass no material is thicker than Δd over the offset profile
+            thick = remaining.difference(_shift_up(part, depth + 1e-5)).area
+            assert thick < 1e-5, f"{thick:g} mm² thicker than Δd before the last pass"
+        # a feed clears what lies on the stock side of it (its shadow up to u = +L)
+        polys = [q for a, b in zip(cs, cs[1:])
+                 if (q := Polygon([a, b, (b[0], L), (a[0], L)])).area > 0]
+        if polys:
+            remaining = remaining.difference(unary_union(polys).buffer(1e-9))
     assert remaining.area < 1e-4, f"{remaining.area:g} mm² of stock never cut"
     # the last pass is the offset profile
     assert len(finish) >= len(offset)
@@ -188,7 +176,7 @@ def _shift_up(poly, d):
 
 
 def offset_of(segs, dx, dz):
-    return [s.translated(dx, dz) for s in segs[1:]]
+    return [s.translated(dx, dz) for s in segs[1:] if s.length > 1e-6]
 
 
 def cuts(plan):
@@ -854,3 +842,56 @@ def test_m98_inside_the_profile_alarms():
             "N11 M98 P2\nN12 G01 X40 Z-20\nN13 M30\n%2\nG01 X10\nM99\n")
     with pytest.raises(NCError, match="M98/M99 inside the profile"):
         run(text, _machine(True))
+
+
+# --- random profiles (hypothesis): the invariants hold for any groove pattern
+
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+
+@st.composite
+def grooved_profiles(draw):
+    """OD profiles monotonic in Z with random lines, faces and arcs (type II)."""
+    n = draw(st.integers(2, 9))
+    z, x = 0.0, draw(st.floats(1.0, 8.0))
+    blocks = [("G00", 2 * x, 0.0)]
+    kind = "face"  # no face right after the approach or after a face (it would fold back)
+    for _ in range(n):
+        kind = draw(st.sampled_from(["line", "line", "arc"] + ([] if kind == "face" else ["face"])))
+        nx = draw(st.floats(0.5, 14.0))
+        if kind == "face":
+            blocks.append(("G01", 2 * nx, z))
+        else:
+            nz = z - draw(st.floats(0.3, 8.0))
+            if kind == "arc" and abs(nx - x) > 1e-3:
+                # quarter-ish arc: monotonic in Z when its sweep stays within one quadrant
+                c = math.hypot(nx - x, nz - z)
+                blocks.append(("G02" if draw(st.booleans()) else "G03", 2 * nx, nz,
+                               c * draw(st.floats(0.75, 3.0))))
+            else:
+                blocks.append(("G01", 2 * nx, nz))
+            z = nz
+        x = nx
+    blocks.append(("G01", 2 * draw(st.floats(x, 16.0)), z - draw(st.floats(0.5, 3.0))))
+    return blocks
+
+
+@settings(max_examples=60, deadline=None)
+@given(grooved_profiles(), st.floats(0.3, 2.0), st.floats(0.1, 2.5), st.floats(0.0, 0.4),
+       st.sampled_from([(1, 1), (-1, 1), (1, -1), (-1, -1)]))
+def test_random_grooved_profiles(blocks, depth, retract, e, quadrant):
+    sx, sz = quadrant
+    segs, mot = path((34.0, 0.0), *blocks)
+    if first_non_monotonic(segs[1:], 1, -1) is not None:
+        return  # an arc that turns back in Z: not a type II profile
+    fr = Frame(False, sx, sz)
+    ms = [fr.seg_fwd(s) for s in segs]
+    A = fr.fwd((17.0, 0.0))
+    try:
+        plan = rough_turn(A, ms, mot, depth=depth, retract=retract, allowance=(sx * e, 0.0),
+                          pockets=True)
+    except RoughingError as err:
+        assert "does not reach the start side" in err.message
+        return
+    check_region(plan, A, offset_of(ms, sx * e, 0.0), fr, depth)
