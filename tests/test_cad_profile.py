@@ -192,7 +192,7 @@ def test_keyway_named(shaft_solid):
         profile(keyed)
     msg = str(e.value)
     assert "not a body of revolution about the Z axis" in msg
-    assert "planar face parallel to the axis" in msg and "keyway" in msg
+    assert "planar face parallel to the axis (a wall of a keyway or slot 8.000 wide)" in msg
     assert "z=-" in msg and "envelope=True" in msg
     env = profile(keyed, envelope=True)
     _same_chain(env.outside, profile(shaft_solid).outside)
@@ -211,6 +211,21 @@ def test_cross_hole_named(shaft_solid):
     assert not any("fitted" in n for n in env.notes)  # the hole's ellipse is not in the outline
 
 
+def test_flat_double_d_square_and_radial_hole_named(shaft_solid):
+    from build123d import Box, Cylinder, Pos, Rot
+    flat = shaft_solid - Pos(0, 22, -38) * Box(40, 20, 20)  # a flat 12 mm from the axis
+    with pytest.raises(ProfileError, match=r"\(a flat 12\.000 from the axis\).*z=-38\.000"):
+        profile(flat)
+    double_d = flat - Pos(0, -22, -38) * Box(40, 20, 20)
+    with pytest.raises(ProfileError, match=r"two parallel flats 24\.000 apart"):
+        profile(double_d)
+    with pytest.raises(ProfileError, match=r"a square, 20\.000 across flats"):
+        profile(Box(20, 20, 40))
+    radial = shaft_solid - Pos(0, 17, -80) * Rot(90, 0, 0) * Cylinder(2, 10)
+    with pytest.raises(ProfileError, match=r"radial hole .* diameter 4\.000\) at .*z=-80\.000"):
+        profile(radial)
+
+
 def test_off_axis_hole_named(shaft_solid):
     from build123d import Cylinder, Pos
     holed = shaft_solid - Pos(8, 0, -100) * Cylinder(2, 30)
@@ -221,7 +236,7 @@ def test_off_axis_hole_named(shaft_solid):
 def test_hex_named_and_no_envelope():
     from build123d import RegularPolygon, extrude
     hexbar = extrude(RegularPolygon(15, 6), 40)
-    with pytest.raises(ProfileError, match=r"planar face parallel to the axis \(a flat, keyway, slot or hex\)"):
+    with pytest.raises(ProfileError, match=r"planar face parallel to the axis \(a hex, 25\.981 across flats\)"):
         profile(hexbar)
     with pytest.raises(ProfileError, match="every meridian half-plane cuts a non-turned face"):
         profile(hexbar, envelope=True)

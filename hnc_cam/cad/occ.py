@@ -204,6 +204,67 @@ def _face_centre(face) -> tuple[float, float, float]:
     return (c.X(), c.Y(), c.Z())
 
 
+def _min_radius(ad: BRepAdaptor_Surface, n: int = 12) -> float:
+    """Smallest distance from the Z axis over an n x n grid of the face's (u, v) box."""
+    u0, u1 = ad.FirstUParameter(), ad.LastUParameter()
+    v0, v1 = ad.FirstVParameter(), ad.LastVParameter()
+    best = math.inf
+    for i in range(n + 1):
+        for j in range(n + 1):
+            p = ad.Value(u0 + (u1 - u0) * i / n, v0 + (v1 - v0) * j / n)
+            best = min(best, math.hypot(p.X(), p.Y()))
+    return best
+
+
+def _name_flats(problems: list[FaceProblem],
+                flats: list[tuple[int, tuple[float, float], float]]) -> None:
+    """Name groups of planar faces parallel to the axis: a hex or a square (equal flats at
+    60 or 90 deg), a keyway or slot (two opposite walls, with its bottom), else a flat."""
+    named: dict[int, str] = {}
+    for k, (i, n, c) in enumerate(flats):
+        if i in named:
+            continue
+        for count, step, what in ((6, 60.0, "hex"), (4, 90.0, "square")):
+            group = [j for j, m, d in flats if abs(abs(d) - abs(c)) < POS_TOL
+                     and _angle_mod(_ang(m) - _ang(n), step) < 1e-4]
+            if len(group) >= count:
+                for j in group:
+                    named[j] = f"a {what}, {2 * abs(c):.3f} across flats"
+                break
+    for a, (i, n, c) in enumerate(flats):
+        for j, m, d in flats[a + 1:]:
+            if i in named or j in named:
+                continue
+            dot = n[0] * m[0] + n[1] * m[1]
+            if abs(abs(dot) - 1.0) > 1e-6:
+                continue
+            width = abs(c - d) if dot > 0 else abs(c + d)  # distance between the planes
+            bottoms = [q for q, o, e in flats if q not in named and q not in (i, j)
+                       and abs(o[0] * n[0] + o[1] * n[1]) < 1e-6]
+            if bottoms:
+                named[i] = named[j] = f"a wall of a keyway or slot {width:.3f} wide"
+                for q in bottoms:
+                    e = next(e for qq, _, e in flats if qq == q)
+                    named[q] = (f"the bottom of a keyway or slot {width:.3f} wide, "
+                                f"{abs(e):.3f} from the axis")
+            else:
+                named[i] = named[j] = f"two parallel flats {width:.3f} apart"
+    for i, n, c in flats:
+        feat = named.get(i, f"a flat {abs(c):.3f} from the axis")
+        p = problems[i]
+        problems[i] = FaceProblem(p.face, p.kind, feat, p.where)
+
+
+def _ang(n: tuple[float, float]) -> float:
+    return math.degrees(math.atan2(n[1], n[0]))
+
+
+def _angle_mod(a: float, step: float) -> float:
+    """Distance of angle ``a`` (deg) from the nearest multiple of ``step``."""
+    r = a % step
+    return min(r, step - r)
+
+
 def _sampled_revolution(ad: BRepAdaptor_Surface, n: int = 5) -> bool:
     """True when the surface normal lies in the meridian plane at n x n sample points (a
     surface of revolution about Z, e.g. a B-spline surface written by another CAD system)."""
@@ -237,6 +298,7 @@ def classify_faces(shape: TopoDS_Shape) -> tuple[list[FaceProblem], list[str]]:
     problems: list[FaceProblem] = []
     notes: list[str] = []
     sampled: list[float] = []
+    flats: list[tuple[int, tuple[float, float], float]] = []  # (index, normal, n . location)
     for f in faces(shape):
         ad = BRepAdaptor_Surface(f, True)
         t = ad.GetType()
@@ -246,6 +308,8 @@ def classify_faces(shape: TopoDS_Shape) -> tuple[list[FaceProblem], list[str]]:
             if abs(abs(n.Z()) - 1.0) < ANG_TOL:
                 continue
             if abs(n.Z()) < ANG_TOL:
+                loc = ad.Plane().Location()
+                flats.append((len(problems), (n.X(), n.Y()), n.X() * loc.X() + n.Y() * loc.Y()))
                 problems.append(FaceProblem(f, "planar face parallel to the axis",
                                             "a flat, keyway, slot or hex", _face_centre(f)))
             else:
@@ -268,7 +332,11 @@ def classify_faces(shape: TopoDS_Shape) -> tuple[list[FaceProblem], list[str]]:
             if t == GeomAbs_Cylinder:
                 r = ad.Cylinder().Radius()
                 if not par and abs(ax.Direction().Z()) < ANG_TOL:
-                    feat = f"a cross hole or cross pin of diameter {2 * r:.3f}"
+                    if _min_radius(ad) <= r + POS_TOL:
+                        feat = f"a cross hole or cross pin of diameter {2 * r:.3f}"
+                    else:
+                        feat = (f"a radial hole or the round end of a keyway or slot, "
+                                f"diameter {2 * r:.3f}")
                 elif par:
                     p = ax.Location()
                     feat = (f"an off-axis (eccentric) cylinder or axial hole of diameter "
@@ -293,6 +361,7 @@ def classify_faces(shape: TopoDS_Shape) -> tuple[list[FaceProblem], list[str]]:
             continue
         problems.append(FaceProblem(f, f"{name} face that is not a surface of revolution",
                                     "a milled or free-form feature", _face_centre(f)))
+    _name_flats(problems, flats)
     if sampled:
         notes.append(f"{len(sampled)} free-form (e.g. B-spline) face(s) accepted as surfaces of "
                      f"revolution by sampling their normals (model z "
