@@ -35,7 +35,11 @@ Checks (each an :class:`Issue` with the program line and block):
 
 A move "touches" material when it removes more than ``TOUCH_AREA`` (1e-4 mm^2) of a region at
 least ``TOUCH_THICK`` (5e-4 mm, the order of the chord error) thick, so that a tool gliding over a
-surface it has just cut is not a collision.
+surface it has just cut is not a collision. A rapid is a collision when what it removes is at
+least ``RAPID_DEPTH`` (0.1 mm) thick (twice the radius of the largest circle inside it): a rapid
+that only shaves a thinner sliver (typically the 5 deg wedge a 95 deg holder's main edge leaves
+against a shoulder, which a G71 retract in +X shaves off) is listed in ``Machined.notes`` and the
+summary, not as a collision.
 """
 from __future__ import annotations
 
@@ -60,6 +64,7 @@ AIR_AREA = 1e-5
 #: thresholds for "touches material" in the checks
 TOUCH_AREA = 1e-4
 TOUCH_THICK = 5e-4
+RAPID_DEPTH = 0.1
 #: consecutive moves united and removed together
 BATCH = 48
 
@@ -108,6 +113,7 @@ class Machined:
     thread_spans: list[ThreadSpan] = field(default_factory=list)
     fallen: list[BaseGeometry] = field(default_factory=list)
     machine: Machine | None = None
+    notes: list[Issue] = field(default_factory=list)
 
     @property
     def collisions(self) -> list[Issue]:
@@ -164,6 +170,7 @@ class Machined:
                  f"of feed time",
                  f"remaining material: X {2 * x0:.3f}..{2 * x1:.3f} (dia), Z {z0:.3f}..{z1:.3f}"
                  + (f", {len(self.fallen)} piece(s) fell off" if self.fallen else "")]
+        lines += [f"note: {n}" for n in self.notes]
         if self.issues:
             lines.append(f"{len(self.issues)} collision(s)/check finding(s):")
             lines += [f"  {i}" for i in self.issues]
@@ -288,6 +295,7 @@ def simulate(toolpath: Toolpath, stock: Stock | BaseGeometry, machine: Machine |
     n = len(moves)
     removed_area = np.zeros(n)
     issues: list[Issue] = []
+    notes: list[Issue] = []
     sweeper = _Sweeper(machine, moves)
     fallen: list[BaseGeometry] = []
 
@@ -323,7 +331,7 @@ def simulate(toolpath: Toolpath, stock: Stock | BaseGeometry, machine: Machine |
                 removed_area[b0 + k] = a
                 if a > TOUCH_AREA:
                     _check_move(bm[k], local, geoms[j], sweeper.shape(bm[k]), paths[k],
-                                toolpath, issues)
+                                toolpath, issues, notes)
             local, local_area = after, after_area
         material = clean(material.difference(union))
         # pieces cut loose from the chucked end fall off
@@ -338,7 +346,8 @@ def simulate(toolpath: Toolpath, stock: Stock | BaseGeometry, machine: Machine |
     issues.sort(key=lambda i: i.line)
     return Machined(material=material, stock=start_region, toolpath=toolpath, issues=issues,
                     removed_area=removed_area, shapes=dict(sweeper.shapes),
-                    thread_spans=_thread_spans(moves, machine), fallen=fallen, machine=machine)
+                    thread_spans=_thread_spans(moves, machine), fallen=fallen, machine=machine,
+                    notes=notes)
 
 
 def _where(rem: BaseGeometry) -> str:
@@ -347,7 +356,7 @@ def _where(rem: BaseGeometry) -> str:
 
 
 def _check_move(m: Move, local: BaseGeometry, sweep: BaseGeometry, shape: ToolShape,
-                path: np.ndarray, tp: Toolpath, issues: list[Issue]) -> None:
+                path: np.ndarray, tp: Toolpath, issues: list[Issue], notes: list[Issue]) -> None:
     """The checks for a move that removed more than TOUCH_AREA from ``local`` (the material
     around it just before the move) with its swept region ``sweep``."""
     stopped = m.kind in ("line", "arc") and m.spindle <= 0
@@ -358,8 +367,13 @@ def _check_move(m: Move, local: BaseGeometry, sweep: BaseGeometry, shape: ToolSh
             return
         block = tp.block(m.line)
         if m.kind == "rapid":
-            issues.append(Issue(m.line, block, f"rapid move cuts material ({rem.area:.3f} mm^2 at "
-                                f"{_where(rem)}): collision", "collision"))
+            depth = 2 * shapely.maximum_inscribed_circle(rem, 1e-3).length
+            if depth >= RAPID_DEPTH:
+                issues.append(Issue(m.line, block, f"rapid move cuts material ({rem.area:.3f} mm^2, "
+                                    f"{depth:.3f} mm deep at {_where(rem)}): collision", "collision"))
+            else:
+                notes.append(Issue(m.line, block, f"rapid move shaves a sliver {depth:.3f} mm thick "
+                                   f"({rem.area:.4f} mm^2 at {_where(rem)})", "rapid-sliver"))
             return
         if stopped:
             issues.append(Issue(m.line, block, f"feed move with the spindle stopped cuts material "
