@@ -86,3 +86,8 @@ def test_n_range():
 def test_n_numbers_are_not_the_execution_order():
     tp = run("%1\nG92 X0 Z0\nN30 G00 Z-1\nN10 G00 Z-2\nM30\n")
     assert [m.end[1] for m in tp.moves] == [-1, -2]
+
+
+def test_line_numbers_count_newlines_only():
+    tp = run("%1\r\nG92 X0 Z0\r\n(a\x0cb)\r\nG01 Z-1 F10\r\nM30\r\n")
+    assert tp.moves[0].line == 4

@@ -152,3 +152,15 @@ def test_loop_is_compiled_once_and_fast():
 def test_if_with_assignment_on_its_line_as_the_appendix_prints_it():
     assert g("#1=91\nIF #1 EQ 91 #50=1 #51=2\n#52=3\nENDIF", 50, 51, 52) == [1, 2, 3]
     assert g("#50=0\n#1=90\nIF #1 EQ 91 #50=1\nENDIF", 50) == [0]
+
+
+def test_parametric_family_macro_with_g65():
+    """The family idea: one macro, dimensions as G65 arguments (D dia, Q length, C chamfer;
+    L would be the repeat count)."""
+    macro = ("%9001\nIF [AR[#3] EQ 0] OR [AR[#16] EQ 0]\nM99\nENDIF\n"
+             "G00 X[#3-2*#2-4] Z2\nG01 X[#3-2*#2] Z0 F[#5]\nX#3 Z-#2 C0\nZ-#16\nG00 X[#3+4]\nZ2\nM99\n")
+    main = "%1\nG92 X100 Z50\nM03 S800\nG65 P9001 D20 Q30 C1 F80\nG65 P9001 D30 Q10 C2 F80\nM30\n"
+    it = interp(main + macro)
+    ends = [(round(2 * m.end[0], 6), round(m.end[1], 6)) for m in it.moves if m.kind == "line"]
+    assert ends == [(18, 0), (20, -1), (20, -30), (26, 0), (30, -2), (30, -10)]
+    assert all(m.feed == 80 for m in it.moves if m.kind == "line")

@@ -1221,8 +1221,8 @@ class Interp:
                 return self.m.default_feed
         if self.per_rev:
             if rpm <= 0:
-                self.warn(line, "feed per revolution (G95) with the spindle stopped: the move "
-                                "cannot run; time counted as 0", ("g95", line))
+                self.warn(line, "feed per revolution (G95) with the spindle stopped or at S0: the "
+                                "move cannot run; time counted as 0", ("g95", line))
                 return 0.0
             return F * rpm
         if F <= 0:

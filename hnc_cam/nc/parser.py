@@ -106,7 +106,10 @@ def _control(s: str) -> Optional[str]:
 
 def load(text: str, file: str = "<program>") -> Source:
     """Split ``text`` into statements and programs and match IF/WHILE structure."""
-    raw = text.splitlines()
+    # lines as an editor counts them (only \n ends a line; a \r before it is dropped)
+    raw = [ln[:-1] if ln.endswith("\r") else ln for ln in text.split("\n")]
+    if raw and raw[-1] == "":
+        raw.pop()
     src = Source(file=file, lines=raw)
     lineno, stext, kind, number = src.lineno, src.text, src.kind, src.number
     for i, r in enumerate(raw):
