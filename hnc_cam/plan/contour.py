@@ -55,9 +55,17 @@ def trim_left(chain: Sequence[Segment], z_left: float) -> list[Segment]:
     return out
 
 
-def with_leads(chain: Sequence[Segment], z_start: float, x_exit: float) -> list[Segment]:
-    """Lead-in along Z from ``z_start`` to the first point, exit along X to ``x_exit``."""
+def with_leads(chain: Sequence[Segment], z_start: float, x_exit: float,
+               past_centre: float = 0.0) -> list[Segment]:
+    """Lead-in along Z from ``z_start`` to the first point, exit along X to ``x_exit``.
+
+    A chain that starts on the axis is first extended along X to ``-past_centre`` (the
+    finishing tool's nose radius): the tool's tip must pass the centre by its nose radius for
+    the nose to reach the axis and leave no pip on the face."""
     segs = list(chain)
+    if past_centre > 0 and abs(segs[0].start[0]) < 1e-9:
+        z0 = segs[0].start[1]
+        segs.insert(0, Line((-past_centre, z0), segs[0].start))
     first, last = segs[0].start, segs[-1].end
     out: list[Segment] = []
     if z_start > first[1] + 1e-9:
@@ -111,6 +119,36 @@ def _tangent_join(t0: Point, t1: Point) -> bool:
     return t0[0] * t1[0] + t0[1] * t1[1] > 0.9998
 
 
+def _trim_cornered_ends(segs: list[Segment]) -> list[Segment]:
+    """At a corner (no tangent join) between a line and an arc whose tangent there is parallel
+    to an axis, move the joint a little into the arc (the arc loses a piece of sagitta <= 4 x
+    0.0001 mm, the line is lengthened to the new joint): an arc starting exactly at its
+    extreme cannot keep that property once its end points are rounded."""
+    segs = list(segs)
+    for j, s in enumerate(segs):
+        if not isinstance(s, Arc):
+            continue
+        r, sweep = s.radius, abs(s.sweep)
+        d = math.sqrt(8 * END_CHORD_SAG / r) if r > 0 else 0.0
+        if d <= 0 or sweep < 4 * d:
+            continue
+        cur = s
+        if j > 0 and isinstance(segs[j - 1], Line) and _axis_parallel(cur.tangent_at_start()) \
+                and not _tangent_join(segs[j - 1].tangent_at_end(), cur.tangent_at_start()):
+            q = cur.point_at(d / sweep)
+            segs[j - 1] = Line(segs[j - 1].start, q)
+            cur = Arc(q, cur.end, cur.center, cur.cw)
+        if j + 1 < len(segs) and isinstance(segs[j + 1], Line) and \
+                _axis_parallel(cur.tangent_at_end()) and \
+                not _tangent_join(cur.tangent_at_end(), segs[j + 1].tangent_at_start()):
+            sw = abs(cur.sweep)
+            q = cur.point_at(1 - d / sw)
+            segs[j + 1] = Line(q, segs[j + 1].end)
+            cur = Arc(cur.start, q, cur.center, cur.cw)
+        segs[j] = cur
+    return segs
+
+
 def ease_arc_ends(segs: Sequence[Segment]) -> list[Segment]:
     """Split off a short chord (sagitta <= 0.0001 mm) at each arc end where the arc's tangent
     is parallel to an axis.
@@ -120,8 +158,8 @@ def ease_arc_ends(segs: Sequence[Segment]) -> list[Segment]:
     itself by a few tenths of a micron, and the roughing cycles would see a profile that is not
     monotonic. The chord keeps the written arc clear of the extreme.
     """
+    segs = _trim_cornered_ends(list(segs))
     out: list[Segment] = []
-    segs = list(segs)
     for j, s in enumerate(segs):
         if not isinstance(s, Arc):
             out.append(s)
@@ -177,7 +215,7 @@ def to_blocks(contour: Sequence[Segment], first_axis: str, feed: float,
         if isinstance(s, Arc) and math.dist(s.start, s.end) >= 0.01:
             sweep = abs(math.degrees(s.sweep))
             g = 2 if s.cw else 3
-            if sweep <= 170.0 and not _axis_parallel(s.tangent_at_start()):
+            if sweep <= 170.0:
                 b = Block(g, x=s.end[0], z=s.end[1], r=s.radius)
             else:
                 b = Block(g, x=s.end[0], z=s.end[1], i=s.center[0] - s.start[0],

@@ -143,7 +143,8 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
         n = max(1, math.ceil(stock.face / t.depth - 1e-9))
         levels = [stock.face * (1 - i / n) for i in range(1, n + 1)]
         levels[-1] = 0.0
-        x_end = 0.0 if stock.kind == "bar" else max(0.0, stock.bore / 2 - opts.clearance)
+        # past the centre by the nose radius, so that the nose reaches the axis
+        x_end = -t.nose_radius if stock.kind == "bar" else max(0.0, stock.bore / 2 - opts.clearance)
         cyc = "G81" if opts.face_cycle == "g81" else "G01"
         ops.append(Operation(
             name="face", cycle=cyc, template="face.j2", tool=t,
@@ -297,7 +298,7 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
                   + f"; {describe(rougher)} reaches {back_reach(rougher):.0f} deg")
         base_dir = (1.0, 0.0)
 
-    base = ct.with_leads(contour, z_a, x_a)
+    base = ct.with_leads(contour, z_a, x_a, past_centre=2 * finisher.nose_radius + 0.1)
     if opts.comp == "cam":
         prog = ct.tip_path(base, finisher.nose_radius, finisher.tip, bore=False)
         delta = rougher.nose_radius - finisher.nose_radius
@@ -341,24 +342,32 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
 
 
 def _end_pocket_op(p: an.Pocket, t: Tool, opts: Options, x_a: float, name: str) -> Operation:
-    """Profile an open pocket at the left end (bridged in the main contour) in one pass."""
+    """Profile an open pocket at the left end (e.g. the left edge's chamfer; bridged in the
+    main contour) in one pass.
+
+    The last wall is continued past the part's left end by the nose radius plus 0.3 mm, into
+    the stock that stays in the chuck, so that no wedge is left between the wall and the
+    parting plane; the tool then returns along its own path and leaves. This short pass is
+    always written as the tool's tip path (G40), in both compensation modes: a control
+    compensating a path that reverses on itself would put the nose on the wrong side.
+    """
     z_in = p.entry[1] + 1.0
-    base = [Line((p.entry[0], z_in), p.entry)] + list(p.segments)
-    last = base[-1].end
-    base.append(Line(last, (x_a, last[1])))
-    if opts.comp == "cam":
-        prog = ct.tip_path(base, t.nose_radius, t.tip, bore=False)
-        comp = 40
-    else:
-        prog = base
-        comp = 42
-    blocks = ct.to_blocks(prog, "x", t.feed_finish, "", "")
+    segs = list(p.segments)
+    last = segs[-1]
+    tx, tz = last.tangent_at_end()
+    e = (t.nose_radius + 0.3) / max(abs(tz), 0.3)
+    ext = Line(last.end, (last.end[0] + e * tx, last.end[1] + e * tz))
+    base = [Line((p.entry[0], z_in), p.entry)] + segs + [ext]
+    prog = ct.tip_path(base, t.nose_radius, t.tip, bore=False)
+    back = [s.reversed() for s in reversed(prog)]
+    blocks = ct.to_blocks(prog + back, "x", t.feed_finish, "", "")
     return Operation(
         name="profile", cycle="contour", template="finish.j2", tool=t,
         reason=(f"{_pocket_text(p)} at the left end: one pass with {describe(t)}, which "
-                f"reaches {back_reach(t):.0f} deg (bridged in the roughing contour)"),
-        start=(x_a, z_in), speed=t.vc_finish, feed=t.feed_finish, blocks=blocks, comp=comp,
-        contour=prog, retract=[(x_a, last[1]), (x_a, z_in)])
+                f"reaches {back_reach(t):.0f} deg, past the end into the chuck-side stock and "
+                f"back (tip path, G40)"),
+        start=(x_a, z_in), speed=t.vc_finish, feed=t.feed_finish, blocks=blocks, comp=40,
+        contour=prog + back, retract=[(x_a, z_in)])
 
 
 def _allowance(chain: Sequence[Segment], delta: float, base: Point, opts: Options,
