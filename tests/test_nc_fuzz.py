@@ -73,3 +73,8 @@ def test_endless_loop_stops_at_the_step_limit():
 def test_endless_recursion_stops():
     r = outcome("%1\nM98 P1\nM30\n")
     assert isinstance(r, NCError) and "nesting too deep" in r.message
+
+
+def test_empty_subprogram_repeated_forever_stops():
+    r = outcome("%1\nM98 P2 L4294967295\nM30\n%2\n")
+    assert isinstance(r, NCError) and "step limit" in r.message

@@ -564,8 +564,13 @@ class Interp:
                 if pc >= end or kinds[pc] == P.HDR:
                     # end of the program text
                     if self.frames:
+                        steps += 1  # the implicit M99 counts (an empty subprogram with L huge)
+                        if steps > limit:
+                            raise self.alarm(f"step limit exceeded ({limit} statements executed): "
+                                             f"endless loop?", src.lineno[pc - 1] if pc > 0 else 0)
                         last = src.lineno[pc - 1] if pc > 0 else 0
-                        self.warn(last, "subprogram ends without M99: returning to the caller")
+                        self.warn(last, "subprogram ends without M99: returning to the caller",
+                                  ("noM99", last))
                         pc, end = self._return(last, implicit=True)
                         continue
                     last = src.lineno[min(pc, len(kinds)) - 1] if pc > 0 else 1
