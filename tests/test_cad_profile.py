@@ -303,3 +303,22 @@ def test_volume_check_is_a_safety_net(shaft_solid, monkeypatch):
     monkeypatch.setattr(occ, "classify_faces", lambda shape: ([], []))
     with pytest.raises(ProfileError, match="differs from the revolution of its section"):
         profile(keyed)
+
+
+def test_ellipsoidal_dome_fitted_and_rest_exact():
+    """A revolved quarter ellipse (semi-axes 20 radial, 8 axial) on a cylinder: the dome is
+    arcs within tolerance of the true ellipse, the program zero is its apex, and the lines
+    after it stay exact (OpenCascade's approximate cut is projected back onto the surface)."""
+    from build123d import Axis, Edge, Face, Plane, Wire, revolve
+    el = Edge.make_ellipse(20, 8, Plane.XZ, start_angle=0, end_angle=90)
+    w = Wire([el, Edge.make_line((0, 0, 8), (0, 0, -30)), Edge.make_line((0, 0, -30), (20, 0, -30)),
+              Edge.make_line((20, 0, -30), (20, 0, 0))])
+    p = profile(revolve(Face(w), Axis.Z), fit_tol=0.001)
+    assert p.outside[0].start == (0.0, 0.0)
+    assert p.outside[-2:] == [Line((20.0, -8.0), (20.0, -38.0)), Line((20.0, -38.0), (0.0, -38.0))]
+    dome = p.outside[:-2]
+    assert all(isinstance(s, Arc) for s in dome) and chain_is_connected(dome)
+    worst = max(min(s.distance_to((20 * math.cos(t), 8 * math.sin(t) - 8)) for s in dome)
+                for t in (math.pi / 2 * i / 3000 for i in range(3001)))
+    assert worst <= 0.001
+    assert any("fitted with" in n for n in p.notes)

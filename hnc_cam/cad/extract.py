@@ -123,10 +123,8 @@ def profile(obj: Any, axis: Any = "Z", zero: str | float = "right", envelope: bo
                      f"of the outside or bore chain")
     outside = merge_segments(outside)
     bore = merge_segments(bore) if bore else None
-    zmax = max(max(s.bbox()[3] for s in outside), max((s.bbox()[3] for s in bore or []), default=-1e300))
-    zmin = min(min(s.bbox()[1] for s in outside), min((s.bbox()[1] for s in bore or []), default=1e300))
     if isinstance(zero, str):
-        z0 = {"right": zmax, "left": zmin}.get(zero.lower())
+        z0 = {"right": main.zmax, "left": main.zmin}.get(zero.lower())
         if z0 is None:
             raise ProfileError(f"zero {zero!r}: expected 'right', 'left' or a number")
     else:
@@ -234,6 +232,8 @@ def _with_start(s: Segment, p: Point) -> Segment:
 class _Chain:
     segs: list[Segment]
     notes: list[str]  # fitting notes of the edges in this chain
+    zmin: float = 0.0  # Z extent of the true boundary (fitted arcs may bulge past it)
+    zmax: float = 0.0
 
     @property
     def closed(self) -> bool:
@@ -249,10 +249,15 @@ def _chains(edges: list[occ.SectionEdge], fit_tol: float) -> list[_Chain]:
     is either closed (a loop) or open with both ends on the axis."""
     items: list[tuple[Segment, int]] = []  # (segment, index of its fitting note or -1)
     notes: list[str] = []
+    zr: dict[int, tuple[float, float]] = {}  # note index -> true Z range of the fitted edge
     for e in edges:
         n0 = len(notes)
         segs = _edge_segments(e, fit_tol, notes)
-        items += [(sg, n0 if len(notes) > n0 else -1) for sg in segs]
+        fitted = len(notes) > n0
+        items += [(sg, n0 if fitted else -1) for sg in segs]
+        if fitted:  # fitted arcs may bulge past the curve's extreme Z by up to fit_tol
+            zs = [e.rz(e.first + (e.last - e.first) * i / 512)[1] for i in range(513)]
+            zr[n0] = (min(zs), max(zs))
     if not items:
         raise ProfileError("empty section: the meridian half-plane does not cut the solid "
                            "(is the part on the axis?)")
@@ -282,8 +287,10 @@ def _chains(edges: list[occ.SectionEdge], fit_tol: float) -> list[_Chain]:
                              else Arc(last.start, p0, last.center, last.cw), k)
                 break
             chain = [(sg.reversed(), k) for sg, k in reversed(chain)]
+        ranges = [zr[k] if k >= 0 else (sg.bbox()[1], sg.bbox()[3]) for sg, k in chain]
         ch = _Chain([sg for sg, _ in chain],
-                    [notes[k] for k in sorted({k for _, k in chain if k >= 0})])
+                    [notes[k] for k in sorted({k for _, k in chain if k >= 0})],
+                    min(r[0] for r in ranges), max(r[1] for r in ranges))
         if not ch.closed and not ch.on_axis:
             a, b = ch.segs[-1].end, ch.segs[0].start
             raise ProfileError(f"the section boundary is open between (r={a[0]:.4f}, z={a[1]:.4f}) "

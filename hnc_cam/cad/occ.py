@@ -15,7 +15,10 @@ from OCP.BRep import BRep_Builder, BRep_Tool
 from OCP.BRepAdaptor import BRepAdaptor_Curve, BRepAdaptor_Surface
 from OCP.BRepAlgoAPI import BRepAlgoAPI_Section
 from OCP.BRepBndLib import BRepBndLib
-from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace, BRepBuilderAPI_Transform
+from OCP.BRepBuilderAPI import (BRepBuilderAPI_MakeFace, BRepBuilderAPI_MakeVertex,
+                                BRepBuilderAPI_Transform)
+from OCP.BRepExtrema import BRepExtrema_DistShapeShape
+from OCP.GeomAPI import GeomAPI_ProjectPointOnSurf
 from OCP.BRepGProp import BRepGProp
 from OCP.BRepLProp import BRepLProp_SLProps
 from OCP.BRepTools import BRepTools
@@ -29,7 +32,7 @@ from OCP.STEPControl import STEPControl_Reader
 from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE, TopAbs_SHELL, TopAbs_SOLID
 from OCP.TopExp import TopExp
 from OCP.TopTools import TopTools_IndexedMapOfShape
-from OCP.TopoDS import TopoDS, TopoDS_Compound, TopoDS_Shape
+from OCP.TopoDS import TopoDS, TopoDS_Compound, TopoDS_Face, TopoDS_Shape
 from OCP.gp import gp_Ax1, gp_Ax3, gp_Dir, gp_Pln, gp_Pnt, gp_Trsf, gp_Vec
 
 from ..errors import ProfileError
@@ -380,15 +383,31 @@ class SectionEdge:
     adaptor: Any
     u: tuple[float, float]  # unit direction of the half-plane (x, y)
     tolerance: float = 0.0  # the edge's own tolerance (how far it may be from the true cut)
+    projector: Any = None  # GeomAPI_ProjectPointOnSurf on the face the edge was cut from
 
     def rz(self, t: float) -> tuple[float, float]:
+        """Point at parameter t. For a free-form edge (which OpenCascade approximates, to
+        ~1e-5 mm) the point is projected onto the face it was cut from: the nearest point of
+        a surface of revolution to a point of a meridian half-plane lies in that half-plane,
+        so this is the exact cut."""
         p = self.adaptor.Value(t)
+        if self.projector is not None:
+            p = self._project(p)
         return (p.X() * self.u[0] + p.Y() * self.u[1], p.Z())
+
+    def _project(self, p: gp_Pnt) -> gp_Pnt:
+        pr = self.projector
+        pr.Perform(p)
+        if pr.IsDone() and pr.NbPoints() > 0 and pr.LowerDistance() <= max(1e-3, 10 * self.tolerance):
+            return pr.NearestPoint()
+        return p
 
     def rz_d1(self, t: float):
         p = gp_Pnt()
         v = gp_Vec()
         self.adaptor.D1(t, p, v)
+        if self.projector is not None:
+            p = self._project(p)
         return ((p.X() * self.u[0] + p.Y() * self.u[1], p.Z()),
                 (v.X() * self.u[0] + v.Y() * self.u[1], v.Z()))
 
@@ -396,6 +415,29 @@ class SectionEdge:
         c = self.adaptor.Circle()
         loc = c.Location()
         return (loc.X() * self.u[0] + loc.Y() * self.u[1], loc.Z()), c.Radius()
+
+
+def _projector(face) -> Any:
+    surf = BRep_Tool.Surface_s(face)
+    ad = BRepAdaptor_Surface(face, True)
+    pr = GeomAPI_ProjectPointOnSurf()
+    pr.Init(surf, ad.FirstUParameter(), ad.LastUParameter(), ad.FirstVParameter(),
+            ad.LastVParameter(), 1e-9)
+    return pr
+
+
+def _source_face(sec: BRepAlgoAPI_Section, edge, shape: TopoDS_Shape, ad: BRepAdaptor_Curve):
+    """The face of ``shape`` a section edge was cut from."""
+    f = TopoDS_Face()
+    if sec.HasAncestorFaceOn1(edge, f) and not f.IsNull():
+        return TopoDS.Face_s(f)
+    mid = BRepBuilderAPI_MakeVertex(ad.Value((ad.FirstParameter() + ad.LastParameter()) / 2)).Vertex()
+    best, best_d = None, math.inf
+    for fc in faces(shape):
+        d = BRepExtrema_DistShapeShape(mid, fc)
+        if d.IsDone() and d.Value() < best_d:
+            best, best_d = fc, d.Value()
+    return best
 
 
 def meridian_section(shape: TopoDS_Shape, theta: float,
@@ -419,9 +461,13 @@ def meridian_section(shape: TopoDS_Shape, theta: float,
         ad = BRepAdaptor_Curve(edge)
         t = ad.GetType()
         kind = "line" if t == GeomAbs_Line else "circle" if t == GeomAbs_Circle else "other"
+        proj = None
+        if kind == "other":
+            src = _source_face(sec, edge, shape, ad)
+            proj = _projector(src) if src is not None else None
         out.append(SectionEdge(kind, str(t).split(".")[-1].replace("GeomAbs_", ""),
                                ad.FirstParameter(), ad.LastParameter(), ad, (ux, uy),
-                               BRep_Tool.Tolerance_s(edge)))
+                               BRep_Tool.Tolerance_s(edge), proj))
     return out
 
 
