@@ -127,7 +127,7 @@ class Blk:
     ``dyn`` the expression words [(letter, Expr, col)] evaluated at each execution."""
 
     __slots__ = ("stmt", "line", "text", "n", "words", "gs", "ms", "dyn", "letters", "extra",
-                 "axes", "plain", "uw")
+                 "axes", "plain", "uw", "hasf")
 
     def __init__(self, stmt: int, line: int, text: str):
         self.stmt = stmt
@@ -143,6 +143,7 @@ class Blk:
         self.axes = False
         self.plain = False  # only G00-G03 / X Z U W I K R: the fast path
         self.uw = False
+        self.hasf = False  # plain blocks: an F word to apply
 
 
 class Asg:
@@ -334,7 +335,8 @@ class Interp:
         b.extra = b.letters - _BASE_LETTERS
         b.axes = bool(b.letters & _AXIS)
         b.uw = "U" in letters or "W" in letters
-        b.plain = (b.dyn is None and not ms and b.letters <= frozenset("GXZUWIKR")
+        b.hasf = "F" in w
+        b.plain = (b.dyn is None and not ms and b.letters <= frozenset("GXZUWIKRF")
                    and all(g <= 3 for g in gs) and len(gs) <= 1)
         return b
 
@@ -359,11 +361,11 @@ class Interp:
                     g = int(f)
                 else:
                     return None
-            elif L in "XZUWIKR":
+            elif L in "XZUWIKRF":
                 if L in w:
                     return None
                 f = float(v)
-                if f > _LENGTH_LIMIT or f < -_LENGTH_LIMIT:
+                if f > _LENGTH_LIMIT or f < -_LENGTH_LIMIT or (L == "F" and not 0 <= f <= 24000):
                     return None
                 w[L] = f
             else:
@@ -376,8 +378,8 @@ class Interp:
         if shape is None:
             letters = frozenset(w)
             shape = _SHAPES[key] = (letters | {"G"} if g >= 0 else letters, letters - _BASE_LETTERS,
-                                    bool(letters & _AXIS), "U" in w or "W" in w)
-        b.letters, b.extra, b.axes, b.uw = shape
+                                    bool(letters & _AXIS), "U" in w or "W" in w, "F" in w)
+        b.letters, b.extra, b.axes, b.uw, b.hasf = shape
         if g >= 0:
             b.gs = _GS[g]
         b.plain = True
@@ -745,6 +747,8 @@ class Interp:
         if b.plain:
             w = b.words
             gs = b.gs
+            if b.hasf:
+                self.F = w["F"] * self.unit
             if gs:
                 g = gs[0]
                 self.motion = g
