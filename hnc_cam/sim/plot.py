@@ -79,7 +79,16 @@ def plot(machined: Machined, out: str | Path, report: Any = None, model: Any = N
     if suffix not in (".png", ".svg"):
         from ..errors import HncError
         raise HncError(f"--plot {out}: the plot is written as PNG or SVG (.png/.svg)")
-    fig, ax = plt.subplots(figsize=(12, 6.5), dpi=110)
+    # frame the work (stock and model), not the trips to the tool-change point
+    z0, x0, z1, x1 = machined.stock.bounds if not machined.stock.is_empty else (0, 0, 1, 1)
+    if model is not None:
+        mb = model.bbox()
+        z0, x0, z1, x1 = min(z0, mb[1]), min(x0, mb[0]), max(z1, mb[3]), max(x1, mb[2])
+    pad = max(3.0, 0.12 * max(z1 - z0, x1 - x0))
+    xlim = (z0 - pad, z1 + pad)
+    ylim = (min(x0, 0.0) - pad * 0.5, x1 + pad)
+    aspect = (ylim[1] - ylim[0]) / (xlim[1] - xlim[0])
+    fig, ax = plt.subplots(figsize=(14, min(10.0, max(4.5, 10.0 * aspect + 1.6))), dpi=110)
     _fill(ax, machined.stock, facecolor="#eeeeee", edgecolor="#999999", lw=0.8, label="stock")
     _fill(ax, machined.material, facecolor="#cfe3f5", edgecolor="none", label="remaining material")
     _outline(ax, machined.material, color="#1f4e79", lw=1.0, label="machined outline")
@@ -136,7 +145,8 @@ def plot(machined: Machined, out: str | Path, report: Any = None, model: Any = N
             if d is not None and d.size_mm > tol:
                 ax.plot([d.z], [d.x], marker="o", ms=9, mfc="none", mec=c, mew=2)
                 ax.annotate(f"{name} {d.size_mm:.3f}", (d.z, d.x), textcoords="offset points",
-                            xytext=(8, 8), color=c, fontsize=9)
+                            xytext=(8, 8), color=c, fontsize=9,
+                            bbox=dict(boxstyle="round,pad=0.2", fc="white", ec=c, alpha=0.85))
         lines = [f"{'PASS' if report.passed else 'FAIL'} at tol {tol:g} mm",
                  f"max overcut {report.max_overcut_mm:.4f} mm",
                  f"max undercut {report.max_undercut_mm:.4f} mm",
@@ -163,17 +173,18 @@ def plot(machined: Machined, out: str | Path, report: Any = None, model: Any = N
               f"cycle time {t:.1f} s ({int(t // 60)}:{t % 60:04.1f})",
               f"removed {machined.removed_volume_mm3:.0f} mm³",
               f"air cut {100 * machined.air_cut_fraction:.1f} % of feed time"]
-    ax.text(0.01, 0.99, "\n".join(lines), transform=ax.transAxes, va="top", ha="left",
+    ax.text(1.01, 0.0, "\n".join(lines), transform=ax.transAxes, va="bottom", ha="left",
             fontsize=9, family="monospace",
             bbox=dict(boxstyle="round", facecolor="white", alpha=0.85, edgecolor="#999999"))
-    ax.set_aspect("equal", adjustable="datalim")
-    ax.autoscale_view()
+    ax.set_xlim(*xlim)
+    ax.set_ylim(*ylim)
+    ax.set_aspect("equal", adjustable="box")
     ax.axhline(0.0, color="#555555", lw=0.6, ls="-.")
     ax.set_xlabel("Z (mm)")
     ax.set_ylabel("X radius (mm)")
     ax.grid(True, lw=0.3, alpha=0.5)
     ax.set_title(title or machined.toolpath.file)
-    ax.legend(loc="upper right", fontsize=8, framealpha=0.85)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, framealpha=0.85)
     fig.tight_layout()
     buf = io.BytesIO()
     fig.savefig(buf, format=suffix[1:])

@@ -124,7 +124,7 @@ class Report:
 
     def summary(self) -> str:
         def at(d: Deviation | None) -> str:
-            if d is None or d.size_mm <= 0:
+            if d is None or d.size_mm <= 1e-6:
                 return ""
             return f" at X{2 * d.x:.3f} Z{d.z:.3f}" + (f", line {d.line} [{d.block}]" if d.line else "")
         t = self.cycle_time_s
