@@ -63,3 +63,11 @@ def test_run_does_not_import_cad_packages(tmp_path):
             if ln.startswith("import time:")}
     for heavy in ("OCP", "build123d", "cadquery", "shapely", "numpy", "matplotlib"):
         assert heavy not in mods
+
+
+def test_unwritable_json_is_an_error_not_a_traceback(tmp_path):
+    p = tmp_path / "a.nc"
+    p.write_text(PROG)
+    (tmp_path / "f").write_text("")
+    r = cli("run", str(p), "--json", str(tmp_path / "f" / "x.json"))
+    assert r.returncode == 2 and "cannot write" in r.stderr and "Traceback" not in r.stderr

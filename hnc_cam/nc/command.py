@@ -25,5 +25,9 @@ def run_command(args) -> int:
     summary_stream = sys.stderr if out == "-" else sys.stdout
     print(tp.summary(), file=summary_stream)
     if out:
-        write_atomic(out, tp.dumps() + "\n")
+        try:
+            write_atomic(out, tp.dumps() + "\n")
+        except OSError as e:
+            from ..errors import HncError
+            raise HncError(f"cannot write {out}: {e.strerror or e}") from None
     return 0
