@@ -31,6 +31,7 @@ import inspect
 import dataclasses
 import math
 import sys
+import zlib
 from dataclasses import dataclass, field
 from pathlib import Path
 from types import ModuleType
@@ -77,7 +78,7 @@ def parse_set(items: Iterable[str] | None) -> dict[str, str]:
 
 
 def _import_file(path: Path) -> ModuleType:
-    modname = f"hnc_part_{path.stem}_{abs(hash(str(path.resolve()))) & 0xFFFFFF:x}"
+    modname = f"hnc_part_{path.stem}_{zlib.crc32(str(path.resolve()).encode()):08x}"
     spec = importlib.util.spec_from_file_location(modname, path)
     if spec is None or spec.loader is None:
         raise PartError(f"{path}: not importable as a Python module")
@@ -210,13 +211,14 @@ def load_part(path: str | Path, params: dict[str, Any] | None = None,
     from .extract import profile
 
     p = Path(path)
+    name = profile_kwargs.pop("name", None) or p.stem
     if p.suffix.lower() in CAD_SUFFIXES:
         if params:
             raise PartError(f"{p}: a CAD file has no parameters (got {', '.join(params)})")
         if not p.exists():
             raise PartError(f"{p}: no such file")
-        prof = profile(p, name=p.stem, **profile_kwargs)
-        return LoadedPart(profile=prof, stock=None, threads=[], name=p.stem, params={},
+        prof = profile(p, name=name, **profile_kwargs)
+        return LoadedPart(profile=prof, stock=None, threads=[], name=name, params={},
                           module=None, path=p)
     mod = load_module(p)
     where = str(p)
@@ -232,7 +234,7 @@ def load_part(path: str | Path, params: dict[str, Any] | None = None,
     stock = _stock(mod, full, where)
     threads = _threads(mod, full, where)
     try:
-        prof = profile(solid, name=p.stem, **profile_kwargs)
+        prof = profile(solid, name=name, **profile_kwargs)
     except ProfileError as e:
         raise ProfileError(f"{where} ({_fmt(full)}): {e}") from None
     prof.params = dict(full)
@@ -242,7 +244,7 @@ def load_part(path: str | Path, params: dict[str, Any] | None = None,
                    for t in threads]
     prof.threads = list(threads)
     _check_threads(prof, threads, where)
-    return LoadedPart(profile=prof, stock=stock, threads=threads, name=p.stem, params=full,
+    return LoadedPart(profile=prof, stock=stock, threads=threads, name=name, params=full,
                       module=mod, path=p)
 
 
