@@ -78,3 +78,12 @@ def test_endless_recursion_stops():
 def test_empty_subprogram_repeated_forever_stops():
     r = outcome("%1\nM98 P2 L4294967295\nM30\n%2\n")
     assert isinstance(r, NCError) and "step limit" in r.message
+
+
+def test_deeply_nested_expressions_alarm():
+    for text in ("#1=" + "[" * 3000 + "1" + "]" * 3000, "#1=" + "-" * 5000 + "1",
+                 "#1=" + "SIN[" * 2000 + "1" + "]" * 2000):
+        r = outcome("%1\n" + text + "\nM30\n")
+        assert isinstance(r, NCError)
+    r = outcome("%1\n#1=" + "[" * 20 + "2" + "]" * 20 + "\nM30\n")
+    assert not isinstance(r, NCError)

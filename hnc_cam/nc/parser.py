@@ -418,6 +418,14 @@ def _assignments(p: _P) -> list:
 
 def parse_statement(text: str, line: int, file: str = "<program>", block: str | None = None) -> Parsed:
     """Parse one cleaned line (not a header)."""
+    try:
+        return _parse_statement(text, line, file, block)
+    except (RecursionError, MemoryError, SyntaxError):
+        blk = block if block is not None else text.strip()
+        raise NCError("bad expression: nested too deeply", line, 1, blk, file) from None
+
+
+def _parse_statement(text: str, line: int, file: str, block: str | None) -> Parsed:
     blk = block if block is not None else text.strip()
     toks = tokenize(text, line, file, blk)
     p = _P(toks, text, line, file, blk)
