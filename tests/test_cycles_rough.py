@@ -114,9 +114,11 @@ def _to_c(fr: Frame, p: Point) -> tuple[float, float]:
 
 
 def check_region(plan, start: Point, offset: list[Segment], fr: Frame, depth: float,
-                 L: float = 500.0) -> dict:
+                 L: float = 500.0, approach: Optional[Segment] = None) -> dict:
     """The geometric checks of the module docstring, in the canonical frame ``fr`` of the
-    job (u up toward the stock, v back toward the start face). Returns statistics."""
+    job (u up toward the stock, v back toward the start face). ``approach``: the
+    allowance-shifted block ns when it is slanted; the side of it away from the work is air
+    (not stock). Returns statistics."""
     oc = [fr.seg_fwd(s) for s in offset]
     pts = [oc[0].start]
     for s in oc:
@@ -128,6 +130,14 @@ def check_region(plan, start: Point, offset: list[Segment], fr: Frame, depth: fl
     assert part.is_valid and part.geom_type == "Polygon"
     # the stock region: rectangle [vB, vA] x [-L, uA] minus the part
     stock = box(vB, -L, vA, uA).difference(part)
+    solid = part  # what the passes must stay out of: the part, and the air beyond the approach
+    if approach is not None:
+        (uc, vc), (ua, va) = fr.fwd(approach.start), fr.fwd(approach.end)
+        k = (vc - va) / (uc - ua)  # dv/du along the approach line
+        air = Polygon([(va - 2 * k * L, ua - 2 * L), (vc + 2 * k * L, uc + 2 * L),
+                       (vc + 2 * L, uc + 2 * L), (vc + 2 * L, ua - 2 * L)])
+        stock = stock.difference(air)
+        solid = part.union(air)
     part_in = part.buffer(-3 * CHORD)  # chords of concave arcs lie up to CHORD inside
     remaining = stock
     moves = plan.moves
@@ -148,7 +158,7 @@ def check_region(plan, start: Point, offset: list[Segment], fr: Frame, depth: fl
             assert left < 1e-6, f"pass {m} deeper than Δd ({left:g} mm² above)"
         if m is finish[0]:
             # before the last pass no material is thicker than Δd over the offset profile
-            thick = remaining.difference(_shift_up(part, depth + 1e-5)).area
+            thick = remaining.difference(_shift_up(solid, depth + 1e-5)).area
             assert thick < 1e-5, f"{thick:g} mm² thicker than Δd before the last pass"
         # a feed clears what lies on the stock side of it (its shadow up to u = +L)
         polys = [q for a, b in zip(cs, cs[1:])
@@ -854,8 +864,9 @@ from hypothesis import strategies as st  # noqa: E402
 def grooved_profiles(draw):
     """OD profiles monotonic in Z with random lines, faces and arcs (type II)."""
     n = draw(st.integers(2, 9))
-    z, x = 0.0, draw(st.floats(1.0, 8.0))
-    blocks = [("G00", 2 * x, 0.0)]
+    z, x = -draw(st.sampled_from([0.0, 0.0, 0.5, 2.0])), draw(st.floats(1.0, 8.0))
+    blocks = [("G00", 2 * x, z)]  # z < 0: a slanted approach A->A'
+
     kind = "face"  # no face right after the approach or after a face (it would fold back)
     for _ in range(n):
         kind = draw(st.sampled_from(["line", "line", "arc"] + ([] if kind == "face" else ["face"])))
@@ -894,4 +905,20 @@ def test_random_grooved_profiles(blocks, depth, retract, e, quadrant):
     except RoughingError as err:
         assert "does not reach the start side" in err.message
         return
-    check_region(plan, A, offset_of(ms, sx * e, 0.0), fr, depth)
+    ns = ms[0].translated(sx * e, 0.0)
+    check_region(plan, A, offset_of(ms, sx * e, 0.0), fr, depth,
+                 approach=ns if abs(ms[0].start[1] - ms[0].end[1]) > 1e-9 else None)
+
+
+def test_slanted_approach_block():
+    """A→A′ with a Z component (G00 X0 Z3 from Z6): the side of the approach line away
+    from the work is air; passes start on that line, entered by a feed (the stair in
+    front of each pass is cut on the way down) and never by a rapid through material."""
+    segs, mot = path((46, 6), *B3327)
+    A = (23.0, 6.0)
+    plan = rough_turn(A, segs, mot, depth=1.5, retract=1.0, allowance=(0.2, 0.1))
+    c = cuts(plan)
+    ns = segs[0].translated(0.2, 0.1)
+    for m in c:  # every pass starts on the shifted approach line
+        assert ns.distance_to(m.seg.start) < 1e-9
+    check_region(plan, A, offset_of(segs, 0.2, 0.1), Frame(False, 1, 1), 1.5, approach=ns)

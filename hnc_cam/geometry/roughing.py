@@ -47,11 +47,14 @@ The model of the stock (where the manual is silent)
   stays over the pass just cut), travels at the higher of its own level and the level of
   the deepest already-cut pass whose interval covers both ends of the travel, and goes down
   over already-cut passes. A pass that starts on the face v = v_A is entered by a rapid
-  along the face; a groove (or a pass that starts on a slanted A→A′ line) is entered by a
-  feed from the parent pass level down along ``v = const`` to the new level (that plunge cuts
-  the stair in front of the pass, so it is a feed).
+  along the face; a groove is entered by a feed from the parent pass level straight down
+  (``v = const``) to the new level (that plunge cuts the stair in front of the pass, so it
+  is a feed); a pass that starts on a slanted approach A→A′ (a G71 block ns with a Z
+  component) is entered by a feed down along that line, which also cuts the stair between
+  the line and the pass. The far side of the approach line is taken as air.
 * After the passes, the last pass follows the whole offset profile (A″ … B″) at the cycle's
-  feed (G00 blocks of the profile stay rapids), then the tool goes back to A: first away from
+  feed (G00 blocks of the profile stay rapids; with a slanted approach the tool feeds down
+  the approach line from the start of the lowest pass on it), then the tool goes back to A: first away from
   the work across the passes (u up to the higher of A and the profile), then along v, then
   to A. Macro %0071 does the last leg as one G00 from B″ to A; the axis-separated return can
   never pass through the part whatever the rapid rates are.
@@ -343,6 +346,9 @@ def rough_turn(start: Point, profile: Sequence[Segment], motions: Sequence[str],
     # --- levels and the tree of intervals
     root = _Node(uA, v_lo, vA, 0)
     prev = [root]
+    nodes: list[_Node] = []
+    (cu, cv), (au, av) = off[0].start, off[0].end
+    slanted = abs(au - cu) > TOL and abs(av - cv) > TOL  # block ns moves in both axes
     k = 0
     n_int = 0
     while True:
@@ -366,6 +372,7 @@ def rough_turn(start: Point, profile: Sequence[Segment], motions: Sequence[str],
             node = _Node(u, lo, hi, k, par)
             par.children.append(node)
             cur.append(node)
+            nodes.append(node)
             n_int += 1
         prev = cur
     levels = k - 1
@@ -393,12 +400,22 @@ def rough_turn(start: Point, profile: Sequence[Segment], motions: Sequence[str],
     stack = list(reversed(root.children))
     while stack:
         node = stack.pop()
-        travel(last, node.hi, "link")
         if node.hi >= vA - TOL:
+            travel(last, node.hi, "link")
             go("rapid", (node.u, node.hi), "approach", node.k)
         else:
-            assert node.parent is not None
-            go("rapid", (node.parent.u, node.hi), "approach", node.k)
+            par = node.parent
+            assert par is not None
+            wu, wv = par.u, node.hi
+            if slanted and off[0].distance_to((node.u, node.hi)) < 1e-7:
+                # the pass starts on a slanted approach line C→A″: come down along it from
+                # the parent level (or from the face), so that the stair in front of the
+                # pass is cut too
+                wv = cv + (par.u - cu) * (av - cv) / (au - cu)
+                if wv > par.hi:
+                    wu, wv = cu + (par.hi - cv) * (au - cu) / (av - cv), par.hi
+            travel(last, wv, "link")
+            go("rapid", (wu, wv), "approach", node.k)
             out.append(("feed", Line(pos[0], (node.u, node.hi)), "plunge", node.k))
             pos[0] = (node.u, node.hi)
         out.append(("feed", Line(pos[0], (node.u, node.lo)), "cut", node.k))
@@ -410,10 +427,19 @@ def rough_turn(start: Point, profile: Sequence[Segment], motions: Sequence[str],
 
     # last pass: along the whole offset profile
     A2 = off[0].end
-    h = travel(last, vA, "link")
-    if off[0].start[1] > vA + TOL:
-        go("rapid", (h, off[0].start[1]), "link")
-    out.append(("rapid" if mot[0] == "rapid" else "feed", Line(pos[0], A2), "finish", None))
+    on_ns = [n for n in nodes if slanted and off[0].distance_to((n.u, n.hi)) < 1e-7]
+    if on_ns:
+        # slanted approach: from the start of the lowest pass on it, feed down the approach
+        # line to A″ (this cuts the last stair between that line and the profile)
+        nk = min(on_ns, key=lambda n: n.u)
+        travel(last, nk.hi, "link")
+        go("rapid", (nk.u, nk.hi), "link")
+        out.append(("feed", Line(pos[0], A2), "finish", None))
+    else:
+        h = travel(last, vA, "link")
+        if off[0].start[1] > vA + TOL:
+            go("rapid", (h, off[0].start[1]), "link")
+        out.append(("rapid" if mot[0] == "rapid" else "feed", Line(pos[0], A2), "finish", None))
     pos[0] = A2
     for s, m in zip(off[1:], mot[1:]):
         if m == "rapid":
