@@ -100,6 +100,11 @@ def polygons(g: BaseGeometry) -> list[Polygon]:
 
 def clean(g: BaseGeometry) -> BaseGeometry:
     """Keep only the areal part of an overlay result."""
+    t = g.geom_type
+    if t == "Polygon":
+        return g
+    if t == "MultiPolygon":
+        return g
     ps = [p for p in polygons(g) if p.area > 0]
     if not ps:
         return Polygon()

@@ -319,6 +319,8 @@ def simulate(toolpath: Toolpath, stock: Stock | BaseGeometry, machine: Machine |
         shapely.prepare(local)
         # the local material only shrinks: a sweep that misses it now misses it later too
         hit = shapely.intersects(local, geoms)
+        nc_hit = _non_cutting_candidates(local, [bm[k] for k in idx],
+                                         [sweeper.shape(bm[k]) for k in idx], [paths[k] for k in idx])
         shapely.destroy_prepared(local)
         local_area = local.area
         for j, k in enumerate(idx):
@@ -331,7 +333,7 @@ def simulate(toolpath: Toolpath, stock: Stock | BaseGeometry, machine: Machine |
                 removed_area[b0 + k] = a
                 if a > TOUCH_AREA:
                     _check_move(bm[k], local, geoms[j], sweeper.shape(bm[k]), paths[k],
-                                toolpath, issues, notes)
+                                toolpath, issues, notes, j in nc_hit)
             local, local_area = after, after_area
         material = clean(material.difference(union))
         # pieces cut loose from the chucked end fall off
@@ -356,7 +358,8 @@ def _where(rem: BaseGeometry) -> str:
 
 
 def _check_move(m: Move, local: BaseGeometry, sweep: BaseGeometry, shape: ToolShape,
-                path: np.ndarray, tp: Toolpath, issues: list[Issue], notes: list[Issue]) -> None:
+                path: np.ndarray, tp: Toolpath, issues: list[Issue], notes: list[Issue],
+                maybe_non_cutting: bool = True) -> None:
     """The checks for a move that removed more than TOUCH_AREA from ``local`` (the material
     around it just before the move) with its swept region ``sweep``."""
     stopped = m.kind in ("line", "arc") and m.spindle <= 0
@@ -381,7 +384,7 @@ def _check_move(m: Move, local: BaseGeometry, sweep: BaseGeometry, shape: ToolSh
         if no_feed:
             issues.append(Issue(m.line, block, f"move at zero feed cuts material "
                                 f"({rem.area:.3f} mm^2 at {_where(rem)})", "feed"))
-    if m.kind in FEED_KINDS and shape.non_cutting and len(path) >= 2:
+    if maybe_non_cutting and m.kind in FEED_KINDS and shape.non_cutting and len(path) >= 2:
         hit = _non_cutting_hit(shape, path, local)
         if hit is not None:
             issues.append(Issue(m.line, tp.block(m.line), f"cuts with a non-cutting side of the "
@@ -407,6 +410,45 @@ def _sides(shape: ToolShape) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return got
 
 
+def _leading_quads(shape: ToolShape, path: np.ndarray) -> np.ndarray:
+    """(n, 4, 2) parallelograms swept by the non-cutting sides that lead along ``path``."""
+    a, b, nrm = _sides(shape)
+    p, q = path[:-1], path[1:]
+    mv = q - p
+    lead = (mv @ nrm.T) > 1e-12 * (np.hypot(mv[:, 0], mv[:, 1])[:, None] + 1e-12)
+    pi, si = np.nonzero(lead)
+    return np.stack([a[si] + p[pi], b[si] + p[pi], b[si] + q[pi], a[si] + q[pi]], axis=1)
+
+
+def _non_cutting_candidates(local: BaseGeometry, moves: list[Move], shapes: list[ToolShape],
+                            paths: list[np.ndarray]) -> set[int]:
+    """Indices of the feed moves whose leading non-cutting sides pass through ``local`` (the
+    material at the start of the batch, a superset of what each move meets): only these need
+    the exact check. Vectorised per tool shape."""
+    groups: dict[tuple, tuple[ToolShape, list, list, list]] = {}
+    for j, (m, s, pth) in enumerate(zip(moves, shapes, paths)):
+        if m.kind in FEED_KINDS and s.non_cutting and len(pth) >= 2:
+            g = groups.setdefault(s.key, (s, [], [], []))
+            g[1].append(pth[:-1])
+            g[2].append(pth[1:])
+            g[3].append(np.full(len(pth) - 1, j))
+    quads, owner = [], []
+    for s, ps, qs, js in groups.values():
+        a, b, nrm = _sides(s)
+        P, Q, J = np.concatenate(ps), np.concatenate(qs), np.concatenate(js)
+        mv = Q - P
+        lead = (mv @ nrm.T) > 1e-12 * (np.hypot(mv[:, 0], mv[:, 1])[:, None] + 1e-12)
+        pi, si = np.nonzero(lead)
+        if len(pi):
+            quads.append(np.stack([a[si] + P[pi], b[si] + P[pi], b[si] + Q[pi], a[si] + Q[pi]], axis=1))
+            owner.append(J[pi])
+    if not quads:
+        return set()
+    polys = shapely.polygons(np.concatenate(quads))
+    hit = shapely.intersects(local, polys)
+    return set(np.concatenate(owner)[hit].tolist())
+
+
 def _non_cutting_hit(shape: ToolShape, path: np.ndarray, rem: BaseGeometry) -> BaseGeometry | None:
     """Material of ``rem`` (the material before the move) swept by a leading non-cutting side
     of the tool, if significant.
@@ -414,14 +456,9 @@ def _non_cutting_hit(shape: ToolShape, path: np.ndarray, rem: BaseGeometry) -> B
     Only sides whose outward normal has a positive component along the motion lead; a trailing
     side passes only where the tool body already was. A side translated along a straight piece
     of the path sweeps a parallelogram."""
-    a, b, nrm = _sides(shape)
-    p, q = path[:-1], path[1:]
-    mv = q - p
-    lead = (mv @ nrm.T) > 1e-12 * (np.hypot(mv[:, 0], mv[:, 1])[:, None] + 1e-12)  # (pieces, sides)
-    pi, si = np.nonzero(lead)
-    if not len(pi):
+    quads = _leading_quads(shape, path)
+    if not len(quads):
         return None
-    quads = np.stack([a[si] + p[pi], b[si] + p[pi], b[si] + q[pi], a[si] + q[pi]], axis=1)
     polys = shapely.polygons(quads)
     hits = polys[shapely.intersects(rem, polys)]
     if not len(hits):
