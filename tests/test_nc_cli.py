@@ -71,3 +71,13 @@ def test_unwritable_json_is_an_error_not_a_traceback(tmp_path):
     (tmp_path / "f").write_text("")
     r = cli("run", str(p), "--json", str(tmp_path / "f" / "x.json"))
     assert r.returncode == 2 and "cannot write" in r.stderr and "Traceback" not in r.stderr
+
+
+def test_run_starts_at_the_reference_point(tmp_path):
+    p = tmp_path / "a.nc"
+    p.write_text("%1\nG91 G00 W-1\nM30\n")
+    out = tmp_path / "a.json"
+    assert cli("run", str(p), "--json", str(out)).returncode == 0
+    from hnc_cam.tooling import load_machine
+    rx, rz = load_machine(None).reference
+    assert json.loads(out.read_text())["moves"][0]["start"] == [2 * rx, rz]

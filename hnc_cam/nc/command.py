@@ -1,6 +1,7 @@
 """``hnc-cam run PROGRAM [--machine FILE] [--json OUT]``.
 
-Prints the toolpath summary on stdout (or on stderr when the JSON goes to stdout), the
+The tool starts at the machine's reference point (as after homing, and as ``simulate``
+does). Prints the toolpath summary on stdout (or on stderr when the JSON goes to stdout), the
 warnings on stderr as ``FILE:LINE: warning: MESSAGE``, and writes the JSON when asked.
 Alarms propagate as :class:`~hnc_cam.errors.NCError`; the CLI prints them as
 ``FILE:LINE:COL: alarm: MESSAGE  [block]`` and exits 2.
@@ -18,7 +19,7 @@ def run_command(args) -> int:
     from .interp import run_file
 
     machine = load_machine(getattr(args, "machine", None))
-    tp = run_file(args.program, machine)
+    tp = run_file(args.program, machine, start="reference")  # as `simulate`: after homing
     for w in tp.warnings:
         print(f"{tp.file}:{w.line}: warning: {w.message}", file=sys.stderr)
     out = getattr(args, "json", None)

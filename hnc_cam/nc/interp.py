@@ -19,7 +19,8 @@ Coordinates and offsets (choices where the manual is silent, also in the README)
 ------------------------------------------------------------------------------------
 * Internally X is a radius; X/U words are diameters in G36 (the default; a machine with
   ``diameter_mode = false`` or ``run(..., diameter=False)`` starts in G37), I K R always radii.
-* The tool starts at work X0 Z0 of G54 unless ``start=`` is given (programs set it with G92).
+* The API's tool starts at work X0 Z0 of G54 unless ``start=`` is given (``"reference"``:
+  the machine reference point, which ``hnc-cam run`` uses); programs usually set it with G92.
 * Work position = machine position - (G54..G59 origin + G92 shift + G52 local shift).
   Moves are reported in the work system active when they run (what the control displays);
   a program that switches G54..G59 or G52 between moves shows that jump between moves.
@@ -192,7 +193,7 @@ class Interp:
               "comp_items", "comp_mode", "op")
 
     def __init__(self, src: P.Source, machine: Machine | None = None, *,
-                 step_limit: int | None = None, start: tuple[float, float] = (0.0, 0.0),
+                 step_limit: int | None = None, start: tuple[float, float] | str = (0.0, 0.0),
                  diameter: bool | None = None):
         self.src = src
         self.m = machine if machine is not None else load_machine(None)
@@ -204,7 +205,6 @@ class Interp:
         self.blocks = 0
         self.steps = 0
         # modal state (table 3.2 defaults)
-        self.x, self.z = float(start[0]), float(start[1])
         self.motion = 0
         self.absolute = True
         if diameter is None:
@@ -219,6 +219,13 @@ class Interp:
         self.g92x = self.g92z = 0.0
         self.g52x = self.g52z = 0.0
         self.ox, self.oz = self.wcs_tab.get(54, (0.0, 0.0))
+        if isinstance(start, str):
+            if start != "reference":
+                raise ValueError(f"start must be (x, z) or 'reference', got {start!r}")
+            rx, rz = self.m.reference  # machine coordinates -> work coordinates of G54
+            self.x, self.z = rx - self.ox, rz - self.oz
+        else:
+            self.x, self.z = float(start[0]), float(start[1])
         self.F: Optional[float] = None
         self.s_rpm = 0.0
         self.vc = 0.0
@@ -1622,12 +1629,13 @@ class CycleCtx:
 # ------------------------------------------------------------------------------------------
 
 def run(text: str, machine: Machine | None = None, *, file: str = "<program>",
-        step_limit: int | None = None, start: tuple[float, float] = (0.0, 0.0),
+        step_limit: int | None = None, start: tuple[float, float] | str = (0.0, 0.0),
         diameter: bool | None = None) -> Toolpath:
     """Interpret program ``text`` and return its toolpath; raises :class:`NCError` on an alarm.
 
     ``step_limit`` (default: the machine's) bounds the statements executed; ``start`` is the
-    initial work position (x radius, z); ``diameter`` the power-on G36/G37 state (default:
+    initial work position (x radius, z), or ``"reference"`` for the machine's reference point
+    (what ``hnc-cam run`` uses); ``diameter`` the power-on G36/G37 state (default:
     the machine's ``diameter_mode`` when it has one, else G36)."""
     import gc
     enabled = gc.isenabled()
