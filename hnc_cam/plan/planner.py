@@ -216,13 +216,12 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
                  ("profile" in t.uses or "finish" in t.uses)]
     end_ops: list[Operation] = []
     for p in pockets:
-        if p.exit is None and stock.kind != "offset" and len(pockets) == 1 + len(end_ops) - 0 \
-                and p is pockets[-1]:
+        if p.exit is None and stock.kind != "offset" and p is pockets[-1]:
             # an open pocket at the left end (e.g. the chamfer of the left edge): bridged in
             # the main contour and profiled afterwards with a tool that reaches it, when it
             # is shallow enough for one pass
             pt = [t for t in profilers if back_reach(t) >= p.max_descent - 1e-9
-                  and t.depth >= p.depth - 1e-9]
+                  and 2 * t.depth >= p.depth - 1e-9]
             if pt:
                 bridged.add(id(p))
                 end_ops.append(_end_pocket_op(p, pt[0], opts, x_a, name))
@@ -542,13 +541,22 @@ def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stoc
                 z_wall = part_left
             break
         r = _radius_at(chain, z, th.internal)
-        if r is not None and sgn * (r - r_root) > 0.005:
+        # the insert's leading flank rises from the root at the thread end at the profile's
+        # half angle; within half a pitch of the end the flank may cut the run-out (that is
+        # the thread's own run-out zone); the part must stay below the flank and the crest
+        beyond = z_lo - z
+        limit = r_crest + 0.005
+        if beyond > 0.5 * th.pitch:
+            limit = min(limit, r_root + beyond / math.tan(math.radians(th.angle / 2)))
+        if r is not None and sgn * (r - (limit if not th.internal else r_root)) > 0.005 \
+                if not th.internal else (r is not None and r - r_root < -0.005):
             z_wall = z
             break
     if z_wall is not None and z_lo - z_wall < need - 1e-9:
         raise PlanError(f"{label} is longer than the relief allows: it ends "
                         f"{_fmt(max(0.0, z_lo - z_wall))} mm before the wall at Z{_fmt(z_wall)}, and "
-                        f"the threading insert needs {_fmt(need)} mm (half the lead plus 0.2 mm)")
+                        f"the threading insert needs {_fmt(need)} mm (half the lead plus 0.2 mm) "
+                        f"clear of its flank")
     # start point: clear of everything to the right of the thread
     xs = [s.bbox()[2] if not th.internal else s.bbox()[0] for s in chain
           if s.bbox()[3] >= z_hi - 1e-9]
