@@ -42,6 +42,18 @@ Coordinates and offsets (choices where the manual is silent, also in the README)
 * Macro variables read as *vacant* until assigned: reading a vacant variable in an
   expression is an alarm ("undefined variable"); a call fills ``#0``–``#25`` with its words
   (0 when absent, as appendix 1 says), ``#30``/``#32`` with the X (radius) / Z work position.
+* Variables: ``#0-#49`` locals of the current level, ``#50-#199`` globals, ``#200+50*L+i``
+  local ``i`` of level ``L`` (0 = main program, up to 7 nested calls), ``#600+n`` /
+  ``#700+n`` register n's Z offset / nose radius (writable, for this run), ``#800+n`` tool
+  life (free storage), ``#1000/#1002`` machine X (radius) / Z, ``#1009`` 1 in G36 / 0 in
+  G37, ``#1010-#1018`` programmed machine position, ``#1020/#1022`` work X (radius) / Z,
+  ``#1030/#1032`` current work zero, ``#1040+10*k`` (+2 for Z) the G54+k origins (writable),
+  ``#1110/#1112`` the G28 intermediate point, ``#1150+g`` the modal code of group g of
+  table 3.2 (``#1151`` and ``#1152`` both give the motion code: the appendix macros save it
+  from ``#1152``; ``#1167`` G96/G97), ``#2000-#2600`` the cycle contour table (storage).
+  Other numbers are "undefined variable" alarms. Call arguments keep the values as written
+  (X as a diameter in G36), as the manual's O1000 example needs; note that the appendix's
+  own cycle macros (%0080, %0073) treat ``#23`` as a radius.
 * A subprogram that reaches the end of its text without M99 returns with a warning (the
   manual prints %9990 cut short); the main program must end with M02/M30.
 
