@@ -60,12 +60,12 @@ def simulate_command(args: argparse.Namespace) -> int:
     machine = _machine(args)
     stock = _stock(args.stock)
     model = None
-    if stock.kind == "offset":
-        if not args.model:
-            raise StockError(f"stock {args.stock!r}: an offset:A stock needs --model PART")
-        model = _model(args.model, args.params).profile
-    elif args.params and not args.model:
+    if stock.kind == "offset" and not args.model:
+        raise StockError(f"stock {args.stock!r}: an offset:A stock needs --model PART")
+    if args.params and not args.model:
         raise HncError("--set needs --model")
+    if args.model:  # the offset:A blank, and the model outline in the plot
+        model = _model(args.model, args.params).profile
     tp = _toolpath(args.program, machine)
     for w in tp.warnings:
         print(f"{tp.file}:{w.line}: warning: {w.message}", file=sys.stderr)

@@ -147,3 +147,25 @@ def test_declared_thread_zone_compared_with_standard():
               "G00 X60 Z50")
     _, r2 = run_verify(t2, model, machine=machine)
     assert not r2.threads[0].ok and not r2.passed
+
+
+def test_bore_with_boring_bar_passes_and_keeps_corner_unreachable():
+    from hnc_cam.tooling import Insert
+    model = TurnedProfile(outside=poly((20, 0), (20, -50)),
+                          bore=poly((10, 0), (10, -30), (8, -30), (8, -50)))
+    t = prog("T0303", "M03 S800", "G00 X14 Z2", "G01 Z-30 F100", "X12", "G00 Z2", "X18",
+             "G01 Z-30", "X14", "G00 Z2", "X20", "G01 Z-30", "X14", "G00 Z2", "G00 X60 Z50")
+    bar = Machine(registers={3: Register(number=3, radius=0.4, tip=2, approach=95.0,
+                                         insert=Insert.parse("CCMT09T304"))})
+    m, r = run_verify(t, model, stock="40/16x50", machine=bar)
+    assert r.passed and not m.issues, r.summary()
+    # the inner corner at the bore bottom keeps the nose: r (1 - cos 45)
+    assert len(r.unreachable) == 1
+    assert r.unreachable[0].size_mm == pytest.approx(0.4 * (1 - math.sqrt(0.5)), abs=0.001)
+    # the first pass at dia 14 is in the air
+    assert m.air_cut_fraction > 0.2
+    # an 0.05 mm too large bore is an overcut of 0.025 on the right line
+    t2 = t.replace("X20\nG01 Z-30", "X20.05\nG01 Z-30")
+    _, r2 = run_verify(t2, model, stock="40/16x50", machine=bar)
+    assert r2.max_overcut_mm == pytest.approx(0.025, abs=0.001)
+    assert r2.overcut_at.line == t2.splitlines().index("X20.05") + 2

@@ -187,6 +187,6 @@ def plot(machined: Machined, out: str | Path, report: Any = None, model: Any = N
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, framealpha=0.85)
     fig.tight_layout()
     buf = io.BytesIO()
-    fig.savefig(buf, format=suffix[1:])
+    fig.savefig(buf, format=suffix[1:], bbox_inches="tight")
     plt.close(fig)
     write_atomic(out, buf.getvalue())
