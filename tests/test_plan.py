@@ -1,0 +1,148 @@
+"""Planner: operation choice per kind of part, allowances, refusals (synthetic profiles, no
+CAD kernel); programs run through the interpreter without alarm in both compensation modes."""
+from __future__ import annotations
+
+import pytest
+
+from hnc_cam.errors import PlanError
+from hnc_cam.plan import Options, make_plan
+from hnc_cam.plan.api import generate
+from hnc_cam.tooling import Stock, ToolLibrary, load_machine, load_tools
+
+from test_plan_shapes import bushing, flange, grooved, shaft, stud, undercut, wavy
+
+LIB = load_tools(None)
+MACH = load_machine(None, tools=LIB)
+
+
+def plan(profile, stock, comp="control", lib=LIB, **kw):
+    return make_plan(profile, Stock.parse(stock), lib, MACH, Options(comp=comp, **kw),
+                     name=profile.name)
+
+
+def cycles(p):
+    return [(op.name, op.cycle) for op in p.operations]
+
+
+def test_monotonic_shaft_is_g71_type_1_with_facing():
+    p = plan(shaft(), "50x90+2")
+    assert cycles(p)[:3] == [("face", "G81"), ("rough", "G71"), ("finish", "contour")]
+    face = p.operations[0]
+    assert face.passes[-1] == 0.0 and len(face.passes) == 2  # 2 mm in passes of <= 1.5
+    assert face.words["x_end"] == pytest.approx(-0.8)  # past the centre by the nose radius
+    rough = p.operations[1]
+    assert rough.tool.number == 1 and p.operations[2].tool.number == 2
+    assert rough.words["X"] >= 0.2 and rough.words["Z"] >= 0.1
+    assert "monotonic" in rough.reason
+
+
+def test_undercut_is_g71_type_2_with_a_tool_that_reaches_it():
+    p = plan(undercut(), "40x70")
+    rough = [op for op in p.operations if op.name == "rough"][0]
+    assert rough.cycle == "G71E"
+    # the 45 deg wall is beyond the DNMG (30 deg): the VNMG (50 deg) roughs and finishes
+    assert rough.tool.insert.code.startswith("VNMG")
+    fin = [op for op in p.operations if op.name == "finish"][0]
+    assert fin.tool.number == rough.tool.number and not fin.new_tool
+    assert "45 deg" in rough.reason
+
+
+def test_flange_is_g72_by_the_stated_rule():
+    p = plan(flange(), "104x30+2")
+    rough = [op for op in p.operations if op.name == "rough"][0]
+    assert rough.cycle == "G72"
+    assert "radial extent" in rough.reason and "> length" in rough.reason
+    fin = [op for op in p.operations if op.name == "finish"][0]
+    assert fin.comp == 41  # contour run toward +Z
+    assert fin.blocks[0].x is None and fin.blocks[0].z is not None  # ns moves along Z only
+
+
+def test_offset_stock_is_g73():
+    p = plan(wavy(), "offset:2")
+    rough = [op for op in p.operations if op.name == "rough"][0]
+    assert rough.cycle == "G73"
+    assert rough.words["U"] == 2 and rough.words["W"] == 2 and rough.words["R"] >= 2
+    assert not [op for op in p.operations if op.name == "face"]
+
+
+def test_tube_gets_bore_roughing_with_negative_allowance():
+    p = plan(bushing(), "42/16x45+2")
+    names = cycles(p)
+    assert ("bore_rough", "G71") in names and ("bore_finish", "contour") in names
+    b = [op for op in p.operations if op.name == "bore_rough"][0]
+    assert b.tool.kind == "bore" and b.words["X"] < 0
+    bf = [op for op in p.operations if op.name == "bore_finish"][0]
+    assert bf.comp == 41
+
+
+def test_square_groove_is_plunged_with_the_grooving_tool():
+    p = plan(grooved(width=4.0), "30x70")
+    g = [op for op in p.operations if op.name == "groove"][0]
+    assert g.tool.kind == "groove"
+    assert g.passes[0] == pytest.approx(-20 - 3.0)  # insert's right side on the right wall
+    assert g.passes[-1] == pytest.approx(-24.0)  # left corner on the left wall
+    assert g.words["x_bottom"] == pytest.approx(8.0)
+    rough = [op for op in p.operations if op.name == "rough"][0]
+    assert rough.cycle == "G71" and "bridged" in rough.reason
+
+
+def test_thread_g76_depth_from_the_standard_and_g82_option():
+    p = plan(stud(), "30x60+1")
+    th = [op for op in p.operations if op.name == "thread"][0]
+    assert th.cycle == "G76"
+    assert th.words["K"] == pytest.approx(0.6134 * 1.5)
+    assert 2 * th.words["X"] == pytest.approx(20 - 2 * 0.6134 * 1.5)
+    assert th.speed_mode == "G97"
+    p2 = plan(stud(), "30x60+1", thread_cycle="g82")
+    th2 = [op for op in p2.operations if op.name == "thread"][0]
+    assert th2.cycle == "G82" and th2.passes[-1] == pytest.approx(10 - 0.6134 * 1.5)
+    assert th2.passes == sorted(th2.passes, reverse=True)
+
+
+# ---------------------------------------------------------------- refusals
+
+def test_stock_too_small():
+    with pytest.raises(PlanError, match="smaller than the part's largest diameter 44"):
+        plan(shaft(), "40x90")
+
+
+def test_stock_too_short():
+    with pytest.raises(PlanError, match="too short"):
+        plan(shaft(), "50x60+2")
+
+
+def test_unreachable_groove_names_the_tool_needed():
+    with pytest.raises(PlanError, match=r"unreachable.*grooving insert at most 2 mm wide.*T07 3 mm"):
+        plan(grooved(width=2.0), "30x70")
+
+
+def test_thread_longer_than_relief():
+    with pytest.raises(PlanError, match="longer than the relief allows"):
+        plan(stud(thread_len=28.8), "30x60+1")
+
+
+def test_missing_thread_tool():
+    lib = ToolLibrary(tuple(t for t in LIB.tools if t.kind != "thread"))
+    with pytest.raises(PlanError, match="no external threading tool"):
+        plan(stud(), "30x60+1", lib=lib)
+
+
+def test_bar_for_a_part_with_a_bore():
+    with pytest.raises(PlanError, match="pre-drilled hole"):
+        plan(bushing(), "42x45+2")
+
+
+# ---------------------------------------------------------------- interpreter
+
+@pytest.mark.parametrize("comp", ["cam", "control"])
+@pytest.mark.parametrize("shape,stock", [(shaft, "50x90+2"), (undercut, "40x70"),
+                                         (grooved, "30x70"), (flange, "104x30+2"),
+                                         (stud, "30x60+1"), (bushing, "42/16x45+2")])
+def test_programs_run_in_the_interpreter(shape, stock, comp):
+    prog = generate(shape(), stock, comp=comp, verify=False)
+    assert prog.toolpath is not None and prog.toolpath.moves
+    assert prog.text.startswith("%0001\n") and prog.text.rstrip().endswith("M30")
+    assert "G41" not in prog.text and "G42" not in prog.text if comp == "cam" else True
+    # the program ends at the tool-change point
+    end = prog.toolpath.moves[-1].end
+    assert end == pytest.approx(MACH.tool_change, abs=1e-6)
