@@ -148,3 +148,21 @@ def test_default_machine_and_tools_fill_registers():
                  "G00 X60 Z50"), machine=load_machine())
     shapes = {k: s for k, s in m.shapes.items()}
     assert shapes[(1, None)].nose_radius == pytest.approx(0.8)
+
+
+def test_zero_feed_touching_material():
+    moves = [Move("line", (19.0, 2.0), (19.0, -8.0), 3, feed=0.0, spindle=500, duration=0.0)]
+    tp = Toolpath(moves=moves, source_lines=["", "", "G01 Z-8 F0"])
+    m = simulate(tp, Stock.parse("40x60"), SHARP)
+    assert [(i.kind, i.line, i.block) for i in m.issues] == [("feed", 3, "G01 Z-8 F0")]
+
+
+def test_sim_is_independent_of_planner_post_and_cad():
+    import subprocess
+    import sys
+    code = ("import sys, hnc_cam.sim, hnc_cam.sim.plot, hnc_cam.sim.verify, hnc_cam.check; "
+            "bad = [m for m in sys.modules if m.startswith(('hnc_cam.plan', 'hnc_cam.post', "
+            "'hnc_cam.cad', 'hnc_cam._templates', 'OCP', 'build123d', 'cadquery', 'jinja2', "
+            "'matplotlib'))]; print(bad); sys.exit(1 if bad else 0)")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert r.returncode == 0, r.stdout + r.stderr
