@@ -14,6 +14,8 @@ import sys
 
 
 def run_command(args) -> int:
+    import gc
+    gc.disable()  # a short-lived process building many small objects: GC passes only cost time
     from ..io import write_atomic
     from ..tooling import load_machine
     from .interp import run_file
