@@ -68,7 +68,8 @@ def program(bl, words: str) -> str:
     lines = ["%0071", "T0101", "M03 S800", f"G00 X{2 * A[0]:g} Z{A[1]:g}",
              f"G71 {words} P100 Q{100 + len(bl) - 1} F150"]
     for i, b in enumerate(bl):
-        lines.append(f"N{100 + i} {b[0]} X{b[1]:.4f} Z{b[2]:.4f}" + (f" R{b[3]:.6f}" if len(b) > 3 else ""))
+        r = f" R{b[3]:.6f}" if len(b) > 3 else ""
+        lines.append(f"N{100 + i} {b[0]} X{b[1]:.4f} Z{b[2]:.4f}{r}")
     lines += ["G00 X250 Z50", "M30"]
     return "\n".join(lines) + "\n"
 
@@ -125,11 +126,13 @@ def bench_g71(repeat: int = 5) -> None:
                                                    allowance=allow, pockets=grooves), repeat)
         print(f"G71 {name}: {len(segs)} segments, {plan.levels} levels, {plan.passes} passes, "
               f"{len(plan.moves)} moves")
-        print(f"  engine (rough_turn)        median {med * 1e3:8.1f} ms   best {best * 1e3:8.1f} ms")
+        print(f"  engine (rough_turn)        median {med * 1e3:8.1f} ms   "
+              f"best {best * 1e3:8.1f} ms")
         w = dict(words, P=100, Q=100 + len(bl) - 1)
         med, best, rec = _time(lambda: (lambda r: (cycles_rough.execute(71, r), r)[1])(
             _Recorder(w, (segs, mot))), repeat)
-        print(f"  cycle module (execute)     median {med * 1e3:8.1f} ms   best {best * 1e3:8.1f} ms")
+        print(f"  cycle module (execute)     median {med * 1e3:8.1f} ms   "
+              f"best {best * 1e3:8.1f} ms")
         try:
             from hnc_cam.nc import run
         except ImportError:  # pragma: no cover

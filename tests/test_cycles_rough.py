@@ -23,7 +23,7 @@ from shapely.geometry import LineString, Polygon, box
 from shapely.ops import unary_union
 
 from hnc_cam.errors import NCError
-from hnc_cam.geometry.primitives import Arc, Line, Point, Segment, dist, same_point
+from hnc_cam.geometry.primitives import Arc, Line, Point, Segment, same_point
 from hnc_cam.geometry.roughing import (Frame, RoughingError, first_non_monotonic,
                                        is_monotonic, pattern_repeat, rough_turn)
 from hnc_cam.nc import cycles_rough
@@ -411,7 +411,8 @@ def test_g73_3335_passes():
         assert not LineString([_to_c(fr, p) for p in _pts(m.seg)]).intersects(part_in)
     # links between passes go out in X first, then along Z (never across the blank)
     links = [m for m in plan.moves if m.role == "link"]
-    assert links[0].seg.end[0] > links[0].seg.start[0] and links[0].seg.end[1] == links[0].seg.start[1]
+    first = links[0].seg
+    assert first.end[0] > first.start[0] and first.end[1] == first.start[1]
 
 
 def test_g73_bore_and_every_quadrant():
@@ -596,7 +597,8 @@ def _machine(sharp: bool):
     from hnc_cam.tooling import Register, load_machine
     m = load_machine()
     if sharp:  # zero nose radius: G41/G42 leave the finishing path on the profile
-        m = m.with_registers({n: Register(number=n) for n in list(m.registers) + list(range(1, 10))})
+        numbers = set(m.registers) | set(range(1, 10))
+        m = m.with_registers({n: Register(number=n) for n in numbers})
     return m
 
 
@@ -837,7 +839,8 @@ ALARM_PROGRAMS = [
 ]
 
 
-@pytest.mark.parametrize("name,words,blocks,msg", ALARM_PROGRAMS, ids=[a[0] for a in ALARM_PROGRAMS])
+@pytest.mark.parametrize("name,words,blocks,msg", ALARM_PROGRAMS,
+                         ids=[a[0] for a in ALARM_PROGRAMS])
 def test_alarms_through_the_interpreter(name, words, blocks, msg):
     from hnc_cam.nc import run
     text = program((46, 3), words, blocks)

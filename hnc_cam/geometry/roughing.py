@@ -6,8 +6,8 @@ cycle module (``hnc_cam.nc.cycles_rough``) reads the words, asks for the program
 
 Normalisation
 =============
-Every G71/G72 job is mapped by a :class:`Frame` (an axis swap and/or mirrors, determinant ±1,
-so lines stay lines and arcs stay arcs with their turning sense flipped on a reflection) into
+Every G71/G72 job is mapped by a :class:`Frame` (an axis swap and/or mirrors, determinant
+±1, so lines stay lines and arcs stay arcs, turning sense flipped on a reflection) into
 one canonical quadrant: coordinates ``(u, v)``, used as the ``(x, z)`` of the primitives,
 
 * ``u`` is the *level* axis: the passes lie at ``u = const``, the material is on the +u side
@@ -37,11 +37,16 @@ The model of the stock (where the manual is silent)
 * A level's intervals are nested in the intervals of the level above; they form a tree.
   The passes are cut depth-first, children in order of decreasing v (the one nearest to the
   start face first). For type I this is the plain level-by-level order of macro %0071. For
-  type II (grooves, pockets) it means: the region that opens on the start face is roughed
-  down to its bottom first, then each groove in turn from the start side toward the end,
-  each groove down to its bottom (with its own sub-grooves in the same order) before the
-  next. The manual's fig. 3.3.26 is not legible in the extracted text; this is the order of
-  FANUC's type II, which the HNC type II mirrors.
+  type II (grooves, pockets) it means (our choice: the manual's fig. 3.3.26 is not legible
+  in the extracted text and macro %0071 has no type II): the region that opens on the start
+  face is roughed down to its bottom first, then each groove in turn from the start side
+  toward the far end, each groove down to its bottom (its own sub-grooves in the same
+  order) before the next one. Depth-first keeps every travel inside space already cut.
+* Profiles: type I (and G72) must be monotonic along both axes (levels and cut), type II
+  along the cut only (alarm otherwise). "The profile does not reach the start side" is an
+  alarm when its end B lies deeper (further from A along the level axis) than its start A′:
+  the finished shape must rise back toward the start side, as every profile of the manual
+  does.
 * Moves between passes never cross material that is not removed yet: after a pass the tool
   retracts by r in u and by min(r, pass length) in v (the macro's 45° retract, clipped so it
   stays over the pass just cut), travels at the higher of its own level and the level of
@@ -54,10 +59,10 @@ The model of the stock (where the manual is silent)
   the line and the pass. The far side of the approach line is taken as air.
 * After the passes, the last pass follows the whole offset profile (A″ … B″) at the cycle's
   feed (G00 blocks of the profile stay rapids; with a slanted approach the tool feeds down
-  the approach line from the start of the lowest pass on it), then the tool goes back to A: first away from
-  the work across the passes (u up to the higher of A and the profile), then along v, then
-  to A. Macro %0071 does the last leg as one G00 from B″ to A; the axis-separated return can
-  never pass through the part whatever the rapid rates are.
+  the approach line from the start of the lowest pass on it), then the tool goes back to A:
+  first away from the work across the passes (u up to the higher of A and the profile),
+  then along v, then to A. Macro %0071 does the last leg as one G00 from B″ to A; the
+  axis-separated return can never pass through the part whatever the rapid rates are.
 
 G73 (pattern repeat) follows macro %0073 with r passes: pass k (k = 1…r) is the whole
 programmed path shifted by the remaining stock ``(ΔI, ΔK)·(r − k)/r`` plus the finishing
@@ -115,7 +120,8 @@ class RoughPlan:
     warnings: list[str] = field(default_factory=list)
     levels: int = 0  # number of pass levels (G71/G72) or passes (G73)
     passes: int = 0  # number of cutting passes (G71/G72: intervals cut)
-    offset_profile: list[Segment] = field(default_factory=list)  # A″…B″ (without the ns block)
+    #: the allowance-offset profile A″…B″ (without the block ns)
+    offset_profile: list[Segment] = field(default_factory=list)
 
 
 # --------------------------------------------------------------------------- frames
