@@ -13,6 +13,7 @@ from __future__ import annotations
 from typing import Sequence
 
 import shapely
+import shapely.errors
 from shapely.geometry import Polygon, box
 from shapely.geometry.base import BaseGeometry
 
@@ -111,3 +112,29 @@ def clean(g: BaseGeometry) -> BaseGeometry:
     if len(ps) == 1:
         return ps[0]
     return shapely.MultiPolygon(ps)
+
+
+#: snap-rounding grid (mm) used when GEOS meets a robustness failure on nearly coincident edges
+GRID = 1e-6
+
+
+def _robust(op, *args):
+    try:
+        return op(*args)
+    except shapely.errors.GEOSException:
+        return op(*args, grid_size=GRID)
+
+
+def diff(a: BaseGeometry, b: BaseGeometry) -> BaseGeometry:
+    """``a - b`` (areal part), retried on a 1e-6 mm grid if GEOS reports a topology error."""
+    return clean(_robust(shapely.difference, a, b))
+
+
+def inter(a: BaseGeometry, b: BaseGeometry) -> BaseGeometry:
+    """``a & b`` (areal part), retried on a 1e-6 mm grid if GEOS reports a topology error."""
+    return clean(_robust(shapely.intersection, a, b))
+
+
+def union(geoms) -> BaseGeometry:
+    """Union of many geometries, retried on a 1e-6 mm grid if GEOS reports a topology error."""
+    return clean(_robust(shapely.union_all, geoms))

@@ -55,7 +55,7 @@ from shapely.geometry.base import BaseGeometry
 from ..geometry import Arc
 from ..nc.toolpath import Move, Toolpath
 from ..tooling import Machine, Stock, ToolLibrary, load_machine
-from .region import chuck_zone, clean, polygons, stock_region
+from .region import chuck_zone, clean, diff, inter, polygons, stock_region, union as union_of
 from .tool import CHORD, ToolShape, tool_shape
 
 FEED_KINDS = ("line", "arc", "thread")
@@ -125,7 +125,7 @@ class Machined:
 
     @property
     def removed(self) -> BaseGeometry:
-        return clean(self.stock.difference(self.material))
+        return diff(self.stock, self.material)
 
     @property
     def removed_volume_mm3(self) -> float:
@@ -311,7 +311,7 @@ def simulate(toolpath: Toolpath, stock: Stock | BaseGeometry, machine: Machine |
         if not idx or material.is_empty:
             continue
         geoms = np.array([sw[k] for k in idx], dtype=object)
-        union = shapely.union_all(geoms)
+        union = union_of(geoms)
         z0, x0, z1, x1 = union.bounds
         local = clean(shapely.clip_by_rect(material, z0, x0, z1, x1))
         if local.is_empty:
@@ -326,7 +326,7 @@ def simulate(toolpath: Toolpath, stock: Stock | BaseGeometry, machine: Machine |
         for j, k in enumerate(idx):
             if not hit[j]:
                 continue
-            after = clean(local.difference(geoms[j]))
+            after = diff(local, geoms[j])
             after_area = after.area
             a = local_area - after_area
             if a > 1e-12:
@@ -335,7 +335,7 @@ def simulate(toolpath: Toolpath, stock: Stock | BaseGeometry, machine: Machine |
                     _check_move(bm[k], local, geoms[j], sweeper.shape(bm[k]), paths[k],
                                 toolpath, issues, notes, j in nc_hit)
             local, local_area = after, after_area
-        material = clean(material.difference(union))
+        material = diff(material, union)
         # pieces cut loose from the chucked end fall off
         parts = polygons(material)
         if len(parts) > 1 and chuck is not None:
@@ -365,7 +365,7 @@ def _check_move(m: Move, local: BaseGeometry, sweep: BaseGeometry, shape: ToolSh
     stopped = m.kind in ("line", "arc") and m.spindle <= 0
     no_feed = m.kind in FEED_KINDS and (m.feed is None or m.feed <= 0)
     if m.kind == "rapid" or stopped or no_feed:
-        rem = clean(local.intersection(sweep))
+        rem = inter(local, sweep)
         if not (rem.area > TOUCH_AREA and _thickness(rem) > TOUCH_THICK):
             return
         block = tp.block(m.line)

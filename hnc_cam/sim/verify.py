@@ -43,7 +43,7 @@ from shapely.geometry.base import BaseGeometry
 
 from ..geometry import Line, Segment, Thread, TurnedProfile
 from .measure import distances
-from .region import clean, polygons, profile_polygon
+from .region import clean, diff, inter, polygons, profile_polygon
 from .simulate import FEED_KINDS, Issue, Machined
 from .tool import ToolShape, tool_shape
 
@@ -410,8 +410,8 @@ def verify(machined: Machined, model: TurnedProfile, tol: float = 0.01,
     excl = shapely.union_all([box(z.z0 - 0.5 * z.pitch, min(z.r_root, z.r_crest) - max(0.5 * z.pitch, 0.5),
                                   z.z1 + 0.5 * z.pitch, max(z.r_root, z.r_crest)) for z in zones]) if zones else Polygon()
     domain = box(model.z_min, -1.0, BIG, BIG)
-    over = clean(clean(model_poly.difference(material)).difference(excl))
-    under = clean(clean(material.intersection(domain).difference(model_poly)).difference(excl))
+    over = diff(diff(model_poly, material), excl)
+    under = diff(diff(inter(material, domain), model_poly), excl)
 
     over_at = _deepest(over, segs, interior=True) if not over.is_empty else None
     max_over = over_at.size_mm if over_at else 0.0
