@@ -204,7 +204,6 @@ def test_3327_type_i_od_passes_and_last_pass():
     assert [round(m.seg.start[0], 9) for m in c] == [round(23 - 1.5 * k, 9) for k in range(1, 16)]
     # every pass starts on the face Z = A.z and ends on the offset profile
     off = offset_of(segs, 0.2, 0.1)
-    from hnc_cam.geometry.intersect import intersect
     for m in c:
         assert m.seg.start[1] == pytest.approx(3.0)
         assert any(s.distance_to(m.seg.end) < 1e-9 for s in off)
@@ -217,7 +216,6 @@ def test_3327_type_i_od_passes_and_last_pass():
     assert plan.moves[i + 2].seg.end == pytest.approx((22.5, 3.0))
     assert plan.moves[i + 3].seg.end == pytest.approx((20.0, 3.0))
     check_region(plan, A, off, Frame(False, 1, 1), 1.5)
-    del intersect
 
 
 def test_3328_type_i_bore():
