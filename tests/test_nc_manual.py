@@ -13,10 +13,12 @@ import re
 
 import pytest
 
-from conftest import MANUAL
+from pathlib import Path
+
 from hnc_cam.errors import NCError
 from hnc_cam.nc import run_file
 
+MANUAL = Path(__file__).resolve().parents[1].parent / "shared" / "examples" / "manual"  # as conftest
 ALL = sorted(p.name for p in MANUAL.glob("*.nc")) if MANUAL.exists() else []
 
 
