@@ -169,3 +169,25 @@ def test_bore_with_boring_bar_passes_and_keeps_corner_unreachable():
     _, r2 = run_verify(t2, model, stock="40/16x50", machine=bar)
     assert r2.max_overcut_mm == pytest.approx(0.025, abs=0.001)
     assert r2.overcut_at.line == t2.splitlines().index("X20.05") + 2
+
+
+def test_g76_thread_reaches_standard_minor_diameter():
+    # M20x1.5: K = 0.6134 P = 0.92, root X18.16 = d3 (20 - 1.2269 * 1.5)
+    model = TurnedProfile(outside=poly((0, 0), (10, 0), (10, -25), (15, -25), (15, -40)),
+                          threads=[Thread(z_start=0, z_end=-20, diameter=20, pitch=1.5)])
+    t = prog("T0101", "M03 S800", "G00 X32 Z2", "X20", "G01 Z-25 F100", "X32", "G00 X40 Z20",
+             "T0404", "M03 S600", "G00 X24 Z4",
+             "G76 C2 R-1 E0.6 A60 X18.16 Z-20 K0.92 U0.1 V0.1 Q0.4 F1.5", "G00 X40 Z20")
+    mach = Machine(registers={4: Register(number=4, radius=0.0, tip=8)})
+    m, r = run_verify(t, model, stock="30x40", machine=mach)
+    assert [s.angle for s in m.thread_spans] == [60.0]
+    th = r.threads[0]
+    assert th.target_diameter == pytest.approx(20 - 1.2269 * 1.5, abs=1e-3)
+    assert th.achieved_diameter == pytest.approx(18.16, abs=0.002)
+    assert r.passed and r.max_overcut_mm < 0.001, r.summary()
+    # without the declaration the zone comes from the thread moves, nominal from the model
+    model.threads = []
+    _, r2 = run_verify(t, model, stock="30x40", machine=mach)
+    assert len(r2.threads) == 1 and not r2.threads[0].declared
+    assert r2.threads[0].target_diameter == pytest.approx(20 - 1.2269 * 1.5, abs=1e-3)
+    assert r2.passed, r2.summary()

@@ -135,6 +135,9 @@ def plot(machined: Machined, out: str | Path, report: Any = None, model: Any = N
                   label=f"undercut > {tol:g} mm")
             _fill(ax, report.unreachable_region, facecolor="none", edgecolor="#9467bd",
                   hatch="////", lw=0.8, label="unreachable leftover")
+        for k, t in enumerate(report.threads):
+            ax.axvspan(t.z_min, t.z_max, color="#2ca02c" if t.ok else "#d62728", alpha=0.08,
+                       label="thread zone" if k == 0 else None)
         for k, u in enumerate(report.unreachable):
             ax.plot([u.z], [u.x], marker="D", ms=6, mfc="none", mec="#9467bd", mew=1.5,
                     label="unreachable (size)" if k == 0 else None)
