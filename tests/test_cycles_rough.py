@@ -407,6 +407,21 @@ def test_g73_3335_passes():
     part_in = part.buffer(-3 * CHORD)  # chords of concave arcs lie up to CHORD inside
     for m in plan.moves:
         assert not LineString([_to_c(fr, p) for p in _pts(m.seg)]).intersects(part_in)
+    # no rapid between passes enters the material left after the last pass (the profile
+    # shifted by that pass's offset), nor the blank (shifted by the whole stock) before pass 1
+    def below(k):
+        f = (3 - k) / 3
+        segs_k = [s.translated(0.3 + 3.0 * f, 0.1 + 0.9 * f) for s in segs[1:]]
+        q = [p for s in segs_k for p in _pts(s)]
+        return Polygon([(p[1], p[0]) for p in q] + [(q[-1][1], -50), (q[0][1], -50)]) \
+            .buffer(0).buffer(-3 * CHORD)
+    done = 0
+    for m in plan.moves:
+        if m.role == "cut":
+            done = m.level
+        elif m.kind == "rapid":
+            ls = LineString([_to_c(fr, p) for p in _pts(m.seg)])
+            assert not ls.intersects(below(done)), (m, done)
     # links between passes go out in X first, then along Z (never across the blank)
     links = [m for m in plan.moves if m.role == "link"]
     first = links[0].seg
