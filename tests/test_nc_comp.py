@@ -167,18 +167,28 @@ def test_alarm_groove_narrower_than_2r():
     assert bottom.start[0] == pytest.approx(8.5 - 0.5)
 
 
-def test_air_moves_are_not_grooves_and_zero_length_items():
+def test_air_moves_and_zero_length_items():
     r = 0.8
-    # cut, short rapid retract (< r), rapid back, a zero-length block, cancel
-    items = [item(Line((12, 5), (10, 0)), 1, "start"), item(Line((10, 0), (10, -10)), 2),
-             item(Line((10, -10), (10.5, -10)), 3, kind="rapid"),
-             item(Line((10.5, -10), (10.5, 2)), 4, kind="rapid"),
-             item(Line((10.5, 2), (10.5, 2)), 5, kind="rapid"),
-             item(Line((10.5, 2), (20, 5)), 6, "cancel", "rapid")]
+    # cut, rapid retract, rapid back toward +Z still under G42 (the tool rides on the -X side
+    # of the return), a zero-length block, cancel
+    def prog(up):
+        return [item(Line((12, 5), (10, 0)), 1, "start"), item(Line((10, 0), (10, -10)), 2),
+                item(Line((10, -10), (10 + up, -10)), 3, kind="rapid"),
+                item(Line((10 + up, -10), (10 + up, 2)), 4, kind="rapid"),
+                item(Line((10 + up, 2), (10 + up, 2)), 5, kind="rapid"),
+                item(Line((10 + up, 2), (20, 5)), 6, "cancel", "rapid")]
+    items = prog(2.0)  # return 2 mm above the cut: the nose clears it
     out = compensate_moves(items, r, 0, 42)
     check_contiguous(out, items)
+    cut = [s for s, it in out if it.line == 2 and s.kind == "line"][0]
+    assert cut.start == pytest.approx((10.8, 0)) and cut.end == pytest.approx((10.8, -9.2))  # trimmed
+    back = [s for s, it in out if it.line == 4 and s.kind == "line"][-1]
+    assert back.start[0] == pytest.approx(11.2) and back.end == pytest.approx((11.2, 2))
     z5 = [s for s, it in out if it.line == 5]
-    assert len(z5) == 1 and z5[0].length == 0.0
+    assert len(z5) == 1 and z5[0].length == 0.0 and z5[0].start == back.end
+    # a return only 0.5 above the cut would drag the nose through the finished surface
+    with pytest.raises(NCError):
+        compensate_moves(prog(0.5), r, 0, 42)
 
 
 def test_start_then_cancel_only_and_no_start():
@@ -363,3 +373,51 @@ def test_inside_arc_as_short_chords():
                 for k in range(21):
                     p = seg.point_at(k / 20)
                     assert min(g.distance_to(p) for g in segs) == pytest.approx(0.8, abs=1e-9)
+
+
+# ---------------------------------------------------------------------------------------------
+# randomised: any run either alarms or gives a contiguous controlled-point path, every item
+# represented in order, the nose never closer than r to the moves within the lookahead
+
+from hypothesis import given, settings, strategies as st  # noqa: E402
+from hnc_cam.geometry.tip import tip_vector  # noqa: E402
+
+_steps = st.lists(st.tuples(st.sampled_from([0.1, 0.3, 0.7, 1.0, 1.5, 4.0]),
+                            st.sampled_from([-3.0, -1.0, -0.5, -0.2, 0.0, 0.2, 0.5, 1.0, 3.0]),
+                            st.sampled_from(["line", "arc+", "arc-"]), st.sampled_from(["feed", "rapid"])),
+                  min_size=1, max_size=9)
+
+
+@settings(max_examples=150, deadline=None)
+@given(_steps, st.sampled_from([0.4, 0.8]), st.sampled_from([0, 3, 2]), st.sampled_from([41, 42]))
+def test_random_runs(steps, r, tip, side):
+    pts = [(10.0, 0.0)]
+    segs, kinds = [], []
+    for dz, dx, shape, k in steps:
+        a = pts[-1]
+        b = (max(1.0, a[0] + dx), a[1] - dz)
+        segs.append(Line(a, b) if shape == "line" else Arc.from_radius(a, b, dist(a, b) * 0.75, shape == "arc+"))
+        kinds.append(k if shape == "line" else "feed")
+        pts.append(b)
+    items = [item(Line((30, 5), segs[0].start), 1, "start", "rapid")]
+    items += [item(g, i + 2, kind=k) for i, (g, k) in enumerate(zip(segs, kinds))]
+    items += [item(Line(segs[-1].end, (30, 5)), len(segs) + 2, "cancel", "rapid")]
+    try:
+        out = compensate_moves(items, r, tip, side)
+    except NCError as e:
+        assert e.line in {it.line for it in items}
+        return
+    check_contiguous(out, items)
+    if [g for g, _ in out] == [it.seg for it in items]:  # nothing to follow: rapids only
+        assert all(it.kind == "rapid" for it in items[1:-1])
+        return
+    tv = tip_vector(tip, r)
+    for g, it in out:
+        if it.mode != "normal" or g.length == 0:
+            continue
+        i = it.line - 2
+        near = segs[max(0, i - 3):i + 4]
+        for k in range(11):
+            p = g.point_at(k / 10)
+            c = (p[0] - tv[0], p[1] - tv[1])
+            assert min(s.distance_to(c) for s in near) >= r - 1e-7

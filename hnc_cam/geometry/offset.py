@@ -22,9 +22,11 @@ Method (exact, no sampling of the path):
    window (exact ``distance_to``). Concave corners are thereby trimmed exactly at the
    intersection of the two offsets; short segments between corners, arcs that vanish and
    grooves narrower than ``2r`` lose all pieces that would gouge.
-4. *Walk.* From the first valid piece the path follows, at each end point, the valid piece
-   starting there that lies furthest along the raw offset (this skips any loop); contiguous
-   pieces of one element are merged back into one line or arc.
+4. *Walk.* From each valid piece the path continues with the valid piece starting at its
+   end that lies furthest along the raw offset (this skips any loop). Where the valid pieces
+   fall apart into several runs (a stub at an open end that a later move cuts off, an island
+   the nose cannot reach from outside), the longest run is the path. Contiguous pieces of
+   one element are merged back into one line or arc.
 5. *Report.* Each output segment carries its :class:`Origin` (offset of input segment ``i``
    or corner arc at the joint ``i``/``k``). From these, the stretches of the contour the nose
    never touches are collected into :class:`Departure` records: kind ``corner`` (the nose
@@ -62,6 +64,8 @@ RIGHT = -1
 VALID_TOL = 1e-7
 #: end points closer than this are joined when walking the pieces
 MATCH_TOL = 1e-6
+#: a gap up to this (numerical trouble at near-tangent cuts) is bridged by a straight link
+LINK_TOL = 1e-4
 #: untouched stretches shorter than this (mm) are ignored
 GAP_TOL = 1e-6
 #: departures below this (mm) are not reported
@@ -91,7 +95,9 @@ def side_sign(side) -> int:
 class Origin:
     """Where an output segment comes from: ``kind == "seg"``: the offset of input segment
     ``before`` (== ``after``); ``kind == "corner"``: the arc about the corner between input
-    segments ``before`` and ``after`` (indices into the chain given to :func:`offset_chain`)."""
+    segments ``before`` and ``after`` (indices into the chain given to :func:`offset_chain`);
+    ``kind == "link"``: a straight bridge (shorter than ``LINK_TOL``) into the offset of
+    ``before``/``after`` where near-tangent cuts left a numerical gap."""
     kind: str
     before: int
     after: int
@@ -391,28 +397,46 @@ def offset_chain(chain: Sequence[Segment], r: float, side, lookahead: int | None
         if pc.valid:
             grid.setdefault(key(pc.seg.start), []).append(pi)
 
-    def near(p: Point, after: int, owner_hi: int) -> int | None:
+    def near(p: Point, after: int, owner_hi: int, tol: float) -> int | None:
         reach = window(owner_hi, owner_hi)[1]
         kx, kz = key(p)
         best = None
-        for dx in (-1, 0, 1):
-            for dz in (-1, 0, 1):
+        span = 1 if tol <= cell else int(math.ceil(tol / cell))
+        for dx in range(-span, span + 1):
+            for dz in range(-span, span + 1):
                 for qi in grid.get((kx + dx, kz + dz), ()):
                     if qi <= after or (best is not None and qi <= best):
                         continue
                     if elems[pieces[qi].elem].owners[0] > reach:
                         continue
-                    if dist(pieces[qi].seg.start, p) <= MATCH_TOL:
+                    if dist(pieces[qi].seg.start, p) <= tol:
                         best = qi
         return best
 
+    # successor of every valid piece: the valid piece starting at its end that lies furthest
+    # along the raw offset (this cuts loops); a gap up to LINK_TOL (numerical) is bridged
+    nxt: dict[int, int | None] = {}
+    linked: set[int] = set()
+    for pi, pc in enumerate(pieces):
+        if not pc.valid:
+            continue
+        q = near(pc.seg.end, pi, elems[pc.elem].owners[1], MATCH_TOL)
+        if q is None:
+            q = near(pc.seg.end, pi, elems[pc.elem].owners[1], LINK_TOL)
+            if q is not None:
+                linked.add(q)
+        nxt[pi] = q
+    # the valid set can fall apart (a stub at an open end cut off by a later move, an
+    # unreachable island): keep the longest connected run
+    total: dict[int, float] = {}
+    for pi in sorted(nxt, reverse=True):
+        q = nxt[pi]
+        total[pi] = pieces[pi].seg.length + (total[q] if q is not None else 0.0)
     route: list[int] = []
-    first = next((pi for pi, pc in enumerate(pieces) if pc.valid), None)
-    cur = first
+    cur = max(total, key=lambda k: (total[k], -k)) if total else None
     while cur is not None:
         route.append(cur)
-        pc = pieces[cur]
-        cur = near(pc.seg.end, cur, elems[pc.elem].owners[1])
+        cur = nxt[cur]
 
     # merge contiguous pieces of one element; snap ends together
     out_segs: list[Segment] = []
@@ -420,6 +444,15 @@ def offset_chain(chain: Sequence[Segment], r: float, side, lookahead: int | None
     spans: list[tuple[int, float, float]] = []  # elem, t0, t1 of each output segment
     for pi in route:
         pc = pieces[pi]
+        if pi in linked and out_segs and dist(out_segs[-1].end, pc.seg.start) > MATCH_TOL:
+            o = elems[pc.elem].origin
+            out_segs.append(Line(out_segs[-1].end, pc.seg.start))
+            out_orig.append(Origin("link", o.before, o.after))
+            spans.append((-1, 0.0, 0.0))
+            out_segs.append(pc.seg)
+            out_orig.append(o)
+            spans.append((pc.elem, pc.t0, pc.t1))
+            continue
         if spans and spans[-1][0] == pc.elem and abs(spans[-1][2] - pc.t0) < 1e-12:
             e0, t0, _ = spans[-1]
             spans[-1] = (e0, t0, pc.t1)
@@ -427,7 +460,12 @@ def offset_chain(chain: Sequence[Segment], r: float, side, lookahead: int | None
             out_segs[-1] = _sub(elems[pc.elem].seg, prev.start, pc.seg.end)
             continue
         seg = pc.seg
-        if out_segs:
+        if seg.length < 2 * MATCH_TOL:
+            # a sliver between two cuts: keep the path on the neighbours (snapping its start
+            # could flip a tiny arc into a near-full circle)
+            if out_segs:
+                continue
+        elif out_segs:
             seg = _sub(seg, out_segs[-1].end, seg.end)
         out_segs.append(seg)
         out_orig.append(elems[pc.elem].origin)
@@ -447,6 +485,8 @@ def _touched(part, elems, spans) -> tuple[list[list[tuple[float, float]]], set[i
     touched: list[list[tuple[float, float]]] = [[] for _ in part]
     corners: set[int] = set()
     for ei, t0, t1 in spans:
+        if ei < 0:
+            continue
         el = elems[ei]
         if el.origin.kind == "seg":
             touched[el.owners[0]].append((t0, t1))

@@ -36,9 +36,11 @@ Choices where the manual is silent (it only says that start and cancel are G00/G
 
 Alarms (``NCError`` with the item's line): start or cancel on an arc; an inside arc whose
 radius is smaller than the nose radius; a concave step or groove the nose cannot enter
-(narrower than ``2r``: one or more feed moves the nose cannot touch at all). The ordinary
-fillet the nose leaves in a sharp concave corner and a short move at the very end of the run
-that the nose cannot reach are not alarms.
+(narrower than ``2r``: one or more feed moves the nose cannot touch at all); a feed move
+longer than ``r`` at the start or end of the run that the nose cannot touch at all; a run in
+which the nose can follow none of the moves. The ordinary fillet the nose leaves in a sharp
+concave corner, rapids the nose cannot follow, and a move shorter than ``r`` at the very end
+of the run (a short retract after a concave corner) are not alarms.
 """
 from __future__ import annotations
 
@@ -103,7 +105,7 @@ def compensate_moves(items: list[CompItem], radius: float, tip: int, side: int
     chain = [it.seg for it in normals]
     try:
         res = offset_chain(chain, radius, 1 if side == 41 else -1, lookahead=LOOKAHEAD,
-                           measure=("radius", "groove"),
+                           measure=("radius", "groove", "end"),
                            lookahead_length=LOOKAHEAD_RADII * radius)
     except ValueError as e:
         raise NCError(f"tool-nose radius compensation: {e}", line=normals[0].line) from None
@@ -117,8 +119,18 @@ def compensate_moves(items: list[CompItem], radius: float, tip: int, side: int
         if d.kind == "groove" and any(normals[i].kind == "feed" for i in d.segments):
             i = next((i for i in d.segments if i not in touched), d.segments[0])
             raise NCError(f"tool-nose radius compensation: {d.message}", line=normals[i].line)
+        if d.kind == "end":
+            skipped = [i for i in d.segments if i not in touched and normals[i].kind == "feed"
+                       and chain[i].length > radius]
+            if skipped:
+                raise NCError(f"tool-nose radius compensation: {d.message}",
+                              line=normals[skipped[0]].line)
 
     if not res.segments:
+        if res.radius > 0 and any(it.kind == "feed" for it in normals):
+            it = next(it for it in normals if it.kind == "feed")
+            raise NCError(f"tool-nose radius compensation: the nose (radius {radius:g}) cannot "
+                          f"follow any of the moves on this side without gouging", line=it.line)
         return [(it.seg, it) for it in items]
 
     path = translate_chain(res.segments, tv)
