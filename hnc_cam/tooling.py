@@ -181,6 +181,7 @@ class Machine:
     default_feed: float = 100.0  # mm/min, used (with a warning) before any F
     step_limit: int = 10_000_000
     tool_change: tuple[float, float] = (50.0, 100.0)  # (x radius, z) work coordinates
+    diameter_mode: bool = True  # power-on G36 (True) or G37 radius programming (False)
     work_offsets: dict[str, tuple[float, float]] = field(
         default_factory=lambda: {f"G{n}": (0.0, 0.0) for n in range(54, 60)})
     registers: dict[int, Register] = field(default_factory=dict)
@@ -202,6 +203,13 @@ def _num(tbl: Mapping[str, Any], key: str, default: float, where: str) -> float:
     if isinstance(v, bool) or not isinstance(v, (int, float)):
         raise ToolError(f"{where}: {key} must be a number, got {v!r}")
     return float(v)
+
+
+def _bool(tbl: Mapping[str, Any], key: str, default: bool, where: str) -> bool:
+    v = tbl.get(key, default)
+    if not isinstance(v, bool):
+        raise ToolError(f"{where}: {key} must be true or false, got {v!r}")
+    return v
 
 
 def _xz(tbl: Mapping[str, Any], key: str, default: tuple[float, float], where: str,
@@ -282,6 +290,7 @@ def load_machine(path: str | Path | None = None, tools: "ToolLibrary | None" = N
         default_feed=_num(m, "default_feed", base.default_feed, where),
         step_limit=step_limit,
         tool_change=_xz(m, "tool_change", base.tool_change, where),
+        diameter_mode=_bool(m, "diameter_mode", base.diameter_mode, where),
         work_offsets=offsets,
     )
     for k in ("rapid_x", "rapid_z", "max_rpm", "default_feed"):
