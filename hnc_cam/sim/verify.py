@@ -112,6 +112,7 @@ class Report:
     undercut: BaseGeometry = field(default_factory=Polygon, repr=False)
     unreachable_region: BaseGeometry = field(default_factory=Polygon, repr=False)
     reasons: list[str] = field(default_factory=list)
+    notes: list[Issue] = field(default_factory=list)
 
     def to_json(self) -> dict[str, Any]:
         return {"pass": bool(self.passed),
@@ -139,6 +140,7 @@ class Report:
                          f"({'counted' if self.strict else 'not counted'}):")
             lines += [f"  X{2 * u.x:.3f} Z{u.z:.3f}: {u.size_mm:.4f} mm" for u in self.unreachable]
         lines += [f"  {t}" for t in self.threads]
+        lines += [f"note: {n}" for n in self.notes]
         if self.collisions:
             lines.append(f"{len(self.collisions)} collision(s)/check finding(s):")
             lines += [f"  {c}" for c in self.collisions]
@@ -463,4 +465,5 @@ def verify(machined: Machined, model: TurnedProfile, tol: float = 0.01,
                   collisions=list(machined.issues), cycle_time_s=machined.cycle_time_s,
                   removed_volume_mm3=machined.removed_volume_mm3,
                   air_cut_fraction=machined.air_cut_fraction, threads=results, strict=strict,
-                  overcut=over, undercut=under, unreachable_region=unreach_region, reasons=reasons)
+                  overcut=over, undercut=under, unreachable_region=unreach_region, reasons=reasons,
+                  notes=list(machined.notes))
