@@ -1,7 +1,10 @@
-"""Bushing: a plain sleeve with a through bore, outer and inner chamfers at both ends.
+"""Bushing: a plain sleeve with a through bore, outer chamfers at both ends and a chamfer at
+the bore's right edge (the bore's left edge takes ``back_chamfer``, 0 by default: from the
+right it needs a back-chamfering tool or a second setup).
 
 Parameters (mm): outer_diameter, bore_diameter, length, chamfer (outer edges, 45 deg),
-inner_chamfer (bore edges, 45 deg). Stock: a tube with a bore 3 mm under the part's bore.
+inner_chamfer (right bore edge, 45 deg), back_chamfer (left bore edge, 45 deg).
+Stock: a tube with a bore 3 mm under the part's bore.
 """
 from __future__ import annotations
 
@@ -13,24 +16,31 @@ def STOCK(outer_diameter=40.0, bore_diameter=22.0, length=30.0, **_):
 
 
 def sketch(outer_diameter: float = 40.0, bore_diameter: float = 22.0, length: float = 30.0,
-           chamfer: float = 1.0, inner_chamfer: float = 1.0):
+           chamfer: float = 1.0, inner_chamfer: float = 1.0, back_chamfer: float = 0.0):
     """The closed half-section (radius, Z): from the bore edge of the right face outward,
     along the outside to the left face, then back along the bore (ccw in the Z-right view)."""
-    R, rb, c, ci = outer_diameter / 2, bore_diameter / 2, chamfer, inner_chamfer
-    if not 0 < rb + ci < R - c:
-        raise ValueError("need bore_diameter/2 + inner_chamfer < outer_diameter/2 - chamfer")
-    if not 2 * max(c, ci) < length:
-        raise ValueError("chamfers too large for the length")
+    R, rb, c, ci, cb = outer_diameter / 2, bore_diameter / 2, chamfer, inner_chamfer, back_chamfer
+    if not 0 < rb + max(ci, cb) < R - c:
+        raise ValueError("need bore_diameter/2 + inner chamfers < outer_diameter/2 - chamfer")
+    if not (2 * c < length and ci + cb < length and min(c, ci, cb) >= 0):
+        raise ValueError("chamfers too large for the length (or negative)")
     s = Outline((rb + ci, 0.0))
     s.line_to(R, 0.0, chamfer=c)
     s.line_to(R, -length, chamfer=c)
-    s.line_to(rb + ci, -length)
-    s.line_to(rb, -length + ci)
-    s.line_to(rb, -ci)
-    s.line_to(rb + ci, 0.0)
+    if cb > 0:
+        s.line_to(rb + cb, -length)
+        s.line_to(rb, -length + cb)
+    else:
+        s.line_to(rb, -length)
+    if ci > 0:
+        s.line_to(rb, -ci)
+        s.line_to(rb + ci, 0.0)
+    else:
+        s.line_to(rb, 0.0)
     return s.segments()
 
 
 def part(outer_diameter: float = 40.0, bore_diameter: float = 22.0, length: float = 30.0,
-         chamfer: float = 1.0, inner_chamfer: float = 1.0):
-    return revolve(sketch(outer_diameter, bore_diameter, length, chamfer, inner_chamfer))
+         chamfer: float = 1.0, inner_chamfer: float = 1.0, back_chamfer: float = 0.0):
+    return revolve(sketch(outer_diameter, bore_diameter, length, chamfer, inner_chamfer,
+                          back_chamfer))

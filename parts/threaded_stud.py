@@ -3,13 +3,14 @@
 From the right face (Z0): a 45 deg lead chamfer (to the thread's minor diameter) on the
 thread's major diameter ``thread_diameter``, the thread to Z=-``thread_length``, a relief
 groove (DIN 76 style: a run-out flank at 30 deg to the axis from the thread down to
-``relief_diameter``, then ``relief_width`` long at that diameter, sharp corners), the
+``relief_diameter``, then ``relief_width`` long at that diameter, its bottom corners rounded
+R``relief_radius``), the
 shoulder up to the collar diameter ``collar_diameter`` (chamfered) and the collar to the left
 end Z=-``length`` (chamfered).
 
 Parameters (mm): length, thread_diameter, pitch, thread_length, relief_width,
-relief_diameter, collar_diameter, chamfer. THREADS: one external metric 60 deg thread from
-Z0 to Z=-thread_length.
+relief_diameter, relief_radius, collar_diameter, chamfer. THREADS: one external metric
+60 deg thread from Z0 to Z=-thread_length.
 """
 from __future__ import annotations
 
@@ -30,22 +31,23 @@ def THREADS(thread_diameter=20.0, pitch=1.5, thread_length=22.0, **_):
 
 def sketch(length: float = 50.0, thread_diameter: float = 20.0, pitch: float = 1.5,
            thread_length: float = 22.0, relief_width: float = 4.5, relief_diameter: float = 17.6,
-           collar_diameter: float = 30.0, chamfer: float = 1.0):
+           relief_radius: float = 0.8, collar_diameter: float = 30.0, chamfer: float = 1.0):
     """The half-section (radius, Z) as exact lines and arcs, right face first."""
     rt, rg, rc = thread_diameter / 2, relief_diameter / 2, collar_diameter / 2
     lead = 0.6134 * pitch + 0.1  # lead chamfer just below the minor diameter
     run = (rt - rg) * math.tan(math.radians(60))  # 30 deg flank: axial run of the relief
     if not (0 < rg < rt < rc - chamfer and lead < rt):
         raise ValueError("need relief_diameter < thread_diameter < collar_diameter")
-    if not (lead < thread_length and thread_length + run + relief_width < length - 2 * chamfer):
+    if not (lead < thread_length and thread_length + run + relief_width < length - 2 * chamfer
+            and 2 * relief_radius < relief_width and relief_radius < rt - rg):
         raise ValueError("thread, relief and collar do not fit in the length")
     z1 = -thread_length
     s = Outline((0.0, 0.0))
     s.line_to(rt - lead, 0.0)
     s.line_to(rt, -lead)
     s.line_to(rt, z1)
-    s.line_to(rg, z1 - run)
-    s.line_to(rg, z1 - run - relief_width)
+    s.line_to(rg, z1 - run, fillet=relief_radius)
+    s.line_to(rg, z1 - run - relief_width, fillet=relief_radius)
     s.line_to(rc, z1 - run - relief_width, chamfer=chamfer)
     s.line_to(rc, -length, chamfer=chamfer)
     s.line_to(0.0, -length)
@@ -54,6 +56,6 @@ def sketch(length: float = 50.0, thread_diameter: float = 20.0, pitch: float = 1
 
 def part(length: float = 50.0, thread_diameter: float = 20.0, pitch: float = 1.5,
          thread_length: float = 22.0, relief_width: float = 4.5, relief_diameter: float = 17.6,
-         collar_diameter: float = 30.0, chamfer: float = 1.0):
+         relief_radius: float = 0.8, collar_diameter: float = 30.0, chamfer: float = 1.0):
     return revolve(sketch(length, thread_diameter, pitch, thread_length, relief_width,
-                          relief_diameter, collar_diameter, chamfer))
+                          relief_diameter, relief_radius, collar_diameter, chamfer))

@@ -20,15 +20,16 @@ FAMILIES = {
                            "l2": "62", "taper_length": "20", "dome_radius": "9"},
                       {"chamfer": "0.5", "fillet": "0.8", "dome_radius": "40"}],
     "grooved_shaft": [{}, {"length": "100", "d1": "30", "d2": "44", "l1": "40", "arc_z": "70",
-                           "arc_radius": "3", "arc_depth": "3"},
-                      {"relief_width": "3", "relief_depth": "0.6", "relief_radius": "0.4"}],
+                           "arc_radius": "3", "arc_depth": "3", "relief_angle": "45"},
+                      {"relief_width": "3", "relief_depth": "0.6", "relief_radius": "0.4",
+                       "relief_angle": "90"}],
     "flange": [{}, {"diameter": "160", "thickness": "20", "hub_diameter": "70",
                     "hub_length": "25", "fillet": "5"},
                {"diameter": "90", "thickness": "10", "hub_diameter": "40", "hub_length": "12",
                 "fillet": "1", "chamfer": "0.8"}],
     "bushing": [{}, {"outer_diameter": "60", "bore_diameter": "35", "length": "50"},
                 {"outer_diameter": "25", "bore_diameter": "12", "length": "18", "chamfer": "0.5",
-                 "inner_chamfer": "0.8"}],
+                 "inner_chamfer": "0", "back_chamfer": "0.8"}],
     "cast_blank": [{}, {"length": "120", "diameter": "50", "amplitude": "4", "wave_length": "30",
                         "waves": "3"},
                    {"waves": "1", "amplitude": "1.5"}],
@@ -38,7 +39,7 @@ FAMILIES = {
                        "relief_diameter": "14.2", "collar_diameter": "22", "length": "35"}],
     "cq_pin": [{}, {"length": "60", "diameter": "20", "head_diameter": "30",
                     "head_thickness": "8", "groove_z": "10"},
-               {"crown_radius": "12"}],
+               {"fillet": "2.5", "head_chamfer": "0.5", "groove_width": "4.5"}],
 }
 
 CASES = [(fam, i, params) for fam, sets in FAMILIES.items() for i, params in enumerate(sets)]
@@ -117,13 +118,19 @@ def test_family_shapes(loaded):
     bush = loaded("bushing", 0).profile
     assert bush.bore is not None and bush.min_bore_radius == pytest.approx(11.0)
     assert bush.bore[0].start == bush.outside[0].start == (12.0, 0.0)
-    assert bush.bore[-1].end == bush.outside[-1].end == (12.0, -30.0)
+    assert bush.bore[-1].end == bush.outside[-1].end == (11.0, -30.0)
+    back = loaded("bushing", 2).profile  # no right inner chamfer, a back chamfer
+    assert back.outside[0].start == back.bore[0].start == (6.0, 0.0)
+    assert back.bore[-1].end == back.outside[-1].end == (6.8, -18.0)
     cast = loaded("cast_blank", 0).profile
     assert sum(isinstance(s, Arc) for s in cast.outside) == 6
     for a, b in zip(cast.outside[1:6], cast.outside[2:7]):  # tangent arcs
         ta, tb = a.tangent_at_end(), b.tangent_at_start()
         assert ta[0] * tb[0] + ta[1] * tb[1] == pytest.approx(1.0, abs=1e-9)
-    assert loaded("cq_pin", 0).module.__name__.startswith("hnc_part_cq_pin")
+    pin = loaded("cq_pin", 0)
+    assert pin.module.__name__.startswith("hnc_part_cq_pin")
+    (fil,) = [s for s in pin.profile.outside if isinstance(s, Arc)]  # CadQuery's threePointArc
+    assert fil.radius == pytest.approx(1.0) and fil.center == pytest.approx((9.0, -39.0))
 
 
 def test_threaded_stud_threads(loaded):
