@@ -166,3 +166,25 @@ def test_sim_is_independent_of_planner_post_and_cad():
             "'matplotlib'))]; print(bad); sys.exit(1 if bad else 0)")
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert r.returncode == 0, r.stdout + r.stderr
+
+
+def test_rapid_shaving_a_sliver_is_a_note_not_a_collision():
+    # after turning dia 30, a rapid back along Z 0.04 mm (radial) into the surface
+    t = prog("M03 S800", "G00 X42 Z2", "X30", "G01 Z-30 F200", "X42", "G00 Z2", "X29.92",
+             "G00 Z-20", "G00 X42", "G00 X60 Z50")
+    m = sim(t)
+    assert not m.issues
+    assert m.notes and m.notes[0].line == line_of(t, "G00 Z-20") and m.notes[0].kind == "rapid-sliver"
+    assert "sliver" in m.summary()
+
+
+def test_round_and_grooving_outlines_cut_their_shape():
+    rnd = Machine(registers={1: Register(number=1, radius=4.0, tip=0,
+                                         insert=Insert.parse("RCMT0803M0", 4.0))})
+    # a round insert (tip 0: centre programmed) plunged 2 mm leaves a circular groove of R4
+    m = sim(prog("T0101", "M03 S500", "G00 X50 Z-20", "G01 X44 F50", "G00 X50",
+                 "G00 X60 Z50"), machine=rnd)
+    cut = m.material.intersection(shapely.LineString([(-20, 0), (-20, 100)]))
+    assert cut.bounds[3] == pytest.approx(22 - 4, abs=1e-6)
+    removed = m.stock.difference(m.material)
+    assert removed.bounds == pytest.approx((-20 - math.sqrt(16 - 4), 18, -20 + math.sqrt(16 - 4), 20), abs=1e-3)
