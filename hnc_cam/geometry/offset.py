@@ -557,7 +557,10 @@ def _departures(res: OffsetResult, part, kept, offs, elems, spans, s: int, K: in
                 continue
             dep, at = math.nan, p0
         segs = tuple(kept[q] for q in qs)
-        how = f": left up to {dep:.3f} mm oversize (at {_fmt(at)})" if dep == dep else ""
+        if math.isfinite(dep):
+            how = f": left up to {dep:.3f} mm oversize (at {_fmt(at)})"
+        else:
+            how = ": no position of the nose reaches it" if dep > 0 else ""
         if kind == "radius":
             R = min(part[q].radius for q in vanished)
             msg = (f"inside arc R{R:g} is smaller than the nose radius {r:g}: the contour from "
