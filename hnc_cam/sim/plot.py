@@ -157,7 +157,6 @@ def plot(machined: Machined, out: str | Path, report: Any = None, model: Any = N
         lines += [str(t) for t in report.threads]
     issues = machined.issues
     if issues:
-        import numpy as np
         xs, zs = [], []
         for iss in issues:
             for m in machined.toolpath.moves:
@@ -170,7 +169,6 @@ def plot(machined: Machined, out: str | Path, report: Any = None, model: Any = N
             for z, x, iss in zip(zs, xs, issues):
                 ax.annotate(f"line {iss.line}", (z, x), textcoords="offset points",
                             xytext=(6, -12), color="#d62728", fontsize=8)
-        del np
     t = machined.cycle_time_s
     lines += [f"collisions/checks: {len(issues)}",
               f"cycle time {t:.1f} s ({int(t // 60)}:{t % 60:04.1f})",

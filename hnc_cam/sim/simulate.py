@@ -49,7 +49,7 @@ from typing import Any, Iterable
 
 import numpy as np
 import shapely
-from shapely.geometry import Polygon, box
+from shapely.geometry import Polygon
 from shapely.geometry.base import BaseGeometry
 
 from ..geometry import Arc
@@ -488,6 +488,3 @@ def _thread_spans(moves: Iterable[Move], machine: Machine) -> list[ThreadSpan]:
             spans.append(ThreadSpan(z0, z1, x0, x1, inside, m.lead, m.thread_angle or 60.0))
     return spans
 
-
-def material_box(z0: float, z1: float, x0: float, x1: float) -> Polygon:
-    return box(z0, x0, z1, x1)

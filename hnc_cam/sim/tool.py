@@ -120,8 +120,6 @@ def _corner_shape(eps_deg: float, r: float, length: float, theta1: float, shape:
     bis = _unit((theta1 + theta2) / 2)
     c = np.zeros(2)
     v0 = c - bis * (r / math.sin(eps / 2))
-    t = r / math.tan(eps / 2)
-    t1, t2 = v0 + t * e1, v0 + t * e2
     # nose arc from the tangent point on edge 2 round the outside to edge 1
     nose = _arc_points(c, r, theta2 - math.pi / 2, theta1 + math.pi / 2 - 2 * math.pi) if r > 0 else [v0]
     v1, v3 = v0 + length * e1, v0 + length * e2
@@ -133,7 +131,6 @@ def _corner_shape(eps_deg: float, r: float, length: float, theta1: float, shape:
         v2 = v0 + length * (e1 + e2)
         ring = [v3] + nose + [v1, v2]
         non_cut = [(v1, v2), (v2, v3)]
-    del t1, t2
     return ring, non_cut
 
 

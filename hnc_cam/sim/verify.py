@@ -44,7 +44,7 @@ from shapely.geometry.base import BaseGeometry
 from ..geometry import Line, Segment, Thread, TurnedProfile
 from .measure import distances
 from .region import clean, diff, inter, polygons, profile_polygon
-from .simulate import FEED_KINDS, Issue, Machined
+from .simulate import Issue, Machined
 from .tool import ToolShape, tool_shape
 
 NOISE = 0.002
