@@ -41,9 +41,14 @@ Method (exact, no sampling of the path):
    golden-section search to 1e-7 mm.
 
 ``lookahead`` limits steps 2-4 to segments at most that many positions away in the chain
-(``None``: the whole chain). The CAM side offsets whole part contours and uses ``None``; the
-interpreter uses a small window like a controller's block buffer, so that a program that
-comes back with compensation active over regions cut earlier is not trimmed against them.
+(``None``: the whole chain), widened by ``lookahead_length`` to every segment within that
+length along the chain. The CAM side offsets whole part contours and uses ``None``; the
+interpreter uses a small window like a controller's block buffer (3 moves, and 4 r of
+contour length), so that a program that comes back with compensation active over regions
+cut earlier is not trimmed against them.
+
+Cost: O(n^2) carrier cuts for the whole-chain check (bounding boxes prune most; about 50 ms
+for 50 segments, 0.3 s for 200), O(n) with a window (about 0.1 ms per move).
 
 Conventions: points are ``(x radius, z)``; sides are judged looking along the motion in the
 view Z right / X up (``side=+1`` left = G41, ``-1`` right = G42).
