@@ -61,8 +61,10 @@ def test_offset_stock_is_g73():
     p = plan(wavy(), "offset:2")
     rough = [op for op in p.operations if op.name == "rough"][0]
     assert rough.cycle == "G73"
-    assert rough.words["U"] == 2 and rough.words["W"] == 2 and rough.words["R"] >= 2
-    assert not [op for op in p.operations if op.name == "face"]
+    # the blank's face allowance is faced first, then the passes step in X only
+    assert rough.words["U"] == 2 and rough.words["W"] == 0 and rough.words["R"] >= 2
+    face = [op for op in p.operations if op.name == "face"][0]
+    assert face.passes[-1] == 0.0 and face.start[1] == pytest.approx(4.0)
 
 
 def test_tube_gets_bore_roughing_with_negative_allowance():

@@ -134,23 +134,24 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
     ops: list[Operation] = []
 
     # ---------------- facing ----------------
-    if stock.kind in ("bar", "tube") and stock.face > 1e-6:
+    face_stock = stock.allowance if stock.kind == "offset" else stock.face
+    if face_stock > 1e-6:
         ft = (turning_tools(tools, "face") or turning_tools(tools, "rough"))
         if not ft:
             raise PlanError("facing the face stock needs a turning tool with uses 'face' or "
                             "'rough' in the tool library; there is none")
         t = ft[0]
-        n = max(1, math.ceil(stock.face / t.depth - 1e-9))
-        levels = [stock.face * (1 - i / n) for i in range(1, n + 1)]
+        n = max(1, math.ceil(face_stock / t.depth - 1e-9))
+        levels = [face_stock * (1 - i / n) for i in range(1, n + 1)]
         levels[-1] = 0.0
         # past the centre by the nose radius, so that the nose reaches the axis
-        x_end = -t.nose_radius if stock.kind == "bar" else max(0.0, stock.bore / 2 - opts.clearance)
+        x_end = -t.nose_radius if stock.kind != "tube" else max(0.0, stock.bore / 2 - opts.clearance)
         cyc = "G81" if opts.face_cycle == "g81" else "G01"
         ops.append(Operation(
             name="face", cycle=cyc, template="face.j2", tool=t,
-            reason=(f"stock has {_fmt(stock.face)} mm face stock: facing to Z0 in {n} "
+            reason=(f"stock has {_fmt(face_stock)} mm face stock: facing to Z0 in {n} "
                     f"{cyc} pass{'es' if n > 1 else ''} of at most {_fmt(t.depth)} mm"),
-            start=(x_a, stock.face + opts.z_clear), speed=t.vc_rough, feed=t.feed_rough,
+            start=(x_a, face_stock + opts.z_clear), speed=t.vc_rough, feed=t.feed_rough,
             passes=levels, words={"x_end": x_end}))
         z_face = 0.0
     z_a = z_face + opts.z_clear
@@ -200,6 +201,22 @@ def _pocket_text(p: an.Pocket, bore: bool = False) -> str:
 def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibrary,
              opts: Options, name: str, x_a: float, z_a: float, r_stock: float,
              length: float) -> tuple[tuple[Operation, Operation], list[Operation]]:
+    profilers = [t for t in lib.tools if t.kind == "turn" and
+                 ("profile" in t.uses or "finish" in t.uses)]
+    end_ops: list[Operation] = []
+    # a descending run at the very end (the chamfer of the left edge): bridged in the main
+    # contour and made afterwards in one pass by a tool that reaches it, when it is shallow
+    k = len(od)
+    while k > 1 and od[k - 1].end[0] < od[k - 1].start[0] - 1e-9:
+        k -= 1
+    if k < len(od):
+        tail = od[k:]
+        tp = an._pocket(list(tail), tail[0].start[0], tail[0].start, None)
+        pt = [t for t in profilers if back_reach(t) >= tp.max_descent - 1e-9
+              and 2 * t.depth >= tp.depth - 1e-9]
+        if pt:
+            end_ops.append(_end_pocket_op(tp, pt[0], opts, x_a, name))
+            od = od[:k] + [Line(tail[0].start, (tail[0].start[0], tail[-1].end[1]))]
     items = an.pocket_items(od)
     pockets = [it for it in items if isinstance(it, an.Pocket)]
     finishers = [t for t in turning_tools(lib, "finish") if can_square_shoulder(t)]
@@ -212,20 +229,7 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
     grooving = [t for t in lib.tools if t.kind == "groove"]
     groove_ops: list[Operation] = []
     bridged: set[int] = set()
-    profilers = [t for t in lib.tools if t.kind == "turn" and
-                 ("profile" in t.uses or "finish" in t.uses)]
-    end_ops: list[Operation] = []
     for p in pockets:
-        if p.exit is None and stock.kind != "offset" and p is pockets[-1]:
-            # an open pocket at the left end (e.g. the chamfer of the left edge): bridged in
-            # the main contour and profiled afterwards with a tool that reaches it, when it
-            # is shallow enough for one pass
-            pt = [t for t in profilers if back_reach(t) >= p.max_descent - 1e-9
-                  and 2 * t.depth >= p.depth - 1e-9]
-            if pt:
-                bridged.add(id(p))
-                end_ops.append(_end_pocket_op(p, pt[0], opts, x_a, name))
-                continue
         if stock.kind != "offset" and p.max_descent <= best_reach + 1e-9 \
                 and any(back_reach(t) >= p.max_descent - 1e-9 and t in roughers for t in finishers):
             continue  # turned: kept in the contour (G71 type II)
@@ -318,7 +322,9 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
                              "E": ax, "W": rougher.depth}
     if cycle == "G73":
         a = stock.allowance
-        words.update(U=a, W=a, R=max(1, math.ceil(a / rougher.depth - 1e-9)))
+        # the face was faced first: the passes step in X only (W0), so no pass climbs the
+        # face with the insert's back
+        words.update(U=a, W=0.0, R=max(1, math.ceil(a / rougher.depth - 1e-9)))
     if cycle == "G72":
         words.update(W=rougher.depth)
     start = (x_a, z_a)
