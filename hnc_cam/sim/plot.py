@@ -174,9 +174,11 @@ def plot(machined: Machined, out: str | Path, report: Any = None, model: Any = N
               f"cycle time {t:.1f} s ({int(t // 60)}:{t % 60:04.1f})",
               f"removed {machined.removed_volume_mm3:.0f} mm³",
               f"air cut {100 * machined.air_cut_fraction:.1f} % of feed time"]
-    ax.text(1.01, 0.0, "\n".join(lines), transform=ax.transAxes, va="bottom", ha="left",
-            fontsize=9, family="monospace",
-            bbox=dict(boxstyle="round", facecolor="white", alpha=0.85, edgecolor="#999999"))
+    # key figures under the plot, three to a row (the legend has the right-hand side)
+    rows = ["   |   ".join(lines[i:i + 3]) for i in range(0, len(lines), 3)]
+    ax.annotate("\n".join(rows), xy=(0.0, 0.0), xycoords="axes fraction", xytext=(0, -34),
+                textcoords="offset points", va="top", ha="left", fontsize=9, family="monospace",
+            bbox=dict(boxstyle="round", facecolor="white", alpha=0.9, edgecolor="#999999"))
     ax.set_xlim(*xlim)
     ax.set_ylim(*ylim)
     ax.set_aspect("equal", adjustable="box")
