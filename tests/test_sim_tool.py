@@ -98,3 +98,9 @@ def test_nose_sampling_within_chord_error():
         if abs(np.hypot(*(a - c)) - 2) < 1e-9 and abs(np.hypot(*(b - c)) - 2) < 1e-9:
             mid = (a + b) / 2
             assert 2 - np.hypot(*(mid - c)) <= CHORD + 1e-12
+
+
+def test_non_cutting_sides_only_for_known_inserts():
+    assert tool_shape(Register(number=1, radius=0.8, tip=3)).non_cutting == ()
+    known = tool_shape(Register(number=1, radius=0.8, tip=3, insert=Insert.parse("CNMG120408")))
+    assert len(known.non_cutting) == 2

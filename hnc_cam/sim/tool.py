@@ -27,7 +27,8 @@ How an outline is built from an offset register (:class:`hnc_cam.tooling.Registe
   corner at -Z, 4/1 the corner at +Z, 5-9 the middle. Its top is non-cutting.
 * **No insert in the register**: the documented default, an 80 deg rhombic insert with 12 mm edges
   (CNMG12-like) on a holder of the register's approach angle (95 deg unless set), with the
-  register's nose radius, oriented by the tip code as above.
+  register's nose radius, oriented by the tip code as above. Its sides all remove material,
+  but since the insert is a guess, none is reported as a non-cutting side.
 
 The nose arc is sampled as an inscribed polygon with chord error <= ``CHORD`` (0.0005 mm), so a
 simulated tool removes at most that much less than the real one.
@@ -243,6 +244,10 @@ def _tool_shape_cached(key) -> ToolShape:
             desc = (f"{base.code if ins is not None else 'default 80 deg rhombic 12 mm'} "
                     f"eps {eps:g} kr {approach:g}, r {r:g}")
     pts = pts + centre
+    if ins is None:
+        # the default outline is a guess: its back is not reported as cutting (issue: "when the
+        # insert is known")
+        non_cut = []
     non_cut = tuple((tuple(map(float, a + centre)), tuple(map(float, b + centre))) for a, b in non_cut)
     pts = _ccw(_dedupe(pts))
     return ToolShape(outline=pts, non_cutting=non_cut, nose_radius=r, tip=int(tip),
