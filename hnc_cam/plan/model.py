@@ -63,6 +63,7 @@ class Operation:
     new_tool: bool = True
     contour: list[Segment] = field(default_factory=list)  # program geometry of the blocks
     retract: list[Point] = field(default_factory=list)  # after the operation, G00 in order
+    notes: list[str] = field(default_factory=list)  # what the operation leaves undone, why
 
     @property
     def tool_word(self) -> str:

@@ -179,6 +179,8 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
     for th in prof.threads:
         ops.append(_plan_thread(th, od, bore_chain, stock, tools, machine, opts, r_stock))
 
+    for op in ops:
+        plan.notes.extend(op.notes)
     prev = None
     for op in ops:
         if prev is not None and prev.tool.number == op.tool.number:
@@ -434,6 +436,23 @@ def _plan_bore(chain: list[Segment], stock: Stock, lib: ToolLibrary, opts: Optio
                         f"{_fmt(t.min_bore)}): it needs a boring bar for diameter "
                         f"{_fmt(stock.bore)} or a larger pre-drilled hole")
     norm = an.mirror_chain(chain)
+    notes: list[str] = []
+    # a bore widening at the very end (the chamfer of the bore's left edge) faces the chuck:
+    # no boring bar reaches it from the right; it is left for the second operation
+    k = len(norm)
+    while k > 1 and norm[k - 1].end[0] < norm[k - 1].start[0] - 1e-9:
+        k -= 1
+    if k < len(norm):
+        tail = norm[k:]
+        tp = an._pocket(list(tail), tail[0].start[0], tail[0].start, None)
+        if not any(back_reach(t) >= tp.max_descent - 1e-9 for t in fits):
+            z0, z1 = tail[0].start[1], tail[-1].end[1]
+            notes.append(f"bore chamfer from Z{_fmt(z0)} to Z{_fmt(z1)} (diameter "
+                         f"{_fmt(-2 * tail[0].start[0])} to {_fmt(-2 * tail[-1].end[0])}) faces the "
+                         f"chuck: no boring bar reaches it from the right; left for the second "
+                         f"operation")
+            norm = norm[:k] + [Line(tail[0].start, (tail[0].start[0], z1))]
+            chain = an.mirror_chain(norm)
     items = an.pocket_items(norm)
     pockets = [it for it in items if isinstance(it, an.Pocket)]
     monotonic = not pockets
@@ -472,7 +491,8 @@ def _plan_bore(chain: list[Segment], stock: Stock, lib: ToolLibrary, opts: Optio
                 + ("G71 type I with a negative X allowance" if monotonic
                    else "G71 type II with a negative E (bore undercuts)")),
         start=start, speed=rough_t.vc_rough, feed=rough_t.feed_rough, ns=ns, nf=nf,
-        words={"U": rough_t.depth, "R": opts.retract, "X": -ax, "Z": az, "E": -ax})
+        words={"U": rough_t.depth, "R": opts.retract, "X": -ax, "Z": az, "E": -ax},
+        notes=notes)
     last = prog[-1].end
     finish = Operation(
         name="bore_finish", cycle="contour", template="finish.j2", tool=fin_t,
