@@ -52,7 +52,18 @@ def _stock(spec: str):
 
 
 def _write_json(out: str, data: dict) -> None:
-    write_atomic(out, json.dumps(data, separators=(",", ":")) + "\n")
+    try:
+        write_atomic(out, json.dumps(data, separators=(",", ":")) + "\n")
+    except OSError as e:
+        raise HncError(f"--json {out}: cannot write: {e.strerror or e}") from None
+
+
+def _plot(m, out: str, **kw) -> None:
+    from .sim.plot import plot
+    try:
+        plot(m, out, **kw)
+    except OSError as e:
+        raise HncError(f"--plot {out}: cannot write: {e.strerror or e}") from None
 
 
 def simulate_command(args: argparse.Namespace) -> int:
@@ -74,8 +85,7 @@ def simulate_command(args: argparse.Namespace) -> int:
     if args.json:
         _write_json(args.json, m.to_json())
     if args.plot:
-        from .sim.plot import plot
-        plot(m, args.plot, model=model)
+        _plot(m, args.plot, model=model)
     return 1 if m.issues else 0
 
 
@@ -96,7 +106,5 @@ def verify_command(args: argparse.Namespace) -> int:
     if args.json:
         _write_json(args.json, rep.to_json())
     if args.plot:
-        from .sim.plot import plot
-        plot(m, args.plot, report=rep, model=loaded.profile,
-             title=f"{tp.file} vs {loaded.name}")
+        _plot(m, args.plot, report=rep, model=loaded.profile, title=f"{tp.file} vs {loaded.name}")
     return 0 if rep.passed else 1

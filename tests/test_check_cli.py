@@ -117,3 +117,13 @@ def test_verify_pass_fail_and_json(files, capsys):
                  "--stock", "40x60", "--tol", "-1"]) == 2
     assert main(["verify", str(files / "crash.nc"), "--model", str(files / "part.py"),
                  "--stock", "40x60"]) == 1
+
+
+def test_unwritable_outputs_exit_2(files, capsys):
+    (files / "blocker").write_text("a file, not a folder")
+    rc = main(["simulate", str(files / "good.nc"), "--stock", "40x60", "--json",
+               str(files / "blocker" / "x.json")])
+    assert rc == 2 and "cannot write" in capsys.readouterr().err
+    rc = main(["simulate", str(files / "good.nc"), "--stock", "40x60", "--plot",
+               str(files / "blocker" / "x.png")])
+    assert rc == 2 and "cannot write" in capsys.readouterr().err
