@@ -196,14 +196,35 @@ def _grid_points(g: BaseGeometry, n: int = 60) -> np.ndarray:
 
 
 def _deepest(g: BaseGeometry, segs: Sequence[Segment], interior: bool) -> Deviation | None:
-    pts = _boundary_points(g)
-    if interior:
-        pts = np.vstack([pts, _grid_points(g)])
-    if not len(pts):
-        return None
-    d, _ = distances(pts, segs)
-    i = int(np.argmax(d))
-    return Deviation(z=float(pts[i, 0]), x=float(pts[i, 1]), size_mm=float(d[i]))
+    """The point of ``g`` farthest from the model boundary ``segs`` and its distance.
+
+    Per component, only the segments whose boxes come within r of the component's box are
+    measured, r first its diameter (a component that touches the model boundary has all its
+    nearest segments there), then, if some point found no segment that near, the largest
+    distance found (no farther segment can be nearer to any point): exact, and fast for many
+    small slivers on a long boundary."""
+    boxes = np.array([[b[1], b[0], b[3], b[2]] for b in (s.bbox() for s in segs)])  # z0 x0 z1 x1
+    best: Deviation | None = None
+    for p in polygons(g):
+        pts = _boundary_points(p)
+        if interior:
+            pts = np.vstack([pts, _grid_points(p)])
+        if not len(pts):
+            continue
+        z0, x0, z1, x1 = p.bounds
+        r = math.hypot(z1 - z0, x1 - x0) + 1e-6
+        while True:
+            near = ((boxes[:, 0] <= z1 + r) & (boxes[:, 2] >= z0 - r)
+                    & (boxes[:, 1] <= x1 + r) & (boxes[:, 3] >= x0 - r))
+            cand = [s for s, k in zip(segs, near) if k] or list(segs)
+            d, _ = distances(pts, cand)
+            if len(cand) == len(segs) or d.max() <= r:
+                break
+            r = float(d.max()) + 1e-6
+        i = int(np.argmax(d))
+        if best is None or d[i] > best.size_mm:
+            best = Deviation(z=float(pts[i, 0]), x=float(pts[i, 1]), size_mm=float(d[i]))
+    return best
 
 
 # --- reachability -------------------------------------------------------------------------
