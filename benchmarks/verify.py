@@ -7,6 +7,10 @@ segments over 50 mm (X = 30 + 0.2 sin(Z/2) diameter plus the pass's allowance), 
 the final profile (1,000 exact lines). Each size runs in its own process so that the peak
 resident memory (ru_maxrss, which includes GEOS) is its own.
 
+Two verifications per size: with a sharp tool (the program lands on the model: the report
+passes) and with the default library's 0.8 mm nose on the same tip path (uncompensated: the
+report fails, and the leftover is classified reachable/unreachable, the expensive branch).
+
     python benchmarks/verify.py            # all three sizes
     python benchmarks/verify.py 1 10       # chosen pass counts
 
@@ -73,10 +77,17 @@ def one(passes: int) -> dict:
     t2 = time.perf_counter()
     rep = verify(m, model(), tol=0.01)
     t3 = time.perf_counter()
+    from hnc_cam.tooling import load_machine
+    lib = load_machine()  # T0101: CNMG120408, r 0.8, tip 3
+    m2 = simulate(tp, Stock.parse("40x60"), lib)
+    t4 = time.perf_counter()
+    rep2 = verify(m2, model(), tol=0.01)
+    t5 = time.perf_counter()
     peak_kb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
     return {"passes": passes, "moves": len(tp.moves), "interp_s": t1 - t0, "simulate_s": t2 - t1,
             "verify_s": t3 - t2, "peak_mb": peak_kb / 1024, "pass": rep.passed,
-            "max_overcut": rep.max_overcut_mm, "max_undercut": rep.max_undercut_mm}
+            "max_overcut": rep.max_overcut_mm, "max_undercut": rep.max_undercut_mm,
+            "simulate_r08_s": t4 - t3, "verify_r08_s": t5 - t4, "pass_r08": rep2.passed}
 
 
 def main(argv: list[str]) -> int:
@@ -86,7 +97,7 @@ def main(argv: list[str]) -> int:
     sizes = [int(a) for a in argv] or [1, 10, 100]
     rows = []
     print(f"{'moves':>8} {'interp s':>9} {'simulate s':>11} {'verify s':>9} {'sim+ver s':>10} "
-          f"{'peak MB':>8}  result")
+          f"{'peak MB':>8}  {'sim r0.8 s':>10} {'ver r0.8 s':>10}  result (sharp; r0.8)")
     for k in sizes:
         out = subprocess.run([sys.executable, __file__, "--one", str(k)], capture_output=True,
                              text=True, check=True)
@@ -95,8 +106,10 @@ def main(argv: list[str]) -> int:
         rows.append(r)
         print(f"{r['moves']:>8} {r['interp_s']:>9.2f} {r['simulate_s']:>11.2f} "
               f"{r['verify_s']:>9.2f} {r['total']:>10.2f} {r['peak_mb']:>8.0f}  "
+              f"{r['simulate_r08_s']:>10.2f} {r['verify_r08_s']:>10.2f}  "
               f"{'PASS' if r['pass'] else 'FAIL'} (over {r['max_overcut']:.4f}, "
-              f"under {r['max_undercut']:.4f})", flush=True)
+              f"under {r['max_undercut']:.4f}); {'PASS' if r['pass_r08'] else 'FAIL'}",
+              flush=True)
     for a, b in zip(rows, rows[1:]):
         f = (b["total"] / a["total"]) / (b["moves"] / a["moves"]) * 10
         print(f"growth {a['moves']} -> {b['moves']} moves: simulate+verify x{b['total'] / a['total']:.1f} "
