@@ -18,9 +18,11 @@ inside radius smaller than ``r``, a groove or step narrower than ``2r``, a stret
 open end of the chain), each with where (contour points, segment indices) and by how much
 (``departure``: the largest distance, mm, from that stretch of the part to the reachable
 contour); ``departures`` also lists the ordinary nose fillet left in each sharp concave
-corner (kind ``corner``). Not checked here: the insert's flanks (a concave corner sharper
-than the insert's included angle, back-clearance on plunges) -- that needs the insert's
-outline and is the simulator's collision check.
+corner (kind ``corner``). Given the insert's approach and included angles (or its edge
+directions), the insert's flanks are checked too (kind ``insert``: a plunge steeper than the
+trailing edge allows, a face leaning over the tool, a concave corner sharper than the insert):
+locally, along the contour; a collision of the holder or of the insert with a far feature is
+the simulator's check.
 """
 from __future__ import annotations
 
@@ -28,7 +30,8 @@ from dataclasses import dataclass, field
 from typing import Any, Sequence
 
 from .errors import ProfileError, ToolError
-from .geometry.offset import Departure, Origin, offset_chain, side_sign, translate_chain
+from .geometry.offset import (Departure, Origin, insert_check, insert_edges, offset_chain,
+                              side_sign, translate_chain)
 from .geometry.primitives import Point, Segment
 from .geometry.tip import tip_vector
 
@@ -114,7 +117,8 @@ def _chain_and_side(contour, side, which: str) -> tuple[list[Segment], Any]:
 
 def compensate(contour: Sequence[Segment] | Any, nose_radius: float, tip_code: int,
                side=None, output: str = "tip", which: str = "outside",
-               lookahead: int | None = None) -> Compensated:
+               lookahead: int | None = None, insert: tuple[float, float] | None = None,
+               edges: tuple[float, float] | None = None) -> Compensated:
     """Exact tool-nose compensated path of ``contour``.
 
     ``contour``: a connected chain of :class:`Line`/:class:`Arc` in (x radius, z), in cutting
@@ -123,6 +127,10 @@ def compensate(contour: Sequence[Segment] | Any, nose_radius: float, tip_code: i
     ``tip_code`` 0-9 (fig. 3.3.44); ``side`` ``"left"``/``"right"`` or 41/42; ``output``
     ``"tip"`` (imaginary tip path; the centre for codes 0/9) or ``"centre"``; ``lookahead``
     limits the gouge check to that many neighbouring segments (default: the whole contour).
+    ``insert=(approach, nose_angle)`` (holder kappa_r and insert included angle, degrees;
+    tip codes 1-4) or ``edges=(a1, a2)`` (the cutting-edge directions as view angles, see
+    :func:`hnc_cam.geometry.offset.insert_edges`) add the check of the insert's flanks:
+    stretches the insert keeps the nose from following are reported as kind ``insert``.
 
     Raises :class:`ToolError` for a negative radius or a bad tip code,
     :class:`ProfileError` for a chain that is not connected or a missing bore.
@@ -142,9 +150,17 @@ def compensate(contour: Sequence[Segment] | Any, nose_radius: float, tip_code: i
     except ValueError as e:
         raise ProfileError(f"cannot compensate the contour: {e}") from None
     centre = res.segments
+    departures = list(res.departures)
+    if insert is not None and edges is None:
+        try:
+            edges = insert_edges(int(tip_code), float(insert[0]), float(insert[1]))
+        except ValueError as e:
+            raise ToolError(str(e)) from None
+    if edges is not None:
+        departures += insert_check(res, (float(edges[0]), float(edges[1])))
     path = centre if output == "centre" else translate_chain(centre, tv)
     return Compensated(segments=path, centre=centre, origins=res.origins,
-                       departures=res.departures, nose_radius=nose_radius,
+                       departures=departures, nose_radius=nose_radius,
                        tip_code=int(tip_code), side="left" if s > 0 else "right",
                        output=output, tip_vector=tv if output == "tip" else (0.0, 0.0),
                        contour=chain)

@@ -209,3 +209,58 @@ def test_codes_0_and_9_program_the_centre(code):
     contour = chain_of((10, 0), (10, -5))
     res = compensate(contour, 0.4, code, "right")
     assert res.segments == res.centre
+
+
+def test_insert_edges_by_tip_code():
+    from hnc_cam.geometry.offset import insert_edges
+    assert insert_edges(3, 95, 80) == (85.0, 5.0)
+    assert insert_edges(2, 95, 55) == (-85.0, -30.0)   # boring bar: mirrored in X
+    assert insert_edges(4, 93, 35) == (93.0, 128.0)    # left-hand OD tool feeding +Z
+    assert insert_edges(1, 90, 80) == (-90.0, -170.0)
+    with pytest.raises(ValueError):
+        insert_edges(8, 95, 80)
+    with pytest.raises(ToolError):
+        compensate(chain_of((10, 0), (10, -5)), 0.4, 8, "right", insert=(95, 80))
+
+
+def _shadow_case():
+    # dia 20, 45 deg plunge down to dia 14, dia 14 on toward the chuck
+    return chain_of((10, 0), (10, -5), (7, -8), (7, -50))
+
+
+def test_insert_flank_on_a_plunge_closed_form():
+    r = 0.4
+    contour = _shadow_case()
+    # 35 deg insert in a 93 deg holder follows a 45 deg plunge (trailing edge at 52 deg)
+    ok = compensate(contour, r, 3, "right", insert=(93, 35))
+    assert not [d for d in ok.departures if d.kind == "insert"]
+    # an 80 deg insert in a 95 deg holder drags its trailing edge (5 deg) over the plunge
+    bad = compensate(contour, r, 3, "right", insert=(95, 80))
+    (d,) = [d for d in bad.departures if d.kind == "insert"]
+    assert d.unreachable and not bad.ok
+    a = math.radians(95)  # nose centre where the path's normal leaves the allowed range
+    A = (10 + r * math.sin(a), -5 + r * math.cos(a))
+    u = (-math.sin(math.radians(5)), -math.cos(math.radians(5)))  # along the trailing edge
+    w = (7 - A[0], -8 - A[1])
+    expected = abs(w[0] * u[1] - w[1] * u[0]) - r  # the plunge's foot, seen from the shadow
+    assert d.departure == pytest.approx(expected, abs=1e-6)
+    assert dist(d.at, (7, -8)) < 1e-6
+    # the shadow meets dia 14 + 2r where the trailing edge comes down to it
+    assert d.end[0] == pytest.approx(7.0) and d.end[1] == pytest.approx(A[1] + (7.4 - A[0]) / u[0] * u[1], abs=1e-6)
+
+
+def test_insert_flank_on_a_face_leaning_over_the_tool():
+    r = 0.4
+    contour = chain_of((10, 0), (10, -5), (14, -4.3), (14, -20))  # shoulder leaning 10 deg back
+    assert not [d for d in compensate(contour, r, 3, "right", insert=(107.5, 35)).departures
+                if d.kind == "insert"]
+    res = compensate(contour, r, 3, "right", insert=(95, 80))
+    (d,) = [d for d in res.departures if d.kind == "insert"]
+    # the main edge (85 deg) comes down from the top corner of the shoulder to dia 20 + 2r
+    b = math.radians(-5)
+    B = (14 + r * math.sin(b), -4.3 + r * math.cos(b))
+    v = (-math.sin(math.radians(85)), -math.cos(math.radians(85)))
+    zc = B[1] + (10.4 - B[0]) / v[0] * v[1]
+    env = [Line((10.4, 0), (10.4, zc)), Line((10.4, zc), B)]
+    assert d.departure == pytest.approx(min(g.distance_to((10, -5)) for g in env) - r, abs=1e-6)
+    assert d.start[1] == pytest.approx(zc, abs=1e-6)

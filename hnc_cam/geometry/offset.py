@@ -682,3 +682,256 @@ def _measure(res: OffsetResult, part, reg) -> tuple[float, Point]:
 def translate_chain(chain: Iterable[Segment], v: Point) -> list[Segment]:
     """Every segment moved by the vector ``v`` (e.g. nose centre -> imaginary tip)."""
     return [g.translated(v[0], v[1]) for g in chain]
+
+
+# ---------------------------------------------------------------------------------------------
+# the insert's flanks
+
+def insert_edges(tip_code: int, approach: float, nose_angle: float) -> tuple[float, float]:
+    """Directions of the two cutting edges from the nose into the insert body, as angles in
+    degrees in the view Z right / X up (0 = +Z, 90 = +X), for a tool of tip code 1-4 with
+    holder approach angle ``approach`` (kappa_r, deg, between the main edge and the feed)
+    and insert included angle ``nose_angle`` (epsilon, deg).
+
+    Code 3 (OD tool feeding toward -Z): main edge at 180 - kappa_r, secondary edge at
+    180 - kappa_r - epsilon (a 95 deg holder with an 80 deg insert: 85 and 5 deg); codes 2, 4
+    and 1 are its mirrors in X, in Z, and in both. Codes 0 and 5-9 do not say which way the
+    tool feeds: give the edges explicitly.
+    """
+    a1, a2 = 180.0 - approach, 180.0 - approach - nose_angle
+    if tip_code == 3:
+        return a1, a2
+    if tip_code == 2:
+        return -a1, -a2
+    if tip_code == 4:
+        return 180.0 - a1, 180.0 - a2
+    if tip_code == 1:
+        return a1 - 180.0, a2 - 180.0
+    raise ValueError(f"insert edges are known from the tip code only for codes 1-4, got {tip_code}")
+
+
+def _unit_deg(a: float) -> Point:
+    t = math.radians(a)
+    return (math.sin(t), math.cos(t))  # (x, z) of the view angle a
+
+
+def _tangent_at(g: Segment, t: float) -> Point:
+    if isinstance(g, Line):
+        return g.direction
+    p = _point(g, t)
+    rx, rz = p[0] - g.center[0], p[1] - g.center[1]
+    R = math.hypot(rx, rz) or 1.0
+    tx, tz = rz / R, -rx / R
+    return (-tx, -tz) if g.cw else (tx, tz)
+
+
+def _ray_hits(o: Point, d: Point, path: list[Segment]) -> list[tuple[float, int, float]]:
+    """(ray parameter u > 0, path index, path parameter) where the ray o + u d meets the path."""
+    far = (o[0] + d[0], o[1] + d[1])
+    out = []
+    for i, g in enumerate(path):
+        pts = ([line_line_carriers(o, far, g.start, g.end)] if isinstance(g, Line)
+               else line_circle_carriers(o, far, g.center, g.radius))
+        for p in pts:
+            if p is None:
+                continue
+            u = (p[0] - o[0]) * d[0] + (p[1] - o[1]) * d[1]
+            if u <= 1e-7:
+                continue
+            t = _param(g, p) if g.length > EPS else 0.0
+            if -1e-9 <= t <= 1 + 1e-9 and g.distance_to(p) < 1e-7:
+                out.append((u, i, min(1.0, max(0.0, t))))
+    out.sort()
+    return out
+
+
+def insert_check(res: OffsetResult, edges: tuple[float, float]) -> list[Departure]:
+    """Stretches of the contour the insert's flanks keep the nose from following.
+
+    ``edges``: the two cutting-edge directions from the nose into the insert body (view
+    angles in degrees, see :func:`insert_edges`). With the tool at nose-centre position ``c``,
+    the insert occupies the nose disc plus the wedge between the edges; it stays clear of
+    the part where the path's tool-side normal has a non-negative component along both
+    edges. Where it has not (a plunge steeper than the trailing edge's clearance, a face
+    leaning over the tool, a corner sharper than the insert), the reachable nose path
+    follows the edge instead: a straight **shadow** along the edge from where the path
+    turns away (forward) or back to where it returns (backward), to where it meets the path
+    again. Each such stretch is a :class:`Departure` of kind ``insert`` (``end`` when the
+    shadow runs off an open end of the chain, e.g. the back face at the chuck end of an
+    outside contour, which a tool feeding toward the chuck cannot cut); ``departure`` is
+    the largest distance from the part there to the nose along the shadowed path (measured
+    like the other departures). The returned path itself is not altered.
+    """
+    path = res.segments
+    if not path or res.radius <= 0:
+        return []
+    r, s = res.radius, res.side
+    e = [_unit_deg(a) for a in edges]
+
+    def normal(i: int, t: float) -> Point:
+        tg = _tangent_at(path[i], t)
+        n = left_normal(tg)
+        return (s * n[0], s * n[1])
+
+    def worst(n: Point) -> tuple[float, int]:
+        d = [n[0] * v[0] + n[1] * v[1] for v in e]
+        k = 0 if d[0] <= d[1] else 1
+        return d[k], k
+
+    # hidden pieces: split arcs where the normal is perpendicular to an edge
+    marks: list[tuple[int, float, float, bool]] = []
+    for i, g in enumerate(path):
+        ts = [0.0, 1.0]
+        if isinstance(g, Arc) and g.length > EPS:
+            for v in e:
+                for sg in (1, -1):
+                    # normal perpendicular to v <=> radial direction is +-v rotated 90 deg
+                    q = (g.center[0] + g.radius * sg * v[1], g.center[1] - g.radius * sg * v[0])
+                    if dist(q, g.start) > TOL and dist(q, g.end) > TOL:
+                        t = _param(g, q)
+                        if 0.0 < t < 1.0 and abs(dist(q, g.center) - g.radius) < 1e-9:
+                            ts.append(t)
+        ts = sorted(set(ts))
+        for a, b in zip(ts, ts[1:]):
+            hid = worst(normal(i, (a + b) / 2))[0] < -1e-7
+            marks.append((i, a, b, hid))
+    stretches: list[list[tuple[int, float, float]]] = []
+    prev = False
+    for i, a, b, hid in marks:
+        if hid:
+            if prev:
+                stretches[-1].append((i, a, b))
+            else:
+                stretches.append([(i, a, b)])
+        prev = hid
+    out: list[Departure] = []
+    covered = (-1, 0.0)  # end of the last shadow: stretches inside it are already reported
+    for st in stretches:
+        (ia, ta, _), (ib, _, tb) = st[0], st[-1]
+        if (ia, ta) < covered:
+            continue
+        A, B = _point(path[ia], ta), _point(path[ib], tb)
+        ka = worst(normal(ia, (st[0][1] + st[0][2]) / 2))[1]
+        kb = worst(normal(ib, (st[-1][1] + st[-1][2]) / 2))[1]
+        dA = (-e[ka][0], -e[ka][1])
+        dB = (-e[kb][0], -e[kb][1])
+        tA, tB = _tangent_at(path[ia], ta), _tangent_at(path[ib], tb)
+        fwd = dA[0] * tA[0] + dA[1] * tA[1] > 1e-9
+        bwd = dB[0] * tB[0] + dB[1] * tB[1] < -1e-9
+        pos_a, pos_b = (ia, ta), (ib, tb)
+        env: list[Segment] = []
+        kind = "insert"
+        lo, hi = pos_a, pos_b
+        hitA = next(((u, i, t) for u, i, t in _ray_hits(A, dA, path) if (i, t) > (ia, ta + 1e-9)),
+                    None) if fwd else None
+        hitB = next(((u, i, t) for u, i, t in _ray_hits(B, dB, path) if (i, t) < (ib, tb - 1e-9)),
+                    None) if bwd else None
+        X = line_line_carriers(A, (A[0] + dA[0], A[1] + dA[1]), B, (B[0] + dB[0], B[1] + dB[1])) \
+            if fwd and bwd else None
+        if X is not None:
+            uA = (X[0] - A[0]) * dA[0] + (X[1] - A[1]) * dA[1]
+            uB = (X[0] - B[0]) * dB[0] + (X[1] - B[1]) * dB[1]
+            if uA > 0 and uB > 0 and (hitA is None or uA <= hitA[0]) and (hitB is None or uB <= hitB[0]):
+                env = [Line(A, X), Line(X, B)]
+        if not env and hitA is not None:
+            C = _point(path[hitA[1]], hitA[2])
+            env, hi = [Line(A, C)], (hitA[1], hitA[2])
+        elif not env and hitB is not None:
+            C = _point(path[hitB[1]], hitB[2])
+            env, lo = [Line(C, B)], (hitB[1], hitB[2])
+        elif not env and fwd:
+            # the shadow runs off the open end of the path
+            L = sum(g.length for g in path) + 1.0
+            env, hi = [Line(A, (A[0] + L * dA[0], A[1] + L * dA[1]))], (len(path) - 1, 1.0)
+            kind = "end"
+        elif not env and bwd:
+            L = sum(g.length for g in path) + 1.0
+            env, lo = [Line((B[0] + L * dB[0], B[1] + L * dB[1]), B)], (0, 0.0)
+            kind = "end"
+        if not env:
+            continue
+        covered = max(covered, hi)
+        # the shadowed path: before lo, the envelope, after hi
+        new: list[Segment] = []
+        for i, g in enumerate(path):
+            if i < lo[0] or i > hi[0]:
+                new.append(g)
+                continue
+            if i == lo[0] and lo[1] > 0:
+                p = _point(g, lo[1])
+                if dist(g.start, p) > TOL:
+                    new.append(_sub(g, g.start, p))
+            if i == hi[0] and hi[1] < 1:
+                p = _point(g, hi[1])
+                if dist(p, g.end) > TOL:
+                    new.append(_sub(g, p, g.end))
+        new += env
+        boxes = [g.bbox() for g in new]
+
+        def f(i: int, t: float) -> tuple[float, Point]:
+            c = _point(path[i], t)
+            n = normal(i, t)
+            p = (c[0] - r * n[0], c[1] - r * n[1])
+            best = math.inf
+            for g, bx in zip(new, boxes):
+                if _point_box_gap(p, bx) >= best:
+                    continue
+                best = min(best, g.distance_to(p))
+            return best - r, p
+
+        # evaluate along the replaced stretch of the path (step <= 0.05 mm) and polish
+        best_v, best_p, best_at = -math.inf, A, (lo[0], lo[1])
+        for i in range(lo[0], hi[0] + 1):
+            a = lo[1] if i == lo[0] else 0.0
+            b = hi[1] if i == hi[0] else 1.0
+            if b <= a:
+                continue
+            m = max(4, min(2000, int(math.ceil(path[i].length * (b - a) / 0.05))))
+            for k in range(m + 1):
+                t = a + (b - a) * k / m
+                v, p = f(i, t)
+                if v > best_v:
+                    best_v, best_p, best_at = v, p, (i, t, (b - a) / m, a, b)
+        if len(best_at) == 5:
+            i, t, h, a, b = best_at
+            x0, x1 = max(a, t - h), min(b, t + h)
+            gr = (math.sqrt(5) - 1) / 2
+            while (x1 - x0) * path[i].length > 1e-7:
+                y0, y1 = x1 - gr * (x1 - x0), x0 + gr * (x1 - x0)
+                if f(i, y0)[0] > f(i, y1)[0]:
+                    x1 = y1
+                else:
+                    x0 = y0
+            v, p = f(i, (x0 + x1) / 2)
+            if v > best_v:
+                best_v, best_p = v, p
+        # part corners and segments the path skips at its kinks (not reached by c - r n)
+        src = res.source
+        for i in range(lo[0], hi[0]):
+            o0, o1 = res.origins[i], res.origins[i + 1]
+            if o0.kind == "link" or o1.kind == "link" or o1.before <= o0.after:
+                continue
+            for k in range(o0.after, o1.before + 1):
+                g = src[k]
+                ts = [0.0] if k > o0.after else []
+                if o0.after < k < o1.before:
+                    ts += [j / 20 for j in range(1, 21)]
+                for t in ts:
+                    p = _point(g, t)
+                    v = min(x.distance_to(p) for x in new) - r
+                    if v > best_v:
+                        best_v, best_p = v, p
+        if best_v <= DEPARTURE_TOL:
+            continue
+        segs = sorted({o.before for o in res.origins[lo[0]:hi[0] + 1]}
+                      | {o.after for o in res.origins[lo[0]:hi[0] + 1]})
+        c0, c1 = _point(path[lo[0]], lo[1]), _point(path[hi[0]], hi[1])
+        n0, n1 = normal(lo[0], lo[1]), normal(hi[0], hi[1])
+        p0 = (c0[0] - r * n0[0], c0[1] - r * n0[1])
+        p1 = (c1[0] - r * n1[0], c1[1] - r * n1[1])
+        msg = (f"the insert's edge at {edges[ka if fwd else kb]:g} deg keeps the nose off the "
+               f"contour from {_fmt(p0)} to {_fmt(p1)}"
+               + (" (to the end of the chain)" if kind == "end" else "")
+               + f": left up to {best_v:.3f} mm oversize (at {_fmt(best_p)})")
+        out.append(Departure(kind, tuple(segs), p0, p1, best_v, best_p, msg))
+    return out
