@@ -55,19 +55,53 @@ def trim_left(chain: Sequence[Segment], z_left: float) -> list[Segment]:
     return out
 
 
+def merge_collinear(segs: Sequence[Segment]) -> list[Segment]:
+    """Join consecutive lines that continue each other (a bridge and the cylinder it
+    continues, an overrun): the compensation would otherwise see a short step."""
+    out: list[Segment] = []
+    for s in segs:
+        if out and isinstance(s, Line) and isinstance(out[-1], Line):
+            a, b = out[-1].direction, s.direction
+            if abs(a[0] * b[1] - a[1] * b[0]) < 1e-9 and a[0] * b[0] + a[1] * b[1] > 0:
+                out[-1] = Line(out[-1].start, s.end)
+                continue
+        out.append(s)
+    return out
+
+
 def with_leads(chain: Sequence[Segment], z_start: float, x_exit: float,
-               past_centre: float = 0.0) -> list[Segment]:
+               past_centre: float = 0.0, overrun: float = 0.0) -> list[Segment]:
     """Lead-in along Z from ``z_start`` to the first point, exit along X to ``x_exit``.
 
     A chain that starts on the axis is first extended along X to ``-past_centre`` (the
     finishing tool's nose radius): the tool's tip must pass the centre by its nose radius for
-    the nose to reach the axis and leave no pip on the face."""
+    the nose to reach the axis and leave no pip on the face. ``overrun``: the last segment is
+    continued that far (in Z) past the part's left end into the stock that stays in the chuck,
+    so that the exit does not leave a sliver on the parting plane."""
     segs = list(chain)
     if past_centre > 0 and abs(segs[0].start[0]) < 1e-9:
         z0 = segs[0].start[1]
         segs.insert(0, Line((-past_centre, z0), segs[0].start))
+    if overrun > 0:
+        t = segs[-1].tangent_at_end()
+        if t[1] < -0.2:  # continue past the left end into the chuck-side stock
+            e = overrun / -t[1]
+            end = segs[-1].end
+            segs.append(Line(end, (end[0] + e * t[0], end[1] + e * t[1])))
+    segs = merge_collinear(segs)
     first, last = segs[0].start, segs[-1].end
     out: list[Segment] = []
+    s0 = segs[0]
+    if isinstance(s0, Line) and z_start > first[1] + 1e-9 and s0.direction[1] < -0.1 \
+            and abs(s0.direction[0]) > 1e-9:
+        # a first segment that is a chamfer or taper: lead in along its extension (as the
+        # manual's examples do), so that the lead-in makes no corner with it
+        d = s0.direction
+        k = (z_start - first[1]) / -d[1]
+        p = (first[0] - k * d[0], first[1] - k * d[1])
+        if p[0] >= 0:
+            segs[0] = Line(p, s0.end)
+            first = p
     if z_start > first[1] + 1e-9:
         out.append(Line((first[0], z_start), first))
     out.extend(segs)
@@ -195,14 +229,37 @@ def ease_arc_ends(segs: Sequence[Segment]) -> list[Segment]:
     return out
 
 
+def _from_start_side(segs: list[Segment], start: Point, first_axis: str) -> list[Segment]:
+    """Make the contour begin exactly where the one-axis ns block from ``start`` lands: on the
+    line Z = start z (ns along X) or X = start x (ns along Z). The first segment (a line) is
+    extended or cut along its own carrier; a compensated lead-in starts a nose radius off."""
+    s0 = segs[0]
+    k = 1 if first_axis == "x" else 0
+    target = start[k]
+    if isinstance(s0, Line):
+        d = s0.direction
+        if abs(d[k]) > 0.05:
+            t = (target - s0.end[k]) / d[k]
+            if t < -1e-9:
+                p = (s0.end[0] + t * d[0], s0.end[1] + t * d[1])
+                return [Line(p, s0.end)] + segs[1:]
+    p = s0.start
+    q = (p[0], target) if first_axis == "x" else (target, p[1])
+    if math.dist(p, q) < 1e-9:
+        return segs
+    return [Line(q, p)] + segs
+
+
 def to_blocks(contour: Sequence[Segment], first_axis: str, feed: float,
-              ns: str, nf: str) -> list[Block]:
+              ns: str, nf: str, start: Point | None = None) -> list[Block]:
     """Program blocks for a contour: the first block is ``G00`` along ``first_axis`` ("x" or
     "z") to the contour's first point, the rest G01/G02/G03 with end points; labels ``ns`` on
     the first and ``nf`` on the last block."""
     segs = ease_arc_ends(contour)
     if not segs:
         raise PlanError("empty contour")
+    if start is not None:
+        segs = _from_start_side(segs, start, first_axis)
     p0 = segs[0].start
     blocks = [Block(0, x=p0[0] if first_axis == "x" else None,
                     z=p0[1] if first_axis == "z" else None, label=ns)]

@@ -47,6 +47,10 @@ from .tools import (back_reach, can_square_shoulder, describe, thread_pitch, thr
                     turning_tools)
 
 
+#: how far finishing contours run past the part's left end into the chuck-side stock, mm
+OVERRUN = 0.05
+
+
 @dataclass
 class Options:
     comp: str = "cam"
@@ -303,7 +307,8 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
                   + f"; {describe(rougher)} reaches {back_reach(rougher):.0f} deg")
         base_dir = (1.0, 0.0)
 
-    base = ct.with_leads(contour, z_a, x_a, past_centre=2 * finisher.nose_radius + 0.1)
+    base = ct.with_leads(contour, z_a, x_a, past_centre=2 * finisher.nose_radius + 0.1,
+                         overrun=OVERRUN)
     if opts.comp == "cam":
         prog = ct.tip_path(base, finisher.nose_radius, finisher.tip, bore=False)
         delta = rougher.nose_radius - finisher.nose_radius
@@ -317,7 +322,8 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
         first_axis, comp = "z", 41
     else:
         prog_run, first_axis, comp = prog, "x", 42
-    blocks = ct.to_blocks(prog_run, first_axis, finisher.feed_finish, ns, nf)
+    blocks = ct.to_blocks(prog_run, first_axis, finisher.feed_finish, ns, nf,
+                          start=(x_a, z_a))
     if opts.comp == "cam":
         comp = 40
     words: dict[str, Any] = {"U": rougher.depth, "R": opts.retract, "X": ax, "Z": az,
@@ -367,7 +373,7 @@ def _end_pocket_op(p: an.Pocket, t: Tool, opts: Options, x_a: float, name: str) 
     base = [Line((p.entry[0], z_in), p.entry)] + segs + [ext]
     prog = ct.tip_path(base, t.nose_radius, t.tip, bore=False)
     back = [s.reversed() for s in reversed(prog)]
-    blocks = ct.to_blocks(prog + back, "x", t.feed_finish, "", "")
+    blocks = ct.to_blocks(prog + back, "x", t.feed_finish, "", "", start=(x_a, z_in))
     return Operation(
         name="profile", cycle="contour", template="finish.j2", tool=t,
         reason=(f"{_pocket_text(p)} at the left end: one pass with {describe(t)}, which "
@@ -470,7 +476,7 @@ def _plan_bore(chain: list[Segment], stock: Stock, lib: ToolLibrary, opts: Optio
     fin = [t for t in ok if "finish" in t.uses]
     fin_t = rough_t if "finish" in rough_t.uses else (fin[0] if fin else rough_t)
     x_a = max(0.0, rb - opts.clearance)
-    base = ct.with_leads(chain, z_a, x_a)
+    base = ct.with_leads(chain, z_a, x_a, overrun=OVERRUN)
     if opts.comp == "cam":
         prog = ct.tip_path(base, fin_t.nose_radius, fin_t.tip, bore=True)
         delta = rough_t.nose_radius - fin_t.nose_radius
@@ -482,7 +488,7 @@ def _plan_bore(chain: list[Segment], stock: Stock, lib: ToolLibrary, opts: Optio
     base_dir = (opts.allowance_x, opts.allowance_z) if monotonic else (1.0, 0.0)
     ax, az = _allowance(norm, delta, base_dir, opts, what=f"part {name} bore")
     ns, nf = "id_ns", "id_nf"
-    blocks = ct.to_blocks(prog, "x", fin_t.feed_finish, ns, nf)
+    blocks = ct.to_blocks(prog, "x", fin_t.feed_finish, ns, nf, start=(x_a, z_a))
     cycle = "G71" if monotonic else "G71E"
     start = (x_a, z_a)
     rough = Operation(
