@@ -102,6 +102,7 @@ class Machined:
 
     ``material``: what is left on the machine, in (z, x) shapely coordinates; ``stock``: the raw
     material; ``removed_area[i]``: mm^2 the i-th move removed (falling pieces not included);
+    ``sweep_bounds[i]``: bounds (z0, x0, z1, x1) of its swept region (NaN for dwells);
     ``issues``: the checks' findings; ``shapes``: the tool outline of each register used.
     """
     material: BaseGeometry
@@ -109,6 +110,7 @@ class Machined:
     toolpath: Toolpath
     issues: list[Issue] = field(default_factory=list)
     removed_area: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    sweep_bounds: np.ndarray = field(default_factory=lambda: np.zeros((0, 4)))
     shapes: dict[tuple[int, float | None], ToolShape] = field(default_factory=dict)
     thread_spans: list[ThreadSpan] = field(default_factory=list)
     fallen: list[BaseGeometry] = field(default_factory=list)
@@ -294,6 +296,7 @@ def simulate(toolpath: Toolpath, stock: Stock | BaseGeometry, machine: Machine |
     moves = toolpath.moves
     n = len(moves)
     removed_area = np.zeros(n)
+    boxes = np.full((n, 4), np.nan)  # bounds (z0, x0, z1, x1) of each move's swept region
     issues: list[Issue] = []
     notes: list[Issue] = []
     sweeper = _Sweeper(machine, moves)
@@ -308,9 +311,12 @@ def simulate(toolpath: Toolpath, stock: Stock | BaseGeometry, machine: Machine |
         bm = moves[b0:b0 + batch]
         sw, paths = sweeper.sweeps(bm)
         idx = [k for k, s in enumerate(sw) if s is not None and not s.is_empty]
-        if not idx or material.is_empty:
+        if not idx:
             continue
         geoms = np.array([sw[k] for k in idx], dtype=object)
+        boxes[[b0 + k for k in idx]] = shapely.bounds(geoms)
+        if material.is_empty:
+            continue
         union = union_of(geoms)
         z0, x0, z1, x1 = union.bounds
         local = clean(shapely.clip_by_rect(material, z0, x0, z1, x1))
@@ -347,7 +353,7 @@ def simulate(toolpath: Toolpath, stock: Stock | BaseGeometry, machine: Machine |
 
     issues.sort(key=lambda i: i.line)
     return Machined(material=material, stock=start_region, toolpath=toolpath, issues=issues,
-                    removed_area=removed_area, shapes=dict(sweeper.shapes),
+                    removed_area=removed_area, sweep_bounds=boxes, shapes=dict(sweeper.shapes),
                     thread_spans=_thread_spans(moves, machine), fallen=fallen, machine=machine,
                     notes=notes)
 

@@ -378,19 +378,25 @@ def blame(machined: Machined, at: Deviation, removed: bool) -> None:
         return
     sweeper = _Sweeper(machined.machine, machined.toolpath.moves)
     p = shapely.Point(at.z, at.x)
+    moves = machined.toolpath.moves
+    bb = machined.sweep_bounds
+    if len(bb) != len(moves):
+        return
+    with np.errstate(invalid="ignore"):
+        gap = np.nanmax(np.stack([bb[:, 0] - at.z, at.z - bb[:, 2], bb[:, 1] - at.x,
+                                  at.x - bb[:, 3], np.zeros(len(bb))]), axis=0)
+    gap[np.isnan(bb[:, 0])] = np.inf
+    kinds = np.array([m.kind for m in moves])
+    if removed:
+        cand = np.flatnonzero((gap <= 1e-6) & (machined.removed_area > 0))
+    else:
+        cand = np.flatnonzero(np.isin(kinds, ("line", "arc")))
+        cand = cand[np.argsort(gap[cand], kind="stable")]
     best, best_d = None, math.inf
-    for i, m in enumerate(machined.toolpath.moves):
-        if m.kind == "dwell" or (not removed and m.kind not in ("line", "arc")):
-            continue
-        if removed and machined.removed_area[i] <= 0:
-            continue
-        o = sweeper.shape(m).outline
-        path = sweeper.path_points(m)
-        lo = path.min(axis=0) + o.min(axis=0)
-        hi = path.max(axis=0) + o.max(axis=0)
-        gap = max(lo[0] - at.z, at.z - hi[0], lo[1] - at.x, at.x - hi[1], 0.0)
-        if gap > (1e-6 if removed else min(best_d, 50.0)):
-            continue
+    for i in cand:
+        if not removed and gap[i] > best_d:
+            break  # sorted by box gap: no later move can come nearer
+        m = moves[i]
         g = sweeper.sweeps([m])[0][0]
         if g is None:
             continue
