@@ -16,38 +16,47 @@ PARTS = REPO / "parts"
 pytestmark = pytest.mark.cad
 
 
+FAMILIES = {
+    "stepped_shaft.py": [{}, {"length": "90", "d1": "18", "l2": "45"}],
+    "grooved_shaft.py": [{}, {"length": "90", "d2": "38"}, {"relief_width": "5", "arc_depth": "1.0"}],
+    "flange.py": [{}, {"diameter": "110", "thickness": "12"}, {"hub_diameter": "60", "fillet": "2"}],
+    "bushing.py": [{}, {"outer_diameter": "44", "bore_diameter": "24", "length": "34"},
+                   {"inner_chamfer": "1.5", "chamfer": "0.5"}],
+    "cast_blank.py": [{}, {"waves": "2", "wave_length": "30"}],
+    "threaded_stud.py": [{}, {"thread_length": "20", "length": "48"},
+                         {"thread_diameter": "16", "relief_diameter": "13.6", "collar_diameter": "26"}],
+    "cq_pin.py": [{}, {"length": "44", "groove_z": "10"}, {"diameter": "18", "head_diameter": "26"}],
+}
+CASES = [(f, p) for f, ps in FAMILIES.items() for p in ps]
+
+#: the operation that shows each family was planned the way its shape asks for
+EXPECTED = {"stepped_shaft.py": "G71", "grooved_shaft.py": "G71E", "flange.py": "G72",
+            "bushing.py": "bore_rough", "cast_blank.py": "G73", "threaded_stud.py": "G76",
+            "cq_pin.py": "groove"}
+
+
 @pytest.mark.parametrize("comp", ["cam", "control"])
-@pytest.mark.parametrize("part,params", [
-    ("stepped_shaft.py", {}),
-    ("stepped_shaft.py", {"length": "90", "d1": "18", "l2": "45"}),
-    ("flange.py", {}),
-])
-def test_family_generates_and_verifies(part, params, comp):
+@pytest.mark.parametrize("part,params", CASES, ids=[f"{f[:-3]}-{i}" for f, ps in FAMILIES.items()
+                                                    for i in range(len(ps))])
+def test_family_generates_runs_and_verifies(part, params, comp):
     prog = generate(PARTS / part, params=params, comp=comp, verify=True)
-    assert prog.toolpath is not None and prog.report is not None
-    assert prog.report.passed, prog.report.summary()
+    assert prog.toolpath is not None and prog.toolpath.moves  # ran without alarm
+    assert prog.report is not None and prog.report.passed, prog.report.summary()
     assert prog.report.max_overcut_mm <= 0.01
     assert prog.cycle_time_s > 0
-
-
-@pytest.mark.parametrize("part", ["grooved_shaft.py", "bushing.py", "cast_blank.py",
-                                  "threaded_stud.py", "cq_pin.py"])
-def test_other_families_plan_or_refuse_clearly(part):
-    """Not all families are made yet (see the report): each either verifies or is refused
-    with a message naming the feature, never an internal error."""
-    try:
-        prog = generate(PARTS / part, comp="control", verify=False)
-    except PlanError as e:
-        assert "internal error" not in str(e)
-        assert "Z" in str(e)  # names where
+    if comp == "cam":
+        assert "G41" not in prog.text and "G42" not in prog.text
     else:
-        assert prog.toolpath.moves
+        assert "G42" in prog.text or "G41" in prog.text
 
 
-def test_operation_choice_per_family():
-    ops = lambda f: [op.cycle for op in generate(PARTS / f, verify=False).plan.operations]
-    assert "G71" in ops("stepped_shaft.py")
-    assert "G72" in ops("flange.py")
+@pytest.mark.parametrize("part", sorted(EXPECTED))
+def test_operation_choice_per_family(part):
+    plan = generate(PARTS / part, verify=False).plan
+    names = {op.cycle for op in plan.operations} | {op.name for op in plan.operations}
+    assert EXPECTED[part] in names, [(op.name, op.cycle, op.reason) for op in plan.operations]
+    for op in plan.operations:
+        assert op.reason  # every operation says why
 
 
 def test_cli_generate_writes_program_and_summary(tmp_path, capsys):
