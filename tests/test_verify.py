@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import shapely
 import pytest
 
 from hnc_cam.geometry import Arc, Line, Thread, TurnedProfile
@@ -191,3 +192,19 @@ def test_g76_thread_reaches_standard_minor_diameter():
     assert len(r2.threads) == 1 and not r2.threads[0].declared
     assert r2.threads[0].target_diameter == pytest.approx(20 - 1.2269 * 1.5, abs=1e-3)
     assert r2.passed, r2.summary()
+
+
+def test_deepest_point_pruning_is_exact():
+    # components far from part of the boundary, and one that does not touch it at all
+    from shapely.geometry import box as sbox
+
+    from hnc_cam.sim.region import polygons
+    from hnc_cam.sim.verify import _boundary_points, _deepest
+    segs = [*poly((0, 0), (10, 0), (10, -20)), Arc((10, -20), (15, -25), (15, -20), True),
+            *poly((15, -25), (15, -60))]
+    g = shapely.union_all([sbox(-5, 9.5, -1, 10.2), sbox(-40, 15.1, -38, 16.0),
+                           sbox(-22, 12.0, -21, 12.5)])
+    got = _deepest(g, segs, interior=False)
+    pts = np.vstack([_boundary_points(p) for p in polygons(g)])
+    d, _ = distances(pts, segs)
+    assert got.size_mm == pytest.approx(d.max(), abs=1e-12)
