@@ -42,3 +42,15 @@ def test_roundtrip_from_profile():
                                   Line((12, -40), (0, -40))], name="pin")
     prog, rep = assert_roundtrip(prof, stock="30x60+1", tol=0.01)
     assert rep.passed
+
+
+FAMILIES = sorted(p.name for p in (REPO / "parts").glob("*.py") if not p.name.startswith("_"))
+
+
+@pytest.mark.parametrize("comp", ["cam", "control"])
+@pytest.mark.parametrize("family", FAMILIES)
+def test_every_family_roundtrips(family, comp):
+    from hnc_cam.testing import assert_roundtrip
+    prog, rep = assert_roundtrip(str(REPO / "parts" / family), tol=0.01, comp=comp)
+    assert rep.passed and not rep.collisions
+    assert rep.max_overcut_mm <= 0.01 and rep.max_undercut_mm <= 0.01
