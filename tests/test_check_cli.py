@@ -127,3 +127,14 @@ def test_unwritable_outputs_exit_2(files, capsys):
     rc = main(["simulate", str(files / "good.nc"), "--stock", "40x60", "--plot",
                str(files / "blocker" / "x.png")])
     assert rc == 2 and "cannot write" in capsys.readouterr().err
+
+
+@pytest.mark.cad
+def test_simulate_offset_stock_with_model(files, capsys):
+    out = files / "o.json"
+    rc = main(["simulate", str(files / "good.nc"), "--stock", "offset:1", "--model",
+               str(files / "part.py"), "--set", "d=30", "--json", str(out)])
+    assert rc == 0, capsys.readouterr().err
+    js = json.loads(out.read_text())
+    xs = [p[0] for ring in js["machined"] for p in ring]
+    assert max(xs) == pytest.approx(42.0, abs=1e-6)  # the dia 40 part grown by 1 mm radially
