@@ -83,3 +83,11 @@ def test_cli_bad_input_exit_2_and_nothing_written(tmp_path, capsys, argv, msg):
     assert msg in err and err.startswith("error:")
     assert not out.exists()
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("step,stock", [("stepped_shaft.step", "45x120+2"),
+                                        ("spline_knob.step", "45x120+2")])
+@pytest.mark.parametrize("comp", ["cam", "control"])
+def test_step_files_generate_and_verify(step, stock, comp):
+    prog = generate(REPO / "tests" / "data" / step, stock, comp=comp)
+    assert prog.report.passed, prog.report.summary()

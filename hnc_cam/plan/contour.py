@@ -84,7 +84,7 @@ def with_leads(chain: Sequence[Segment], z_start: float, x_exit: float,
         segs.insert(0, Line((-past_centre, z0), segs[0].start))
     if overrun > 0:
         t = segs[-1].tangent_at_end()
-        if t[1] < -0.2:  # continue past the left end into the chuck-side stock
+        if t[1] < -0.95:  # (nearly) along -Z: continue past the left end into the chuck-side stock
             e = overrun / -t[1]
             end = segs[-1].end
             segs.append(Line(end, (end[0] + e * t[0], end[1] + e * t[1])))

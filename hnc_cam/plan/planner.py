@@ -212,14 +212,14 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
     end_ops: list[Operation] = []
     # a descending run at the very end (the chamfer of the left edge): bridged in the main
     # contour and made afterwards in one pass by a tool that reaches it, when it is shallow
+    od = an.split_x_extremes(od)
     k = len(od)
     while k > 1 and od[k - 1].end[0] < od[k - 1].start[0] - 1e-9:
         k -= 1
     if k < len(od):
         tail = od[k:]
         tp = an._pocket(list(tail), tail[0].start[0], tail[0].start, None)
-        pt = [t for t in profilers if back_reach(t) >= tp.max_descent - 1e-9
-              and 2 * t.depth >= tp.depth - 1e-9]
+        pt = [t for t in profilers if back_reach(t) >= tp.max_descent - 1e-9]
         if pt:
             end_ops.append(_end_pocket_op(tp, pt[0], opts, x_a, name))
             od = od[:k] + [Line(tail[0].start, (tail[0].start[0], tail[-1].end[1]))]
@@ -355,14 +355,15 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
 
 
 def _end_pocket_op(p: an.Pocket, t: Tool, opts: Options, x_a: float, name: str) -> Operation:
-    """Profile an open pocket at the left end (e.g. the left edge's chamfer; bridged in the
-    main contour) in one pass.
+    """Profile a descending run at the left end (e.g. the left edge's chamfer or a dome
+    toward the chuck; bridged in the main contour) with a tool that reaches it.
 
-    The last wall is continued past the part's left end by the nose radius plus 0.3 mm, into
-    the stock that stays in the chuck, so that no wedge is left between the wall and the
-    parting plane; the tool then returns along its own path and leaves. This short pass is
-    always written as the tool's tip path (G40), in both compensation modes: a control
-    compensating a path that reverses on itself would put the nose on the wrong side.
+    Passes follow the run shifted outward in X (as G73 does, at most the tool's depth apart);
+    each continues past the part's left end by the nose radius plus 0.3 mm, into the stock
+    that stays in the chuck, so that no wedge is left between the run and the parting plane,
+    then returns along its own path. These passes are always written as the tool's tip path
+    (G40), in both compensation modes: a control compensating a path that reverses on itself
+    would put the nose on the wrong side.
     """
     z_in = p.entry[1] + 1.0
     segs = list(p.segments)
@@ -372,15 +373,23 @@ def _end_pocket_op(p: an.Pocket, t: Tool, opts: Options, x_a: float, name: str) 
     ext = Line(last.end, (last.end[0] + e * tx, last.end[1] + e * tz))
     base = [Line((p.entry[0], z_in), p.entry)] + segs + [ext]
     prog = ct.tip_path(base, t.nose_radius, t.tip, bore=False)
-    back = [s.reversed() for s in reversed(prog)]
-    blocks = ct.to_blocks(prog + back, "x", t.feed_finish, "", "", start=(x_a, z_in))
+    n = max(1, math.ceil(p.depth / t.depth - 1e-9))
+    path: list[Segment] = []
+    for k in range(n - 1, -1, -1):
+        dx = p.depth * k / n
+        fwd = [s.translated(dx, 0.0) for s in prog]
+        back = [s.reversed() for s in reversed(fwd)]
+        if path:
+            path.append(Line(path[-1].end, fwd[0].start))
+        path += fwd + back
+    blocks = ct.to_blocks(path, "x", t.feed_finish, "", "", start=(x_a, z_in))
     return Operation(
         name="profile", cycle="contour", template="finish.j2", tool=t,
-        reason=(f"{_pocket_text(p)} at the left end: one pass with {describe(t)}, which "
-                f"reaches {back_reach(t):.0f} deg, past the end into the chuck-side stock and "
-                f"back (tip path, G40)"),
+        reason=(f"{_pocket_text(p)} at the left end: {n} pass{'es' if n > 1 else ''} with "
+                f"{describe(t)}, which reaches {back_reach(t):.0f} deg, past the end into the "
+                f"chuck-side stock and back (tip path, G40)"),
         start=(x_a, z_in), speed=t.vc_finish, feed=t.feed_finish, blocks=blocks, comp=40,
-        contour=prog + back, retract=[(x_a, z_in)])
+        contour=path, retract=[(x_a, z_in)])
 
 
 def _allowance(chain: Sequence[Segment], delta: float, base: Point, opts: Options,
