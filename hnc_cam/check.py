@@ -35,10 +35,10 @@ def _machine(args: argparse.Namespace):
 
 
 def _toolpath(path: str, machine):
-    """Run the program; the tool starts at the machine's reference point (work coordinates
-    equal machine coordinates until the program selects an offset or sets G92)."""
+    """Run the program; the tool starts at the machine's reference point (converted into the
+    active work system by the interpreter, as `hnc-cam run` does)."""
     from .nc.interp import run_file
-    return run_file(path, machine, start=machine.reference)
+    return run_file(path, machine, start="reference")
 
 
 def _model(path: str, params: list[str]):

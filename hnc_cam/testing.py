@@ -64,7 +64,7 @@ def assert_roundtrip(part: Any, stock: str | None = None, tol: float = 0.01, *,
     machine = mach if isinstance(mach, Machine) else load_machine(mach, tools=lib)
 
     tp = run(prog.text, machine, file=f"<{getattr(model, 'name', 'part')} roundtrip>",
-             start=machine.reference)
+             start="reference")
     machined = simulate(tp, st, machine, model=model)
     report = verify(machined, model, tol=tol, threads=threads, strict=strict)
     if plot is not None:
