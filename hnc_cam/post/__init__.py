@@ -10,8 +10,8 @@ the same name, so a user can change only ``header.j2`` or only ``g76.j2``.
 Templates (one per operation): ``program.j2`` (the whole program), ``header.j2``,
 ``footer.j2``, ``tool_change.j2``, ``face.j2``, ``g71.j2``, ``g71_type2.j2``, ``g72.j2``,
 ``g73.j2``, ``bore.j2`` (ID roughing), ``finish.j2`` (the ns..nf contour, OD and ID),
-``contour.j2`` (the contour blocks, included by ``finish.j2``), ``groove.j2``, ``g76.j2``,
-``g82.j2``.
+``contour.j2`` (the contour blocks, included by ``finish.j2``), ``spindle.j2`` (G96/G97
+with M03, included by every operation), ``groove.j2``, ``g76.j2``, ``g82.j2``.
 """
 from __future__ import annotations
 
