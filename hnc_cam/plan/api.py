@@ -95,7 +95,7 @@ def _interpret(text: str, machine: Machine, file: str):
     except ImportError:
         return None
     try:
-        return run(text, machine=machine, file=file, start=machine.reference)
+        return run(text, machine=machine, file=file, start="reference")
     except NCError as e:
         raise PlanError(f"internal error: the generated program raises an alarm in the "
                         f"interpreter (a generator bug, please report): {e.one_line()}") from e
