@@ -26,6 +26,14 @@ def _add_gen_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--program-number", type=int, metavar="N", help="program number (%%nnnn)")
     p.add_argument("--no-verify", action="store_true", help="do not simulate and verify")
     p.add_argument("--tol", type=float, default=0.01, metavar="MM", help="verification tolerance")
+    p.add_argument("--number-format", choices=["plain", "point", "zero"], default="plain",
+                   help="how whole numbers are written: X20 (plain), X20. (point), X20.0 (zero)")
+    p.add_argument("--block-numbers", choices=["every", "pq"], default="every",
+                   help="N numbers on every block, or only on the blocks P/Q refer to")
+    p.add_argument("--thread-cycle", choices=["g76", "g82"], default="g76",
+                   help="threads with one G76 block or with G82 passes")
+    p.add_argument("--face-cycle", choices=["g81", "g01"], default="g81",
+                   help="facing with G81 cycles or with G01 passes")
 
 
 def build_parser() -> argparse.ArgumentParser:

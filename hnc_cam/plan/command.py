@@ -28,7 +28,11 @@ def _options(args: argparse.Namespace) -> dict[str, Any]:
     return dict(tools=getattr(args, "tools", None), machine=getattr(args, "machine", None),
                 comp=getattr(args, "comp", "cam") or "cam",
                 templates=getattr(args, "templates", None),
-                verify=not getattr(args, "no_verify", False), tol=getattr(args, "tol", 0.01))
+                verify=not getattr(args, "no_verify", False), tol=getattr(args, "tol", 0.01),
+                number_format=getattr(args, "number_format", "plain") or "plain",
+                block_numbers=getattr(args, "block_numbers", "every") or "every",
+                thread_cycle=getattr(args, "thread_cycle", "g76") or "g76",
+                face_cycle=getattr(args, "face_cycle", "g81") or "g81")
 
 
 def generate_command(args: argparse.Namespace) -> int:
