@@ -5,6 +5,9 @@ that rolls along one side of a contour. The one offset routine of the package: t
 
 Method (exact, no sampling of the path):
 
+0. *Regularise.* An arc whose end misses the circle through its start (an I/K arc; the
+   manual allows 0.01 mm) gets the centre on the chord's bisector nearest to the given one
+   (:func:`regularise_arc`), so that each arc's offset ends exactly ``r`` from the joint.
 1. *Raw offset.* Every segment is offset to the tool side at distance ``r``: a line is
    translated along its normal, an arc keeps its centre and gets radius ``R + r`` (tool on its
    convex side) or ``R - r`` (concave side; when ``R - r <= 0`` the arc **vanishes**: the nose
@@ -184,6 +187,33 @@ def offset_segment(seg: Segment, r: float, side) -> Segment | None:
     return Arc(a, b, c, seg.cw)
 
 
+def regularise_arc(seg: Segment) -> Segment:
+    """``seg`` with its end points exactly on one circle: an :class:`Arc` whose end lies off the
+    circle through its start (an I/K arc: the manual lets the end miss the circle by up to
+    0.01 mm) gets the centre on the chord's perpendicular bisector nearest to the given centre,
+    as an R arc would have; lines and consistent arcs are returned unchanged.
+
+    Without this, the offset of such an arc ends ``|R_end - R_start|`` closer to the next
+    segment's start than ``r``: its last piece fails the validation, the valid pieces fall apart
+    at the joint, and a whole stretch of the contour is reported unreachable.
+    """
+    if not isinstance(seg, Arc):
+        return seg
+    c, a, b = seg.center, seg.start, seg.end
+    da, db = dist(c, a), dist(c, b)
+    if abs(da - db) <= 1e-12 * max(1.0, da):
+        return seg
+    mx, mz = (a[0] + b[0]) / 2, (a[1] + b[1]) / 2
+    ux, uz = b[0] - a[0], b[1] - a[1]
+    L2 = ux * ux + uz * uz
+    if L2 <= EPS * EPS:
+        return seg
+    # remove from c - m its component along the chord
+    k = ((c[0] - mx) * ux + (c[1] - mz) * uz) / L2
+    c2 = (c[0] - k * ux, c[1] - k * uz)
+    return Arc(a, b, c2, seg.cw)
+
+
 def _param(e: Segment, p: Point) -> float:
     """Parameter of a point (on the carrier of ``e``) along ``e``: 0 at start, 1 at end."""
     if isinstance(e, Line):
@@ -295,7 +325,7 @@ def offset_chain(chain: Sequence[Segment], r: float, side, lookahead: int | None
             raise ValueError(f"chain is not connected between segment {i} and {i + 1}: "
                              f"{chain[i].end} -> {chain[i + 1].start}")
     kept = [i for i, g in enumerate(chain) if g.length > TOL]
-    part = [chain[i] for i in kept]
+    part = [regularise_arc(chain[i]) for i in kept]
     if not part:
         return OffsetResult([], [], [], r, s, chain)
     if r <= TOL:
