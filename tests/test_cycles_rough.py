@@ -938,3 +938,64 @@ def test_slanted_approach_block():
     for m in c:  # every pass starts on the shifted approach line
         assert ns.distance_to(m.seg.start) < 1e-9
     check_region(plan, A, offset_of(segs, 0.2, 0.1), Frame(False, 1, 1), 1.5, approach=ns)
+
+
+# --------------------------------------------------------------------------- rounding (0.001 mm)
+
+def test_arc_past_its_extreme_within_the_rounding_tolerance():
+    """An arc may run back past an X/Z extreme by up to ROUND_TOL (0.001 mm) and still count
+    as monotonic; more than that is a profile that turns back."""
+    from hnc_cam.geometry.roughing import ROUND_TOL
+    assert ROUND_TOL == pytest.approx(1e-3)
+    R = 10.0
+    # polar angle t: x = R sin t, z = R cos t; ccw (G03) increases t; x is extreme at t = pi/2
+    for back, ok in ((0.0009, True), (0.002, False)):
+        d = math.acos(1 - back / R)  # R (1 - cos d) = back
+        t0, t1 = 0.5, math.pi / 2 + d
+        a = Arc((R * math.sin(t0), R * math.cos(t0)), (R * math.sin(t1), R * math.cos(t1)),
+                (0.0, 0.0), False)
+        assert is_monotonic(a, 0, +1) is ok
+        assert is_monotonic(a, 1, -1)
+        # ... and the same arc reversed, the extreme passed right after the start
+        r = Arc(a.end, a.start, a.center, True)
+        assert is_monotonic(r, 0, -1) is ok
+
+
+ROUNDED = [
+    # name, cycle words, start (dia, z), blocks written to 3 decimals, allowance, frame, depth
+    # a dome from the axis: the R16 arc starts on its Z extreme, its end rounded to 0.001
+    ("G71 dome", "G71 U1 R0.5 X0.4 Z0.1", (42, 2),
+     [("G00", 0, 2), ("G01", 0, 0), ("G03", 20, -3.509, 16), ("G01", 20, -20),
+      ("G01", 42, -20)], (0.2, 0.1), Frame(False, 1, 1), 1.0),
+    # a quarter round from the face to a cylinder: starts on its Z and ends on its X extreme
+    ("G71 quarter", "G71 U1 R0.5 X0.4 Z0.1", (42, 2),
+     [("G00", 10, 2), ("G01", 10, 0), ("G03", 30.001, -10, 10), ("G01", 30.001, -20),
+      ("G01", 42, -20)], (0.2, 0.1), Frame(False, 1, 1), 1.0),
+    # G72: a quarter round from a face to the front cylinder
+    ("G72 quarter", "G72 W1 R0.5 X0.4 Z0.1", (42, 2),
+     [("G00", 42, -20), ("G01", 30, -20), ("G01", 30, -10.001), ("G02", 10, 0, 10),
+      ("G01", 10, 2)], (0.2, 0.1), Frame(True, 1, 1), 1.0),
+]
+
+
+@pytest.mark.parametrize("name,words,start,blocks,allow,fr,depth", ROUNDED,
+                         ids=[o[0] for o in ROUNDED])
+def test_profiles_rounded_to_3_decimals_with_arcs_on_their_extremes(name, words, start, blocks,
+                                                                     allow, fr, depth):
+    """Regression: with coordinates rounded to 0.001 mm these arcs pass their extreme by a
+    hair (< 1e-6 mm); the 1e-6 check used to raise 'the profile turns back'."""
+    from hnc_cam.nc import run
+    segs, _ = path(start, *blocks)
+    arc = fr.seg_fwd(next(s for s in segs if isinstance(s, Arc)))
+    # the programmed arc really does pass an extreme by a hair (in the job's canonical frame:
+    # levels along u rising, cut toward -v)
+    assert (not is_monotonic(arc, 1, -1, overshoot=0.0)
+            or not is_monotonic(arc, 0, +1, overshoot=0.0))
+    assert is_monotonic(arc, 1, -1) and is_monotonic(arc, 0, +1)
+    text = program(start, words, blocks)
+    tp = run(text, _machine(True))
+    A = (start[0] / 2, float(start[1]))
+    offset = offset_of(segs, *allow)
+    plan, ms = cycle_moves(tp, words.split()[0], A, offset, fr)
+    check_region(plan, A, offset, fr, depth)
+    ends_on_profile(tp, segs[1:], profile_lines(text))

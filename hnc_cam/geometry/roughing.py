@@ -43,7 +43,10 @@ The model of the stock (where the manual is silent)
   toward the far end, each groove down to its bottom (its own sub-grooves in the same
   order) before the next one. Depth-first keeps every travel inside space already cut.
 * Profiles: type I (and G72) must be monotonic along both axes (levels and cut), type II
-  along the cut only (alarm otherwise). "The profile does not reach the start side" is an
+  along the cut only (alarm otherwise). An arc that runs back past an X/Z extreme by at most
+  ``ROUND_TOL`` = 0.001 mm still counts as monotonic: an arc meant to start or end on its
+  extreme, written with coordinates rounded to 0.001 mm, passes it by about the rounding
+  (the sliver behind such a hair-thin overhang is left to the last pass). "The profile does not reach the start side" is an
   alarm when its end B lies deeper (further from A along the level axis) than its start A′:
   the finished shape must rise back toward the start side, as every profile of the manual
   does.
@@ -85,6 +88,10 @@ from typing import Optional, Sequence
 from .intersect import horizontal_hits, vertical_hits
 from .primitives import TOL, Arc, Line, Point, Segment, dist, point_at_angle, same_point
 
+#: an arc may run back past an X/Z extreme by this much (mm) and still count as monotonic:
+#: an arc meant to start or end on its extreme, written with coordinates rounded to
+#: 0.001 mm (0.0005 mm in radius), passes the extreme by about the rounding
+ROUND_TOL = 1e-3
 #: intervals (and pass lengths) shorter than this are not cut (mm)
 MIN_PASS = 1e-5
 #: refuse to plan more levels than this (a unit mistake, e.g. U0.001)
@@ -166,10 +173,14 @@ def _sign(v: float) -> int:
 
 # --------------------------------------------------------------------------- chain helpers
 
-def is_monotonic(seg: Segment, axis: int, sense: int, tol: float = TOL) -> bool:
+def is_monotonic(seg: Segment, axis: int, sense: int, tol: float = TOL,
+                 overshoot: float = ROUND_TOL) -> bool:
     """True when coordinate ``axis`` (0 = x, 1 = z) never decreases (``sense`` = +1) or never
-    increases (``sense`` = −1) along the segment (an arc must not pass an extreme point of
-    that coordinate in its interior)."""
+    increases (``sense`` = −1) along the segment: the end must not lie back of the start by
+    more than ``tol``, and an arc may pass an extreme point of that coordinate in its
+    interior only when the coordinate goes back by at most ``overshoot`` there (an arc meant
+    to start or end on its extreme, written with coordinates rounded to 0.001 mm, passes it
+    by a hair: see :data:`ROUND_TOL`)."""
     a0, a1 = seg.start[axis], seg.end[axis]
     if sense * (a1 - a0) < -tol:
         return False
@@ -179,7 +190,10 @@ def is_monotonic(seg: Segment, axis: int, sense: int, tol: float = TOL) -> bool:
             if seg.contains_angle(ang):
                 p = point_at_angle(seg.center, seg.radius, ang)
                 if dist(p, seg.start) > tol and dist(p, seg.end) > tol:
-                    return False
+                    # a maximum is passed back toward the end, a minimum toward the start
+                    back = max(sense * (p[axis] - a1), sense * (a0 - p[axis]))
+                    if back > overshoot:
+                        return False
     return True
 
 
@@ -203,10 +217,22 @@ class _TopOfChain:
 
     def __init__(self, chain: Sequence[Segment]):
         self.chain = list(chain)
-        # v ranges, descending along the chain
-        self.vmax = [max(s.start[1], s.end[1]) for s in self.chain]
-        self.vmin = [min(s.start[1], s.end[1]) for s in self.chain]
-        self.neg_vmin = [-v for v in self.vmin]  # ascending
+        # v ranges (arcs: their bounding boxes, which may overshoot the end points by up to
+        # ROUND_TOL), descending along the chain up to that overshoot; the search uses the
+        # running minimum of vmin and the suffix maximum of vmax, which are monotonic
+        boxes = [s.bbox() for s in self.chain]
+        self.vmax = [b[3] for b in boxes]
+        self.vmin = [b[1] for b in boxes]
+        env, m = [], math.inf
+        for v in self.vmin:
+            m = min(m, v)
+            env.append(-m)
+        self.neg_vmin = env  # ascending
+        suf, m = [0.0] * len(self.vmax), -math.inf
+        for j in range(len(self.vmax) - 1, -1, -1):
+            m = max(m, self.vmax[j])
+            suf[j] = m
+        self.vmax_after = suf  # non-increasing
         self.top = max(self.vmax) if self.chain else 0.0
         self.bottom = min(self.vmin) if self.chain else 0.0
 
@@ -218,7 +244,7 @@ class _TopOfChain:
         best = -math.inf
         n = len(self.chain)
         j = max(0, i - 1)
-        while j < n and self.vmax[j] >= v - TOL:
+        while j < n and self.vmax_after[j] >= v - TOL:
             if self.vmin[j] <= v + TOL:
                 for _, u in vertical_hits([self.chain[j]], v):
                     best = max(best, u)
