@@ -12,13 +12,15 @@ Choices made here:
   fits within the tolerance become one ``Arc``.
 * Nothing here samples to a polyline for output: the result is always Line/Arc.
 * Merging joins consecutive collinear lines and consecutive co-circular arcs of the same
-  direction (pieces split by seams, face splits or STEP exporters).
+  direction (pieces split by seams, face splits or STEP exporters): that is
+  :func:`hnc_cam.geometry.chain.merge_segments`, re-exported here, shared with the planner.
 """
 from __future__ import annotations
 
 import math
 from typing import Callable, Sequence
 
+from ..geometry.chain import merge_segments  # noqa: F401  (re-exported: one merge for the package)
 from ..geometry.primitives import EPS, Arc, Line, Point, Segment, cross, dist, left_normal
 
 #: curve evaluations per piece used to measure a fit's deviation
@@ -156,31 +158,3 @@ def _covers(segs: Sequence[Segment], pts: Sequence[Point], pa: Point, pb: Point)
     poly = [pa, *pts, pb]
     plen = sum(dist(u, v) for u, v in zip(poly, poly[1:]))
     return sum(s.length for s in segs) <= 1.5 * plen + 1e-9
-
-
-def _collinear(a: Line, b: Line, tol: float) -> bool:
-    da, db = a.direction, b.direction
-    if da == (0.0, 0.0) or db == (0.0, 0.0):
-        return True
-    if da[0] * db[0] + da[1] * db[1] <= 0:
-        return False
-    # the joint must lie on the line through a's start and b's end
-    return Line(a.start, b.end).distance_to(a.end) <= tol
-
-
-def merge_segments(segs: Sequence[Segment], tol: float = 1e-6) -> list[Segment]:
-    """Join consecutive collinear lines and co-circular arcs (same centre, radius, direction)."""
-    out: list[Segment] = []
-    for s in segs:
-        if out:
-            p = out[-1]
-            if isinstance(p, Line) and isinstance(s, Line) and _collinear(p, s, tol):
-                out[-1] = Line(p.start, s.end)
-                continue
-            if (isinstance(p, Arc) and isinstance(s, Arc) and p.cw == s.cw
-                    and dist(p.center, s.center) <= tol and abs(p.radius - s.radius) <= tol
-                    and abs(p.sweep) + abs(s.sweep) < 2 * math.pi - 1e-6):
-                out[-1] = Arc(p.start, s.end, p.center, p.cw)
-                continue
-        out.append(s)
-    return out

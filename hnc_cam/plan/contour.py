@@ -23,10 +23,16 @@ from typing import Sequence
 
 from ..errors import PlanError
 from ..geometry import Arc, Line, Point, Segment, same_point
+from ..geometry.chain import absorb_short, merge_segments
 from .analysis import mirror_chain
 from .model import Block
 
 DEC = 3
+#: joints of merged pieces stay this close to the merged line/circle (mm)
+MERGE_TOL = 1e-7
+#: moves shorter than this are absorbed into their neighbours (the program's resolution, mm);
+#: the written path moves by less than half of it (see :func:`hnc_cam.geometry.chain.absorb_short`)
+MIN_MOVE = 0.001
 
 
 def orient(chain: Sequence[Segment], z_right: float) -> list[Segment]:
@@ -56,17 +62,10 @@ def trim_left(chain: Sequence[Segment], z_left: float) -> list[Segment]:
 
 
 def merge_collinear(segs: Sequence[Segment]) -> list[Segment]:
-    """Join consecutive lines that continue each other (a bridge and the cylinder it
-    continues, an overrun): the compensation would otherwise see a short step."""
-    out: list[Segment] = []
-    for s in segs:
-        if out and isinstance(s, Line) and isinstance(out[-1], Line):
-            a, b = out[-1].direction, s.direction
-            if abs(a[0] * b[1] - a[1] * b[0]) < 1e-9 and a[0] * b[0] + a[1] * b[1] > 0:
-                out[-1] = Line(out[-1].start, s.end)
-                continue
-        out.append(s)
-    return out
+    """Join consecutive lines that continue each other and co-circular arcs (a bridge and the
+    cylinder it continues, an overrun): the compensation would otherwise see a short step.
+    The kernel's :func:`hnc_cam.geometry.chain.merge_segments` with the exact tolerance."""
+    return merge_segments(segs, MERGE_TOL)
 
 
 def with_leads(chain: Sequence[Segment], z_start: float, x_exit: float,
@@ -141,94 +140,6 @@ def _key(p: Point) -> tuple[float, float]:
     return (round(2 * p[0], DEC), round(p[1], DEC))
 
 
-#: largest deviation of a chord written for the end piece of an arc (mm)
-END_CHORD_SAG = 1e-4
-
-
-def _axis_parallel(t: Point) -> bool:
-    return abs(t[0]) < 1e-7 or abs(t[1]) < 1e-7
-
-
-def _tangent_join(t0: Point, t1: Point) -> bool:
-    return t0[0] * t1[0] + t0[1] * t1[1] > 0.9998
-
-
-def _trim_cornered_ends(segs: list[Segment]) -> list[Segment]:
-    """At a corner (no tangent join) between a line and an arc whose tangent there is parallel
-    to an axis, move the joint a little into the arc (the arc loses a piece of sagitta <= 4 x
-    0.0001 mm, the line is lengthened to the new joint): an arc starting exactly at its
-    extreme cannot keep that property once its end points are rounded."""
-    segs = list(segs)
-    for j, s in enumerate(segs):
-        if not isinstance(s, Arc):
-            continue
-        r, sweep = s.radius, abs(s.sweep)
-        d = math.sqrt(8 * END_CHORD_SAG / r) if r > 0 else 0.0
-        if d <= 0 or sweep < 4 * d:
-            continue
-        cur = s
-        if j > 0 and isinstance(segs[j - 1], Line) and _axis_parallel(cur.tangent_at_start()) \
-                and not _tangent_join(segs[j - 1].tangent_at_end(), cur.tangent_at_start()):
-            q = cur.point_at(d / sweep)
-            segs[j - 1] = Line(segs[j - 1].start, q)
-            cur = Arc(q, cur.end, cur.center, cur.cw)
-        if j + 1 < len(segs) and isinstance(segs[j + 1], Line) and \
-                _axis_parallel(cur.tangent_at_end()) and \
-                not _tangent_join(cur.tangent_at_end(), segs[j + 1].tangent_at_start()):
-            sw = abs(cur.sweep)
-            q = cur.point_at(1 - d / sw)
-            segs[j + 1] = Line(q, segs[j + 1].end)
-            cur = Arc(cur.start, q, cur.center, cur.cw)
-        segs[j] = cur
-    return segs
-
-
-def ease_arc_ends(segs: Sequence[Segment]) -> list[Segment]:
-    """Split off a short chord (sagitta <= 0.0001 mm) at each arc end where the arc's tangent
-    is parallel to an axis.
-
-    There the arc reaches an X or Z extreme exactly at its end; once the end points are
-    rounded to the program's 0.001 mm the recomputed arc could pass that extreme inside
-    itself by a few tenths of a micron, and the roughing cycles would see a profile that is not
-    monotonic. The chord keeps the written arc clear of the extreme.
-    """
-    segs = _trim_cornered_ends(list(segs))
-    out: list[Segment] = []
-    for j, s in enumerate(segs):
-        if not isinstance(s, Arc):
-            out.append(s)
-            continue
-        r = s.radius
-        sweep = abs(s.sweep)
-        d = math.sqrt(8 * END_CHORD_SAG / r) if r > 0 else sweep
-        # only where the neighbour continues tangentially: a chord in a sharp concave corner
-        # would be a step too narrow for the control's nose-radius compensation
-        a = _axis_parallel(s.tangent_at_start()) and j > 0 and \
-            _tangent_join(segs[j - 1].tangent_at_end(), s.tangent_at_start())
-        b = _axis_parallel(s.tangent_at_end()) and j + 1 < len(segs) and \
-            _tangent_join(s.tangent_at_end(), segs[j + 1].tangent_at_start())
-        if not (a or b):
-            out.append(s)
-            continue
-        if sweep <= d * ((1 if a else 0) + (1 if b else 0)) * 1.5:
-            if r * (1 - math.cos(sweep / 2)) <= END_CHORD_SAG:
-                out.append(Line(s.start, s.end))
-                continue
-        t0 = (d / sweep) if a else 0.0
-        t1 = (1 - d / sweep) if b else 1.0
-        if t1 <= t0:
-            out.append(s)
-            continue
-        p0 = s.point_at(t0) if a else s.start
-        p1 = s.point_at(t1) if b else s.end
-        if a:
-            out.append(Line(s.start, p0))
-        out.append(Arc(p0, p1, s.center, s.cw))
-        if b:
-            out.append(Line(p1, s.end))
-    return out
-
-
 def _from_start_side(segs: list[Segment], start: Point, first_axis: str) -> list[Segment]:
     """Make the contour begin exactly where the one-axis ns block from ``start`` lands: on the
     line Z = start z (ns along X) or X = start x (ns along Z). The first segment (a line) is
@@ -250,12 +161,22 @@ def _from_start_side(segs: list[Segment], start: Point, first_axis: str) -> list
     return [Line(q, p)] + segs
 
 
+def clean(contour: Sequence[Segment]) -> list[Segment]:
+    """The contour as it is written: collinear lines and co-circular arcs merged (joints
+    within :data:`MERGE_TOL`), then moves shorter than :data:`MIN_MOVE` absorbed (the path
+    moves by less than ``MIN_MOVE / 2`` = 0.0005 mm), then merged again (an absorbed piece can
+    leave two lines that continue each other)."""
+    segs = merge_segments([s for s in contour if s.length > 0.0], MERGE_TOL)
+    segs = absorb_short(segs, MIN_MOVE)
+    return merge_segments(segs, MERGE_TOL)
+
+
 def to_blocks(contour: Sequence[Segment], first_axis: str, feed: float,
               ns: str, nf: str, start: Point | None = None) -> list[Block]:
     """Program blocks for a contour: the first block is ``G00`` along ``first_axis`` ("x" or
     "z") to the contour's first point, the rest G01/G02/G03 with end points; labels ``ns`` on
     the first and ``nf`` on the last block."""
-    segs = ease_arc_ends(contour)
+    segs = clean(contour)
     if not segs:
         raise PlanError("empty contour")
     if start is not None:
