@@ -8,7 +8,7 @@ Stock: a tube with a bore 3 mm under the part's bore.
 """
 from __future__ import annotations
 
-from hnc_cam.cad.sketch import Outline, revolve, tube_stock
+from hnc_cam.cad.sketch import Outline, non_negative, positive, require, revolve, tube_stock
 
 
 def STOCK(outer_diameter=40.0, bore_diameter=22.0, length=30.0, **_):
@@ -19,11 +19,17 @@ def sketch(outer_diameter: float = 40.0, bore_diameter: float = 22.0, length: fl
            chamfer: float = 1.0, inner_chamfer: float = 1.0, back_chamfer: float = 0.0):
     """The closed half-section (radius, Z): from the bore edge of the right face outward,
     along the outside to the left face, then back along the bore (ccw in the Z-right view)."""
+    positive(outer_diameter=outer_diameter, bore_diameter=bore_diameter, length=length)
+    non_negative(chamfer=chamfer, inner_chamfer=inner_chamfer, back_chamfer=back_chamfer)
     R, rb, c, ci, cb = outer_diameter / 2, bore_diameter / 2, chamfer, inner_chamfer, back_chamfer
-    if not 0 < rb + max(ci, cb) < R - c:
-        raise ValueError("need bore_diameter/2 + inner chamfers < outer_diameter/2 - chamfer")
-    if not (2 * c < length and ci + cb < length and min(c, ci, cb) >= 0):
-        raise ValueError("chamfers too large for the length (or negative)")
+    require(rb < R, f"bore_diameter={bore_diameter:g} must be less than "
+                    f"outer_diameter={outer_diameter:g}")
+    require(rb + max(ci, cb) < R - c,
+            f"the wall ((outer_diameter - bore_diameter)/2 = {R - rb:g}) is too thin for "
+            f"chamfer={c:g} and inner_chamfer={ci:g}/back_chamfer={cb:g}")
+    require(2 * c < length, f"two chamfers (chamfer={c:g}) do not fit on length={length:g}")
+    require(ci + cb < length, f"inner_chamfer={ci:g} + back_chamfer={cb:g} must be less than "
+                              f"length={length:g}")
     s = Outline((rb + ci, 0.0))
     s.line_to(R, 0.0, chamfer=c)
     s.line_to(R, -length, chamfer=c)

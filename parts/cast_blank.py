@@ -14,7 +14,7 @@ Stock: the casting, 2 mm all round (``offset:2``).
 from __future__ import annotations
 
 
-from hnc_cam.cad.sketch import Outline, revolve
+from hnc_cam.cad.sketch import Outline, non_negative, positive, require, revolve
 
 STOCK = "offset:2"
 
@@ -22,12 +22,18 @@ STOCK = "offset:2"
 def sketch(length: float = 90.0, diameter: float = 40.0, amplitude: float = 2.5,
            wave_length: float = 28.0, waves: int = 3, chamfer: float = 1.0):
     """The half-section (radius, Z) as exact lines and arcs, right face first."""
+    positive(length=length, diameter=diameter, amplitude=amplitude, wave_length=wave_length)
+    non_negative(chamfer=chamfer)
     Rb = diameter / 2
     h = wave_length / 4  # half-width of each arc
-    if not (0 < amplitude < h and amplitude < Rb / 2):
-        raise ValueError("need 0 < amplitude < wave_length/4 and amplitude < diameter/4")
-    if waves < 1 or waves * wave_length > length - 2 * chamfer - 1:
-        raise ValueError("the waves do not fit in the length")
+    require(amplitude < h, f"amplitude={amplitude:g} must be less than wave_length/4={h:g} "
+                           f"(the arcs would fold over)")
+    require(amplitude < Rb / 2, f"amplitude={amplitude:g} must be less than diameter/4={Rb / 2:g}")
+    require(waves >= 1, f"waves={waves} must be at least 1")
+    require(waves * wave_length <= length - 2 * chamfer - 1,
+            f"waves={waves} of wave_length={wave_length:g} do not fit in length={length:g} "
+            f"(with chamfer={chamfer:g} and a 1 mm land)")
+    require(chamfer < Rb, f"chamfer={chamfer:g} must be less than diameter/2={Rb:g}")
     rho = (h * h + amplitude * amplitude) / (2 * amplitude)  # arc radius
     s = Outline((0.0, 0.0))
     s.line_to(Rb, 0.0)

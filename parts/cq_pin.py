@@ -16,7 +16,7 @@ import math
 
 import cadquery as cq
 
-from hnc_cam.cad.sketch import Outline, bar_stock
+from hnc_cam.cad.sketch import Outline, bar_stock, positive, require
 
 
 def STOCK(length=40.0, head_diameter=24.0, head_thickness=6.0, **_):
@@ -25,15 +25,27 @@ def STOCK(length=40.0, head_diameter=24.0, head_thickness=6.0, **_):
 
 def _dims(length, diameter, chamfer, groove_z, groove_width, groove_depth, head_diameter,
           head_thickness, fillet, head_chamfer):
+    positive(length=length, diameter=diameter, chamfer=chamfer, groove_z=groove_z,
+             groove_width=groove_width, groove_depth=groove_depth, head_diameter=head_diameter,
+             head_thickness=head_thickness, fillet=fillet, head_chamfer=head_chamfer)
     r, rh = diameter / 2, head_diameter / 2
     c_r = chamfer * math.tan(math.radians(30))  # radial size of the 30 deg lead chamfer
-    if not (0 < c_r < r < rh - fillet and 0 < groove_depth < r - c_r):
-        raise ValueError("need 0 < diameter < head_diameter and a groove shallower than the shank")
+    require(r + fillet < rh, f"need diameter + 2*fillet < head_diameter (got diameter="
+                             f"{diameter:g}, fillet={fillet:g}, head_diameter={head_diameter:g})")
+    require(c_r < r, f"chamfer={chamfer:g} (30 deg) is too long for diameter={diameter:g}")
+    require(groove_depth < r - c_r,
+            f"groove_depth={groove_depth:g} must be less than the shank radius under the lead "
+            f"chamfer ({r - c_r:.3f}: diameter={diameter:g}, chamfer={chamfer:g})")
     g0, g1 = -(groove_z - groove_width / 2), -(groove_z + groove_width / 2)
-    if not (chamfer < -g0 and -g1 < length - fillet):
-        raise ValueError("the groove must lie on the shank")
-    if not (0 < head_chamfer < min(head_thickness, rh - r - fillet) and fillet > 0):
-        raise ValueError("head_chamfer/fillet too large for the head")
+    require(chamfer < -g0, f"the groove (groove_z={groove_z:g}, groove_width={groove_width:g}) "
+                           f"overlaps the lead chamfer (chamfer={chamfer:g})")
+    require(-g1 < length - fillet,
+            f"the groove (groove_z={groove_z:g}, groove_width={groove_width:g}) runs into the "
+            f"fillet under the head (length={length:g}, fillet={fillet:g})")
+    require(head_chamfer < min(head_thickness, rh - r - fillet),
+            f"head_chamfer={head_chamfer:g} does not fit on the head (head_thickness="
+            f"{head_thickness:g}, head_diameter={head_diameter:g} - diameter={diameter:g} - "
+            f"2*fillet={fillet:g})")
     return r, rh, c_r, g0, g1, -(length + head_thickness)
 
 

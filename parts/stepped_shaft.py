@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 
-from hnc_cam.cad.sketch import Outline, bar_stock, revolve
+from hnc_cam.cad.sketch import Outline, bar_stock, non_negative, positive, require, revolve
 
 
 def STOCK(length=100.0, d3=40.0, **_):
@@ -23,21 +23,26 @@ def sketch(length: float = 100.0, d1: float = 20.0, d2: float = 28.0, d3: float 
            l1: float = 25.0, l2: float = 50.0, taper_length: float = 15.0,
            dome_radius: float = 16.0, chamfer: float = 1.0, fillet: float = 1.5):
     """The half-section (radius, Z) as exact lines and arcs, right face first."""
+    positive(length=length, d1=d1, d2=d2, d3=d3, l1=l1, l2=l2, taper_length=taper_length,
+             dome_radius=dome_radius)
+    non_negative(chamfer=chamfer, fillet=fillet)
     r1, r2, r3 = d1 / 2, d2 / 2, d3 / 2
-    if not (0 < r1 < r2 < r3):
-        raise ValueError("need 0 < d1 < d2 < d3")
-    if not (0 < l1 < l2 < l2 + taper_length < length):
-        raise ValueError("need 0 < l1 < l2 < l2 + taper_length < length")
-    if dome_radius < r1:
-        raise ValueError("dome_radius must be at least d1/2")
+    require(r1 < r2 < r3, f"need d1 < d2 < d3 (got d1={d1:g}, d2={d2:g}, d3={d3:g})")
+    require(l1 < l2 < l2 + taper_length < length,
+            f"need l1 < l2 and l2 + taper_length < length (got l1={l1:g}, l2={l2:g}, "
+            f"taper_length={taper_length:g}, length={length:g})")
+    require(dome_radius >= r1, f"dome_radius={dome_radius:g} must be at least d1/2={r1:g}")
     zd = -dome_radius + math.sqrt(dome_radius ** 2 - r1 ** 2)  # where the dome meets d1
+    require(-zd < l1, f"the dome (dome_radius={dome_radius:g} on d1={d1:g}) is "
+                      f"{-zd:g} mm high, longer than l1={l1:g}")
     s = Outline((0.0, 0.0))
     s.arc_to(r1, zd, center=(0.0, -dome_radius), cw=False)
-    s.line_to(r1, -l1, fillet=fillet)
-    s.line_to(r2, -l1, chamfer=chamfer)
+    s.line_to(r1, -l1, fillet=fillet, names="fillet, l1, dome_radius, d1, d2")
+    s.line_to(r2, -l1, chamfer=chamfer, names="chamfer, fillet, d1, d2, l2 - l1")
     s.line_to(r2, -l2)
-    s.line_to(r3, -l2 - taper_length, fillet=fillet)
-    s.line_to(r3, -length, chamfer=chamfer)
+    s.line_to(r3, -l2 - taper_length, fillet=fillet, names="fillet, taper_length, d2, d3")
+    s.line_to(r3, -length, chamfer=chamfer,
+              names="chamfer, fillet, length - l2 - taper_length, d3")
     s.line_to(0.0, -length)
     return s.segments()
 

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 
-from hnc_cam.cad.sketch import Outline, bar_stock, revolve
+from hnc_cam.cad.sketch import Outline, bar_stock, non_negative, positive, require, revolve
 from hnc_cam.geometry import Thread
 
 
@@ -33,23 +33,43 @@ def sketch(length: float = 50.0, thread_diameter: float = 20.0, pitch: float = 1
            thread_length: float = 22.0, relief_width: float = 4.5, relief_diameter: float = 17.6,
            relief_radius: float = 0.8, collar_diameter: float = 30.0, chamfer: float = 1.0):
     """The half-section (radius, Z) as exact lines and arcs, right face first."""
+    positive(length=length, thread_diameter=thread_diameter, pitch=pitch,
+             thread_length=thread_length, relief_width=relief_width,
+             relief_diameter=relief_diameter, collar_diameter=collar_diameter)
+    non_negative(relief_radius=relief_radius, chamfer=chamfer)
     rt, rg, rc = thread_diameter / 2, relief_diameter / 2, collar_diameter / 2
     lead = 0.6134 * pitch + 0.1  # lead chamfer just below the minor diameter
     run = (rt - rg) * math.tan(math.radians(60))  # 30 deg flank: axial run of the relief
-    if not (0 < rg < rt < rc - chamfer and lead < rt):
-        raise ValueError("need relief_diameter < thread_diameter < collar_diameter")
-    if not (lead < thread_length and thread_length + run + relief_width < length - 2 * chamfer
-            and 2 * relief_radius < relief_width and relief_radius < rt - rg):
-        raise ValueError("thread, relief and collar do not fit in the length")
+    minor = thread_diameter - 2 * 0.6134 * pitch
+    require(lead < rt, f"pitch={pitch:g} is too coarse for thread_diameter={thread_diameter:g}")
+    require(rg < rt, f"relief_diameter={relief_diameter:g} must be less than "
+                     f"thread_diameter={thread_diameter:g}")
+    require(relief_diameter <= minor + 1e-9,
+            f"relief_diameter={relief_diameter:g} must be at most the thread's minor diameter "
+            f"{minor:.3f} (thread_diameter={thread_diameter:g}, pitch={pitch:g}): the tool "
+            f"must run out of the thread into the relief")
+    require(rt < rc - chamfer, f"need thread_diameter < collar_diameter - 2*chamfer (got "
+                               f"thread_diameter={thread_diameter:g}, "
+                               f"collar_diameter={collar_diameter:g}, chamfer={chamfer:g})")
+    require(lead < thread_length, f"thread_length={thread_length:g} is shorter than the lead "
+                                  f"chamfer {lead:.3f} (pitch={pitch:g})")
+    require(2 * relief_radius < relief_width and relief_radius < rt - rg,
+            f"relief_radius={relief_radius:g} does not fit the relief (relief_width="
+            f"{relief_width:g}, depth {rt - rg:g} from thread_diameter/relief_diameter)")
+    require(thread_length + run + relief_width < length - 2 * chamfer,
+            f"thread_length={thread_length:g} + relief ({run:.3f} run-out + relief_width="
+            f"{relief_width:g}) leaves no collar in length={length:g} (chamfer={chamfer:g})")
     z1 = -thread_length
     s = Outline((0.0, 0.0))
     s.line_to(rt - lead, 0.0)
     s.line_to(rt, -lead)
     s.line_to(rt, z1)
-    s.line_to(rg, z1 - run, fillet=relief_radius)
-    s.line_to(rg, z1 - run - relief_width, fillet=relief_radius)
-    s.line_to(rc, z1 - run - relief_width, chamfer=chamfer)
-    s.line_to(rc, -length, chamfer=chamfer)
+    s.line_to(rg, z1 - run, fillet=relief_radius, names="relief_radius, relief_width")
+    s.line_to(rg, z1 - run - relief_width, fillet=relief_radius,
+              names="relief_radius, relief_width")
+    s.line_to(rc, z1 - run - relief_width, chamfer=chamfer,
+              names="chamfer, relief_radius, collar_diameter, relief_diameter")
+    s.line_to(rc, -length, chamfer=chamfer, names="chamfer, length")
     s.line_to(0.0, -length)
     return s.segments()
 

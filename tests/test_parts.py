@@ -2,6 +2,7 @@
 parameter sets; default stock fits; threads; the part-file loader's errors."""
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import pytest
@@ -202,7 +203,117 @@ def test_missing_and_unimportable_files(tmp_path):
 def test_part_raising_is_reported(tmp_path):
     with pytest.raises(PartError) as e:
         load_part(PARTS / "stepped_shaft.py", {"d1": "50"})
-    assert "part(" in str(e.value) and "d1=50" in str(e.value) and "ValueError" in str(e.value)
+    msg = str(e.value)
+    assert "part(" in msg and "d1=50" in msg and "impossible part: need d1 < d2 < d3" in msg
+    # any other exception in a user's part() is reported with its type
+    f = tmp_path / "oops.py"
+    f.write_text("def part(d=10.0):\n    raise ValueError('boom')\n")
+    with pytest.raises(PartError) as e:
+        load_part(f, {"d": "12"})
+    assert "part(d=12) raised ValueError: boom" in str(e.value)
+
+
+def _family_module(fam: str):
+    from hnc_cam.cad.loader import load_module
+    return load_module(PARTS / f"{fam}.py")
+
+
+# Parameter sets that make an impossible part: part() itself must refuse them with a
+# PartError naming the offending parameters (never an OpenCascade exception, never a
+# silently different part). (family, overrides, names the message must contain)
+BAD_SETS = [
+    ("stepped_shaft", {"d1": 30.0}, ["d1", "d2"]),                       # d1 > d2
+    ("stepped_shaft", {"d3": 26.0}, ["d2", "d3"]),
+    ("stepped_shaft", {"fillet": 5.0}, ["fillet", "d1", "d2"]),          # fillet > the step
+    ("stepped_shaft", {"chamfer": 3.0, "fillet": 1.5}, ["chamfer", "fillet"]),
+    ("stepped_shaft", {"chamfer": -1.0}, ["chamfer"]),                   # silently none before
+    ("stepped_shaft", {"dome_radius": 8.0}, ["dome_radius", "d1"]),
+    ("stepped_shaft", {"l2": 20.0}, ["l1", "l2"]),
+    ("stepped_shaft", {"taper_length": 60.0}, ["taper_length", "length"]),
+    ("stepped_shaft", {"length": 0.0}, ["length"]),
+    ("grooved_shaft", {"d1": 40.0}, ["d1", "d2"]),
+    ("grooved_shaft", {"relief_depth": 13.0}, ["relief_depth", "d1"]),
+    ("grooved_shaft", {"relief_radius": 1.0}, ["relief_radius", "relief_depth"]),
+    ("grooved_shaft", {"relief_width": 1.0}, ["relief_width", "relief_angle"]),
+    ("grooved_shaft", {"arc_z": 32.0}, ["arc_z", "l1"]),
+    ("grooved_shaft", {"arc_z": 78.0}, ["arc_z", "length"]),
+    ("grooved_shaft", {"arc_depth": 6.0}, ["arc_depth", "arc_radius"]),
+    ("grooved_shaft", {"relief_angle": 120.0}, ["relief_angle"]),
+    ("flange", {"hub_diameter": 130.0}, ["hub_diameter", "diameter"]),
+    ("flange", {"fillet": 20.0}, ["fillet", "hub_length"]),
+    ("flange", {"chamfer": 8.0}, ["chamfer", "thickness"]),
+    ("flange", {"thickness": -2.0}, ["thickness"]),
+    ("bushing", {"bore_diameter": 45.0}, ["bore_diameter", "outer_diameter"]),
+    ("bushing", {"bore_diameter": 37.5}, ["chamfer", "inner_chamfer"]),  # wall too thin
+    ("bushing", {"chamfer": 16.0}, ["chamfer"]),
+    ("bushing", {"length": 1.5}, ["chamfer", "length"]),
+    ("bushing", {"inner_chamfer": 16.0, "back_chamfer": 15.0}, ["inner_chamfer", "back_chamfer"]),
+    ("cast_blank", {"amplitude": 8.0}, ["amplitude", "wave_length"]),
+    ("cast_blank", {"waves": 4}, ["waves", "length"]),
+    ("cast_blank", {"waves": 0}, ["waves"]),
+    ("cast_blank", {"diameter": 8.0}, ["amplitude", "diameter"]),
+    ("threaded_stud", {"relief_diameter": 19.0}, ["relief_diameter", "pitch"]),  # above minor
+    ("threaded_stud", {"thread_diameter": 30.0}, ["thread_diameter", "collar_diameter"]),
+    ("threaded_stud", {"thread_length": 45.0}, ["thread_length", "length"]),
+    ("threaded_stud", {"pitch": 0.0}, ["pitch"]),
+    ("threaded_stud", {"pitch": 20.0}, ["pitch", "thread_diameter"]),
+    ("threaded_stud", {"relief_radius": 3.0}, ["relief_radius", "relief_width"]),
+    ("cq_pin", {"groove_width": 0.0}, ["groove_width"]),
+    ("cq_pin", {"groove_depth": 9.0}, ["groove_depth", "diameter"]),
+    ("cq_pin", {"groove_z": 39.0}, ["groove_z", "length", "fillet"]),
+    ("cq_pin", {"groove_z": 1.0}, ["groove_z", "chamfer"]),
+    ("cq_pin", {"diameter": 24.0}, ["diameter", "head_diameter"]),
+    ("cq_pin", {"head_chamfer": 7.0}, ["head_chamfer", "head_thickness"]),
+]
+
+
+@pytest.mark.parametrize("fam,bad,names", BAD_SETS,
+                         ids=[f"{f}-{'-'.join(f'{k}{v:g}' for k, v in b.items())}"
+                              for f, b, _ in BAD_SETS])
+def test_impossible_parameter_sets_raise_part_error_naming_them(fam, bad, names):
+    mod = _family_module(fam)
+    with pytest.raises(PartError) as e:
+        mod.part(**bad)
+    msg = str(e.value)
+    for n in names:
+        assert re.search(rf"\b{n}\b", msg), (n, msg)
+    # and through the loader: one line with the file and the full parameter set
+    with pytest.raises(PartError) as e2:
+        load_part(PARTS / f"{fam}.py", {k: str(v) for k, v in bad.items()})
+    assert f"{fam}.py: part(" in str(e2.value) and msg in str(e2.value)
+
+
+@pytest.mark.parametrize("fam", list(FAMILIES))
+def test_random_parameter_sets_refused_or_exact(fam):
+    """Random perturbations of the defaults (seeded): every set either raises PartError or
+    gives a part whose profile is its sketch, segment by segment (never a wrong part, never
+    an OpenCascade exception)."""
+    import random
+    from hnc_cam.cad import profile
+    mod = _family_module(fam)
+    from hnc_cam.cad.loader import family_parameters
+    defaults = family_parameters(mod)
+    rng = random.Random(sum(map(ord, fam)))
+    built = refused = 0
+    for _ in range(8):
+        params = {}
+        for k, v in defaults.items():
+            if rng.random() < 0.4:
+                params[k] = (max(0, v + rng.choice((-1, 1))) if isinstance(v, int)
+                             else round(v * rng.uniform(0.3, 1.8), 3))
+        try:
+            solid = mod.part(**params)
+        except PartError:
+            refused += 1
+            continue
+        full = {**defaults, **params}
+        prof = profile(solid)
+        expected = merge_segments(mod.sketch(**full))
+        got = prof.outside + (reverse_chain(prof.bore) if prof.bore else [])
+        assert len(got) == len(expected), (params, got, expected)
+        assert all(_same(g, x) for g, x in zip(got, expected)), params
+        built += 1
+    assert built + refused == 8
 
 
 def test_user_part_file_with_constants(tmp_path):

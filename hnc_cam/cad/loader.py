@@ -20,7 +20,16 @@ The part-file contract (what users write)::
 * ``STOCK`` uses the stock notation (``DxL``, ``DxL+F``, ``D/dxL[+F]``, ``offset:A``); it is
   checked with :meth:`hnc_cam.tooling.Stock.parse` when the part is loaded.
 * ``THREADS`` Z values are in the part's own program coordinates: program zero on the right
-  face (Z0), the part toward -Z (``z_start`` the end nearer the right face).
+  face (Z0), the part toward -Z (``z_start`` the end nearer the right face). ``diameter`` is
+  the nominal (major) diameter, ``pitch`` > 0, ``starts`` >= 1 (lead = pitch x starts),
+  ``internal`` for a thread in the bore, ``standard``/``angle`` the form (``"metric"``, 60).
+  The solid models an external thread at its major diameter and an internal one at the bore
+  (about the minor diameter). When the part is loaded each thread is checked against the
+  profile (PartError naming the thread): it must lie on the part; an external thread on the
+  outside whose largest diameter over the thread is between the minor diameter and the major
+  diameter + 0.02 mm; an internal thread inside the bore over its whole length, the bore's
+  smallest diameter there under the major diameter and not more than one thread depth
+  (radial) under the minor diameter.
 * The module is run in a fresh namespace each time the file is loaded (so one process can load
   many variants); ``part()`` is called once per load.
 """
@@ -188,9 +197,18 @@ def _threads(mod: ModuleType, params: dict[str, Any], where: str) -> list[Thread
     for t in th:
         if not isinstance(t, Thread):
             raise PartError(f"{where}: THREADS must hold hnc_cam.geometry.Thread, got {t!r}")
-        if not (t.pitch > 0 and t.diameter > 0 and t.starts >= 1 and t.z_start > t.z_end):
-            raise PartError(f"{where}: thread {t}: needs pitch > 0, diameter > 0, starts >= 1 "
-                            f"and z_start > z_end (z_start is the end nearer the right face)")
+        bad = [msg for ok, msg in (
+            (t.pitch > 0 and math.isfinite(t.pitch), f"pitch={t.pitch!r} must be positive"),
+            (t.diameter > 0 and math.isfinite(t.diameter),
+             f"diameter={t.diameter!r} must be positive"),
+            (isinstance(t.starts, int) and t.starts >= 1,
+             f"starts={t.starts!r} must be a whole number >= 1"),
+            (t.z_start > t.z_end, f"z_start={t.z_start!r} must be greater than z_end="
+                                  f"{t.z_end!r} (z_start is the end nearer the right face)"),
+            (0 < t.angle < 180, f"angle={t.angle!r} must be between 0 and 180 deg"),
+        ) if not ok]
+        if bad:
+            raise PartError(f"{where}: THREADS: {t}: {'; '.join(bad)}")
     return th
 
 
@@ -225,6 +243,8 @@ def load_part(path: str | Path, params: dict[str, Any] | None = None,
     full = resolve_params(mod, params, where)
     try:
         solid = mod.part(**full)
+    except PartError as e:  # the family refused the parameter set (names the parameters)
+        raise PartError(f"{where}: part({_fmt(full)}): impossible part: {e}") from None
     except HncError:
         raise
     except Exception as e:  # noqa: BLE001 - the user's geometry failed: say which and with what
@@ -248,10 +268,58 @@ def load_part(path: str | Path, params: dict[str, Any] | None = None,
                       module=mod, path=p)
 
 
-def _check_threads(prof: TurnedProfile, threads: list[Thread], where: str) -> None:
-    """A declared thread must lie on the part (within its Z span)."""
-    for t in threads:
-        if t.z_start > prof.z_max + 1e-6 or t.z_end < prof.z_min - 1e-6:
-            raise PartError(f"{where}: thread Z{t.z_start:g}..Z{t.z_end:g} lies outside the part "
-                            f"(Z{prof.z_max:g}..Z{prof.z_min:g})")
+def _thread_name(t: Thread) -> str:
+    kind = "internal" if t.internal else "external"
+    return f"{kind} thread D{t.diameter:g}x{t.pitch:g} Z{t.z_start:g}..Z{t.z_end:g}"
 
+
+def _radii(chain, z: float) -> list[float]:
+    from ..geometry.intersect import vertical_hits
+    return [x for _, x in vertical_hits(chain, z)]
+
+
+def _check_threads(prof: TurnedProfile, threads: list[Thread], where: str) -> None:
+    """A declared thread must sit on the part as the solid models it (see the module
+    docstring): on the part's Z span; an external thread on the outside, whose largest radius
+    over the thread is between the minor and the major radius (+0.01 mm); an internal thread
+    in the bore over its whole length, the bore's smallest radius over the thread between
+    minor/2 - depth and major/2 (the solid models the bore at about the minor diameter).
+    The outside/bore are read at 17 points of the thread's length (its ends excluded)."""
+    for t in threads:
+        name = _thread_name(t)
+        if t.z_start > prof.z_max + 1e-6 or t.z_end < prof.z_min - 1e-6:
+            raise PartError(f"{where}: {name} lies outside the part "
+                            f"(Z{prof.z_max:g}..Z{prof.z_min:g})")
+        zs = [t.z_start + (t.z_end - t.z_start) * (i + 0.5) / 17 for i in range(17)]
+        major = t.diameter / 2
+        if not t.internal:
+            rmax = max(max(_radii(prof.outside, z), default=0.0) for z in zs)
+            if rmax > major + 0.01:
+                raise PartError(f"{where}: {name}: the part is {2 * rmax:.3f} in diameter on the "
+                                f"thread, larger than the major diameter {t.diameter:g} (the "
+                                f"solid models the thread's major diameter)")
+            if rmax < t.minor_diameter / 2:
+                raise PartError(f"{where}: {name}: the part is only {2 * rmax:.3f} in diameter "
+                                f"there, under the minor diameter {t.minor_diameter:.3f}: "
+                                f"nothing to thread")
+            continue
+        if not prof.bore:
+            raise PartError(f"{where}: {name} lies outside the bore: the part has no bore "
+                            f"opening on the right face")
+        rb: list[float] = []
+        for z in zs:
+            hits = _radii(prof.bore, z)
+            if not hits:
+                raise PartError(f"{where}: {name} lies outside the bore: no bore at Z{z:.3f} "
+                                f"(the bore spans Z{prof.z_max:g}.."
+                                f"Z{min(min(sg.start[1], sg.end[1]) for sg in prof.bore):g})")
+            rb.append(min(hits))
+        rmin = min(rb)
+        if rmin >= major - 1e-9:
+            raise PartError(f"{where}: {name}: the bore is {2 * rmin:.3f} in diameter there, not "
+                            f"under the major diameter {t.diameter:g}: nothing to thread (the "
+                            f"solid models an internal thread's minor diameter)")
+        if rmin < t.minor_diameter / 2 - t.depth:
+            raise PartError(f"{where}: {name}: the bore is only {2 * rmin:.3f} in diameter "
+                            f"there, far under the minor diameter {t.minor_diameter:.3f} (the "
+                            f"solid models an internal thread's minor diameter)")

@@ -18,13 +18,48 @@ Conventions: points are (radius, Z); the outline either starts and ends on the a
 part, closed along the axis) or is a closed loop (a part with a through bore). Chamfers are
 equal-leg (``c`` along each of the two lines), fillets are tangent arcs; both only at corners
 between two lines.
+
+Parameter checks: a family's ``part()`` must refuse a parameter set that makes an impossible
+part with a :class:`SketchError` (a :class:`~hnc_cam.errors.PartError`) naming the
+parameters, never an OpenCascade exception or a silently different part. :func:`positive`,
+:func:`non_negative` and :func:`require` say it in one line each; a corner that does not fit
+(a chamfer or fillet longer than a line it sits on) raises from :meth:`Outline.line_to`,
+naming the parameters passed as ``names``.
 """
 from __future__ import annotations
 
 import math
 from typing import Any, Sequence
 
+from ..errors import PartError
 from ..geometry.primitives import Arc, Line, Point, Segment, cross, dist, left_normal
+
+
+class SketchError(PartError, ValueError):
+    """A parameter set that makes an impossible part (the message names the parameters).
+    A :class:`PartError` (exit 2 through the CLI) and, for older callers, a ValueError."""
+
+
+def _g(v: float) -> str:
+    return f"{v:.3f}".rstrip("0").rstrip(".")
+
+
+def require(condition: bool, message: str) -> None:
+    """Raise :class:`SketchError` with ``message`` unless ``condition``."""
+    if not condition:
+        raise SketchError(message)
+
+
+def positive(**params: float) -> None:
+    """Every given parameter must be a positive number (``positive(length=length, d1=d1)``)."""
+    for k, v in params.items():
+        require(v > 0, f"{k}={_g(v)} must be positive")
+
+
+def non_negative(**params: float) -> None:
+    """Every given parameter must be >= 0 (chamfers, fillets: 0 means none)."""
+    for k, v in params.items():
+        require(v >= 0, f"{k}={_g(v)} must not be negative (0 means none)")
 
 
 class Outline:
@@ -33,19 +68,28 @@ class Outline:
     def __init__(self, start: Point):
         self._segs: list[Segment] = []
         self._pos: Point = (float(start[0]), float(start[1]))
-        self._corner: tuple[str, float] | None = None
+        self._corner: tuple[str, float, str] | None = None
 
     @property
     def pos(self) -> Point:
         return self._pos
 
-    def line_to(self, x: float, z: float, chamfer: float = 0.0, fillet: float = 0.0) -> "Outline":
-        """Line to (x, z); ``chamfer``/``fillet`` apply at (x, z) with the next segment."""
+    def line_to(self, x: float, z: float, chamfer: float = 0.0, fillet: float = 0.0,
+                names: str = "") -> "Outline":
+        """Line to (x, z); ``chamfer``/``fillet`` apply at (x, z) with the next segment.
+        ``names``: the family parameters that size this corner and its lines, for the error
+        raised when the corner does not fit (e.g. ``"fillet, d1, d2"``)."""
         end = (float(x), float(z))
         if dist(self._pos, end) < 1e-12:
-            raise ValueError(f"zero-length line at {end}")
+            raise SketchError(f"zero-length line at (r={_g(end[0])}, z={_g(end[1])})"
+                              + (f" (parameters {names})" if names else ""))
+        if chamfer < 0 or fillet < 0:
+            raise SketchError(f"negative {'chamfer' if chamfer < 0 else 'fillet'} at "
+                              f"(r={_g(end[0])}, z={_g(end[1])})"
+                              + (f" (parameters {names})" if names else ""))
         self._add(Line(self._pos, end))
-        self._corner = ("C", chamfer) if chamfer > 0 else ("R", fillet) if fillet > 0 else None
+        self._corner = (("C", chamfer, names) if chamfer > 0 else ("R", fillet, names)
+                        if fillet > 0 else None)
         return self
 
     def arc_to(self, x: float, z: float, radius: float | None = None, cw: bool = True,
@@ -56,24 +100,24 @@ class Outline:
         if center is not None:
             arc = Arc(self._pos, end, (float(center[0]), float(center[1])), cw)
             if abs(dist(arc.center, end) - arc.radius) > 1e-9:
-                raise ValueError(f"arc end {end} is not on the circle about {center}")
+                raise SketchError(f"arc end {end} is not on the circle about {center}")
         elif radius is not None:
             arc = Arc.from_radius(self._pos, end, radius, cw)
         else:
-            raise ValueError("arc_to needs radius or center")
+            raise SketchError("arc_to needs radius or center")
         self._add(arc)
         self._corner = None
         return self
 
     def _add(self, seg: Segment) -> None:
         if self._corner and self._segs and isinstance(self._segs[-1], Line) and isinstance(seg, Line):
-            kind, size = self._corner
+            kind, size, names = self._corner
             prev = self._segs.pop()
-            a, b, mid = corner(prev, seg, kind, size)
+            a, b, mid = corner(prev, seg, kind, size, names)
             self._segs += [a, mid]
             seg = b
         elif self._corner:
-            raise ValueError("chamfers and fillets are supported only between two lines")
+            raise SketchError("chamfers and fillets are supported only between two lines")
         self._segs.append(seg)
         self._pos = seg.end
 
@@ -86,26 +130,32 @@ class Outline:
 
     def segments(self) -> list[Segment]:
         if self._corner:
-            raise ValueError("a chamfer/fillet at the last point has no next segment")
+            raise SketchError("a chamfer/fillet at the last point has no next segment")
         return list(self._segs)
 
 
-def corner(l1: Line, l2: Line, kind: str, size: float) -> tuple[Line, Line, Segment]:
+def corner(l1: Line, l2: Line, kind: str, size: float,
+           names: str = "") -> tuple[Line, Line, Segment]:
     """Trim the corner l1.end == l2.start with a chamfer ("C", equal legs) or a fillet ("R").
-    Returns (l1 trimmed, l2 trimmed, the corner segment)."""
+    Returns (l1 trimmed, l2 trimmed, the corner segment). ``names``: the parameters to blame
+    when it does not fit."""
     d1, d2 = l1.direction, l2.direction
     c = l1.end
+    what = "chamfer" if kind == "C" else "fillet"
+    where = f"(r={_g(c[0])}, z={_g(c[1])})"
+    blame = f" (parameters {names})" if names else ""
     turn = cross(d1, d2)
     if abs(turn) < 1e-12:
-        raise ValueError(f"no corner at {c}: the lines are collinear")
+        raise SketchError(f"no corner for a {what} at {where}: the lines are collinear{blame}")
     if kind == "C":
         t = size
     else:
         phi = math.acos(max(-1.0, min(1.0, d1[0] * d2[0] + d1[1] * d2[1])))
         t = size * math.tan(phi / 2)
     if t >= l1.length - 1e-12 or t >= l2.length - 1e-12:
-        raise ValueError(f"{'chamfer' if kind == 'C' else 'fillet'} {size:g} at {c} is too large "
-                         f"for the adjacent lines")
+        raise SketchError(f"{what} {_g(size)} at {where} does not fit: it needs {_g(t)} mm of "
+                          f"each line but they are {_g(l1.length)} and {_g(l2.length)} mm long "
+                          f"(what is left of them after the neighbouring corners){blame}")
     p1 = (c[0] - d1[0] * t, c[1] - d1[1] * t)
     p2 = (c[0] + d2[0] * t, c[1] + d2[1] * t)
     if kind == "C":
@@ -127,7 +177,7 @@ def closed_outline(segs: Sequence[Segment]) -> list[Segment]:
     segs = list(segs)
     if dist(segs[-1].end, segs[0].start) > 1e-9:
         if abs(segs[0].start[0]) > 1e-9 or abs(segs[-1].end[0]) > 1e-9:
-            raise ValueError("an open outline must start and end on the axis (x = 0)")
+            raise SketchError("an open outline must start and end on the axis (x = 0)")
         segs.append(Line(segs[-1].end, segs[0].start))
     return segs
 
@@ -166,10 +216,6 @@ def bar_size(diameter: float, allowance: float = 2.0) -> float:
         if d >= need - 1e-9:
             return float(d)
     return float(math.ceil(need / 10.0) * 10)
-
-
-def _g(v: float) -> str:
-    return f"{v:.3f}".rstrip("0").rstrip(".")
 
 
 def bar_stock(max_diameter: float, length: float, face: float = 2.0, grip: float = 15.0) -> str:
