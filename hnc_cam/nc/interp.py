@@ -159,6 +159,9 @@ class Blk:
         self.hasf = False  # plain blocks: an F word to apply
 
 
+_new_blk = object.__new__
+
+
 class Asg:
     __slots__ = ("stmt", "line", "items")
 
@@ -309,7 +312,7 @@ class Interp:
             return None
         b = Blk(i, line, text)
         if fw is not None:
-            words = [(L, float(v), 0) for L, v in fw]
+            words = [(L, float(v), 0) for L, v, _ in fw]
         else:
             p = P.parse_statement(text, line, src.file, block)
             if p.kind == "assign":
@@ -365,8 +368,15 @@ class Interp:
         w: dict = {}
         g = -1
         n = None
-        for L, v in fw:
-            if L == "N":
+        for L, v, _ in fw:
+            if L in "XZUWIKRF":
+                if L in w:
+                    return None
+                f = float(v)
+                if f > _LENGTH_LIMIT or f < -_LENGTH_LIMIT or (L == "F" and not 0 <= f <= 24000):
+                    return None
+                w[L] = f
+            elif L == "N":
                 if n is not None or "." in v or v[0] in "+-":
                     return None
                 n = int(v)
@@ -380,27 +390,24 @@ class Interp:
                     g = int(f)
                 else:
                     return None
-            elif L in "XZUWIKRF":
-                if L in w:
-                    return None
-                f = float(v)
-                if f > _LENGTH_LIMIT or f < -_LENGTH_LIMIT or (L == "F" and not 0 <= f <= 24000):
-                    return None
-                w[L] = f
             else:
                 return None
-        b = Blk(i, line, text)
-        b.words = w
-        b.n = n
         key = (g >= 0, *w)
         shape = _SHAPES.get(key)
         if shape is None:
             letters = frozenset(w)
             shape = _SHAPES[key] = (letters | {"G"} if g >= 0 else letters, letters - _BASE_LETTERS,
                                     bool(letters & _AXIS), "U" in w or "W" in w, "F" in w)
+        b = _new_blk(Blk)  # every slot set once, here (no __init__ defaults to overwrite)
+        b.stmt = i
+        b.line = line
+        b.text = text
+        b.n = n
+        b.words = w
+        b.gs = _GS[g] if g >= 0 else ()
+        b.ms = ()
+        b.dyn = None
         b.letters, b.extra, b.axes, b.uw, b.hasf = shape
-        if g >= 0:
-            b.gs = _GS[g]
         b.plain = True
         return b
 

@@ -13,8 +13,8 @@ This module does the character-level work:
   (one of ``# [ ] = + - * / ,``). Words may be written without spaces
   (``N6X28.04Z18.5C2P180F3``, ``WHILE #10LE16``): a run of letters of length one is an
   address, a longer run must be a keyword.
-* :data:`FAST_BLOCK` / :data:`FAST_WORD` recognise the plain block (letters followed by
-  signed numbers only), which is by far the commonest line; the parser takes a regex-free
+* :data:`FAST_SCAN` recognises the plain block (letters followed by signed numbers only),
+  which is by far the commonest line, in one regex pass; the parser takes a tokenizer-free
   path for it.
 """
 from __future__ import annotations
@@ -34,8 +34,9 @@ FUNCTIONS = frozenset({"SIN", "COS", "TAN", "ATAN", "ATAN2", "ABS", "INT", "SIGN
 OPERATORS = frozenset("#[]=+-*/,")
 
 _TOKEN = re.compile(r"\s*(?:(\d+\.?\d*|\.\d+)|([A-Z]+)|(\S))")
-FAST_BLOCK = re.compile(r"(?:\s*[A-Z]\s*[-+]?(?:\d+\.?\d*|\.\d+))+\s*")
-FAST_WORD = re.compile(r"([A-Z])\s*([-+]?(?:\d+\.?\d*|\.\d+))")
+# one pass over a line: (letter, number, "") per word, ("", "", c) for a character that is
+# not part of a plain word (so the line is not a plain block)
+FAST_SCAN = re.compile(r"\s*([A-Z])\s*([-+]?(?:\d+\.?\d*|\.\d+))\s*|(.)", re.S)
 
 Token = tuple  # (kind, value, col)
 
