@@ -363,3 +363,79 @@ def test_loaded_part_pickles(loaded):
     back = pickle.loads(pickle.dumps(lp))
     assert back.module is None and back.profile.outside == lp.profile.outside
     assert back.threads == lp.threads and back.stock == lp.stock and back.params == lp.params
+
+
+# ---------------------------------------------------------------------------- thread checks
+_NUT = (
+    '"""Threaded sleeve: OD 40, bore {bore} (modelled at the minor diameter) to Z-{depth}."""\n'
+    "from hnc_cam.cad.sketch import Outline, revolve\n"
+    "from hnc_cam.geometry import Thread\n"
+    "THREADS = [{threads}]\n"
+    "def part(length=40.0):\n"
+    "    s = Outline(({rb}, 0.0)).line_to(20.0, 0.0).line_to(20.0, -length)\n"
+    "    s.line_to(0.0, -length).line_to(0.0, -{depth}).line_to({rb}, -{depth})\n"
+    "    return revolve(s.close().segments())\n")
+
+
+def _nut(tmp_path, threads: str, bore: float = 22.0, depth: float = 25.0) -> Path:
+    f = tmp_path / "nut.py"
+    f.write_text(_NUT.format(threads=threads, bore=bore, rb=bore / 2, depth=depth))
+    return f
+
+
+def test_internal_thread_in_the_bore_accepted(tmp_path):
+    # M24x2 internal: minor diameter 24 - 1.0825*2 = 21.835; bore modelled at 22; and an
+    # external M40x2 on the 40 mm outside at the same time
+    lp = load_part(_nut(tmp_path, "Thread(0.0, -20.0, 24.0, 2.0, internal=True), "
+                                  "Thread(0.0, -15.0, 40.0, 2.0)"))
+    t, ext = lp.threads
+    assert t.internal and not ext.internal and lp.profile.bore is not None
+    assert lp.profile.bore[0] == Line((11.0, 0.0), (11.0, -25.0))
+
+
+@pytest.mark.parametrize("threads,bore,match", [
+    ("Thread(0.0, -30.0, 24.0, 2.0, internal=True)", 22.0,
+     r"internal thread D24x2 Z0..Z-30 lies outside the bore: no bore at Z-2[0-9.]+"),
+    ("Thread(0.0, -20.0, 20.0, 1.5, internal=True)", 22.0,
+     r"internal thread D20x1.5 .*the bore is 22\.000 in diameter there, not under the major"),
+    ("Thread(0.0, -20.0, 36.0, 2.0, internal=True)", 22.0,
+     r"internal thread D36x2 .*far under the minor diameter"),
+    ("Thread(0.0, -20.0, 36.0, 2.0)", 22.0,
+     r"external thread D36x2 Z0..Z-20: the part is 40\.000 in diameter on the thread, larger "
+     r"than the major diameter 36"),
+    ("Thread(0.0, -20.0, 48.0, 2.0)", 22.0,
+     r"external thread D48x2 .*only 40\.000 in diameter there, under the minor diameter"),
+    ("Thread(5.0, -20.0, 40.0, 2.0)", 22.0, r"lies outside the part \(Z0..Z-40\)"),
+    ("Thread(0.0, -50.0, 40.0, 2.0)", 22.0, r"lies outside the part"),
+    ("Thread(0.0, -20.0, 40.0, 0.0)", 22.0, r"THREADS: .*pitch=0\.0 must be positive"),
+    ("Thread(0.0, -20.0, 40.0, -1.5)", 22.0, r"pitch=-1\.5 must be positive"),
+    ("Thread(-20.0, 0.0, 40.0, 1.5)", 22.0, r"z_start=-20\.0 must be greater than z_end=0\.0"),
+    ("Thread(0.0, -20.0, 40.0, 1.5, starts=0)", 22.0, r"starts=0 must be a whole number >= 1"),
+    ("Thread(0.0, -20.0, 0.0, 1.5)", 22.0, r"diameter=0\.0 must be positive"),
+])
+def test_thread_declarations_checked(tmp_path, threads, bore, match):
+    with pytest.raises(PartError, match=match):
+        load_part(_nut(tmp_path, threads, bore))
+
+
+def test_internal_thread_on_a_part_without_bore(tmp_path):
+    f = tmp_path / "pin.py"
+    f.write_text("from hnc_cam.cad.sketch import Outline, revolve\n"
+                 "from hnc_cam.geometry import Thread\n"
+                 "THREADS = [Thread(0.0, -10.0, 20.0, 1.5, internal=True)]\n"
+                 "def part(d=20.0):\n"
+                 "    return revolve(Outline((0.0, 0.0)).line_to(d / 2, 0.0).line_to(d / 2, -30.0)"
+                 ".line_to(0.0, -30.0).segments())\n")
+    with pytest.raises(PartError, match=r"internal thread D20x1.5 Z0..Z-10 lies outside the bore: "
+                                        r"the part has no bore"):
+        load_part(f)
+
+
+def test_every_family_default_thread_fits(loaded):
+    """The threaded stud's declared thread passes the checks for each parameter set (the
+    model's major diameter under the thread)."""
+    for i in range(len(FAMILIES["threaded_stud"])):
+        lp = loaded("threaded_stud", i)
+        (t,) = lp.threads
+        on = [s for s in lp.profile.outside if isinstance(s, Line) and s.start[0] == s.end[0]]
+        assert max(s.start[0] for s in on if s.start[1] > t.z_end - 1e-9) == pytest.approx(t.diameter / 2)
