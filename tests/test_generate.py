@@ -85,6 +85,38 @@ def test_cli_bad_input_exit_2_and_nothing_written(tmp_path, capsys, argv, msg):
     assert list(tmp_path.iterdir()) == []
 
 
+@pytest.mark.parametrize("pitch,needs", [("1.0", "16ER1ISO"), ("2.0", "16ER2ISO")])
+def test_threaded_stud_pitch_without_an_insert_is_refused(tmp_path, capsys, pitch, needs):
+    """The thread's pitch comes from the part (THREADS); the bundled 16ER1.5ISO cuts 1.5 only,
+    so pitch 1 and 2 are refused naming the thread and the insert it needs; nothing written."""
+    out = tmp_path / "o.nc"
+    # pitch 2 needs a deeper relief than the default (the part itself checks that)
+    rc = main(["generate", str(PARTS / "threaded_stud.py"), "--set", f"pitch={pitch}",
+               "--set", "relief_diameter=17.2", "-o", str(out)])
+    err = capsys.readouterr().err
+    assert rc == 2 and err.startswith("error:")
+    assert f"external thread M20x{float(pitch):g} from Z0 to Z-22" in err
+    assert f"cuts pitch {float(pitch):g} mm" in err and needs in err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_threaded_stud_pitch_1_with_a_partial_profile_insert(tmp_path):
+    """With an A60 partial-profile insert (0.5-1.5 mm) pitch 1.0 is cut at F1 and verifies;
+    pitch 2.0 is still refused (needs AG60/G60 or 16ER2ISO)."""
+    lib = (REPO / "hnc_cam" / "data" / "tools.toml").read_text()
+    assert 'insert = "16ER1.5ISO"' in lib
+    tools = tmp_path / "tools.toml"
+    tools.write_text(lib.replace('insert = "16ER1.5ISO"', 'insert = "16ERA60"'))
+    prog = generate(PARTS / "threaded_stud.py", params={"pitch": "1.0"}, tools=str(tools))
+    assert prog.report.passed, prog.report.summary()
+    g76 = [ln for ln in prog.text.splitlines() if " G76 " in ln]
+    assert len(g76) == 1 and g76[0].endswith(" F1") and " K0.613 " in g76[0]
+    with pytest.raises(PlanError, match=r"pitch 2 mm.*16ERA60 \(pitch 0.5-1.5.*16ERAG60"):
+        generate(PARTS / "threaded_stud.py", params={"pitch": "2.0", "relief_diameter": "17.2"},
+                 tools=str(tools),
+                 verify=False)
+
+
 @pytest.mark.parametrize("step,stock", [("stepped_shaft.step", "45x120+2"),
                                         ("spline_knob.step", "45x120+2")])
 @pytest.mark.parametrize("comp", ["cam", "control"])

@@ -129,6 +129,67 @@ def test_missing_thread_tool():
         plan(stud(), "30x60+1", lib=lib)
 
 
+def _stud_pitch(pitch: float):
+    from hnc_cam.geometry import Thread
+    s = stud()
+    s.threads = [Thread(0.0, -22.0, 20.0, pitch)]
+    return s
+
+
+def _with_insert(code: str) -> ToolLibrary:
+    """The default library with its external threading insert replaced by ``code``."""
+    from dataclasses import replace
+    from hnc_cam.tooling import Insert
+    return ToolLibrary(tuple(replace(t, insert=Insert.parse(code)) if t.number == 4 else t
+                             for t in LIB.tools))
+
+
+def test_thread_pitch_from_the_part_not_from_the_insert():
+    """The program's lead is the Thread's pitch; the insert's pitch (range) only chooses."""
+    from hnc_cam.plan.tools import thread_pitch_range
+    lib = _with_insert("16ERA60")
+    assert thread_pitch_range(lib.by_number(4)) == (0.5, 1.5)
+    for pitch in (1.0, 1.25, 1.5):
+        th = [op for op in plan(_stud_pitch(pitch), "30x60+1", lib=lib).operations
+              if op.name == "thread"][0]
+        assert th.feed == pytest.approx(pitch) and th.words["F"] == pytest.approx(pitch)
+        assert th.words["K"] == pytest.approx(0.6134 * pitch)
+        assert th.tool.insert.code == "16ERA60"
+    from hnc_cam.post import render
+    text = render(plan(_stud_pitch(1.0), "30x60+1", lib=lib))
+    g76 = [ln for ln in text.splitlines() if " G76 " in ln]
+    assert len(g76) == 1 and g76[0].endswith(" F1") and " K0.613 " in g76[0]
+
+
+@pytest.mark.parametrize("pitch,needs", [(1.0, r"16ER1ISO or a partial profile 16ERA60"),
+                                         (2.0, r"16ER2ISO or a partial profile 16ERAG60")])
+def test_thread_pitch_no_insert_fits_names_thread_and_insert(pitch, needs):
+    """The default library's full-profile 16ER1.5ISO cuts pitch 1.5 only."""
+    with pytest.raises(PlanError, match=rf"external thread M20x{pitch:g} from Z0 to Z-22: no "
+                                        rf"threading insert in the library cuts pitch {pitch:g} mm.*"
+                                        rf"T04 16ER1.5ISO \(pitch 1.5, 60 deg\).*{needs}"):
+        plan(_stud_pitch(pitch), "30x60+1")
+
+
+def test_partial_profile_range_refuses_a_pitch_outside_it():
+    with pytest.raises(PlanError, match=r"T04 16ERA60 \(pitch 0.5-1.5, 60 deg\).*16ERAG60"):
+        plan(_stud_pitch(2.0), "30x60+1", lib=_with_insert("16ERA60"))
+
+
+def test_thread_insert_pitch_ranges_from_iso_codes():
+    from hnc_cam.plan.tools import cuts_pitch, thread_pitch, thread_pitch_range
+    from hnc_cam.tooling import Insert, Tool
+
+    def tool(code):
+        return Tool(number=1, register=1, name="t", insert=Insert.parse(code), kind="thread")
+    assert thread_pitch_range(tool("16ER1.5ISO")) == (1.5, 1.5)
+    assert thread_pitch(tool("16ER2ISO")) == 2.0 and thread_pitch(tool("16ERA60")) is None
+    assert thread_pitch_range(tool("16ER16UN")) == pytest.approx((25.4 / 16, 25.4 / 16))
+    assert thread_pitch_range(tool("11IR11W")) == pytest.approx((25.4 / 11, 25.4 / 11))
+    assert cuts_pitch(tool("16ERA60"), 0.5) and cuts_pitch(tool("16ERA60"), 1.5)
+    assert not cuts_pitch(tool("16ERA60"), 1.75) and not cuts_pitch(tool("16ER1.5ISO"), 1.0)
+
+
 def test_bar_for_a_part_with_a_bore():
     with pytest.raises(PlanError, match="pre-drilled hole"):
         plan(bushing(), "42x45+2")

@@ -43,8 +43,8 @@ from ..tooling import Machine, Stock, Tool, ToolLibrary
 from . import analysis as an
 from . import contour as ct
 from .model import Operation, Plan
-from .tools import (back_reach, can_square_shoulder, describe, thread_pitch, thread_tools,
-                    turning_tools)
+from .tools import (PARTIAL_PROFILE_PITCH, back_reach, can_square_shoulder, cuts_pitch, describe,
+                    thread_pitch_range, thread_tools, turning_tools)
 
 
 #: how far finishing contours run past the part's left end into the chuck-side stock, mm
@@ -523,6 +523,13 @@ def _plan_bore(chain: list[Segment], stock: Stock, lib: ToolLibrary, opts: Optio
 # threads
 # ------------------------------------------------------------------------------------------
 
+def _pitch_text(t: Tool) -> str:
+    r = thread_pitch_range(t)
+    if r is None:
+        return "pitch unknown from its code"
+    return f"pitch {_fmt(r[0])}" if r[0] == r[1] else f"pitch {_fmt(r[0])}-{_fmt(r[1])}"
+
+
 def _radius_at(chain: Sequence[Segment], z: float, inner: bool) -> float | None:
     hits = [x for _i, x in vertical_hits(chain, z)]
     if not hits:
@@ -540,13 +547,17 @@ def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stoc
         raise PlanError(f"{label}: no {'internal' if th.internal else 'external'} threading tool "
                         f"in the library (needs e.g. "
                         f"{'11IR' if th.internal else '16ER'}{_fmt(th.pitch)}ISO)")
-    fits = [t for t in cands if thread_pitch(t) in (None, th.pitch)
-            and abs(t.insert.angle - th.angle) < 1e-6]
+    fits = [t for t in cands if cuts_pitch(t, th.pitch) and abs(t.insert.angle - th.angle) < 1e-6]
     if not fits:
-        have = ", ".join(f"T{t.number:02d} {t.insert.code}" for t in cands)
-        raise PlanError(f"{label}: no threading insert in the library for pitch {_fmt(th.pitch)} "
-                        f"and {th.angle:g} deg (have {have}); needs e.g. "
-                        f"{'11IR' if th.internal else '16ER'}{_fmt(th.pitch)}ISO")
+        have = ", ".join(f"T{t.number:02d} {t.insert.code} ({_pitch_text(t)}, "
+                         f"{t.insert.angle:g} deg)" for t in cands)
+        ei = "IR" if th.internal else "ER"
+        full = f"16{ei}{_fmt(th.pitch)}ISO" if th.angle == 60 else f"16{ei}{_fmt(th.pitch)}"
+        part = [k for k, (lo, hi) in PARTIAL_PROFILE_PITCH.items() if lo <= th.pitch <= hi]
+        alt = f" or a partial profile 16{ei}{part[0]}{th.angle:g}" if part else ""
+        raise PlanError(f"{label}: no threading insert in the library cuts pitch "
+                        f"{_fmt(th.pitch)} mm at {th.angle:g} deg (have {have}); it needs a "
+                        f"threading insert for pitch {_fmt(th.pitch)}, e.g. {full}{alt}")
     t = fits[0]
     chain = bore if th.internal else od
     if chain is None:

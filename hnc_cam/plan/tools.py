@@ -8,9 +8,15 @@ an angle ``theta`` below the feed direction only while ``theta <= 180 - kappa - 
 (2 deg kept as clearance). A CNMG in a 95 deg holder reaches 3 deg, a DNMG in a 93 deg holder
 30 deg, a VNMG in a 93 deg holder 50 deg.
 
-Fields the tool library does not have yet and that are derived here: the pitch of a
-full-profile threading insert is read from its code (``16ER1.5ISO`` -> 1.5; ``A60`` partial
-profiles take any pitch).
+Threading inserts: the pitch of a program's thread always comes from the part's
+:class:`~hnc_cam.geometry.Thread` declaration; the insert only limits which pitches it can
+cut (:func:`thread_pitch_range`, read from the insert code as ISO threading inserts name it):
+
+* a full-profile insert cuts one pitch: ``16ER1.5ISO`` 1.5 mm, ``16ER16UN`` 16 threads per
+  inch (1.5875 mm), ``16ER11W`` 11 tpi (Whitworth);
+* a partial-profile insert (the letters before the angle) cuts a range: ``A`` 0.5-1.5 mm,
+  ``AG`` 0.5-3.0 mm, ``G`` 1.75-3.0 mm, ``N`` 3.5-5.0 mm, ``Q`` 5.5-6.0 mm (the common
+  makers' ranges for ``A60``/``AG60``/``G60``/``N60``/``Q60``, and the same for 55 deg).
 """
 from __future__ import annotations
 
@@ -39,10 +45,40 @@ def turning_tools(lib: ToolLibrary, use: str, kind: str = "turn") -> list[Tool]:
     return [t for t in lib.tools if use in t.uses and t.kind == kind]
 
 
+#: partial-profile letters -> the pitch range (mm) such an insert cuts
+PARTIAL_PROFILE_PITCH: dict[str, tuple[float, float]] = {
+    "A": (0.5, 1.5), "AG": (0.5, 3.0), "G": (1.75, 3.0), "N": (3.5, 5.0), "Q": (5.5, 6.0)}
+
+_FULL = re.compile(r"^\d{2}[EI]R(\d+(?:\.\d+)?)(ISO|UN|W)?$")
+_PARTIAL = re.compile(r"^\d{2}[EI]R(AG|A|G|N|Q)(\d+)$")
+
+
+def thread_pitch_range(tool: Tool) -> tuple[float, float] | None:
+    """(smallest, largest) pitch in mm the threading insert cuts, or None when its code names
+    neither a full profile nor a known partial profile (such an insert is not chosen)."""
+    code = tool.insert.code
+    m = _FULL.match(code)
+    if m:
+        v = float(m.group(1))
+        p = 25.4 / v if m.group(2) in ("UN", "W") else v  # UN/W: threads per inch
+        return (p, p)
+    m = _PARTIAL.match(code)
+    if m:
+        return PARTIAL_PROFILE_PITCH[m.group(1)]
+    return None
+
+
 def thread_pitch(tool: Tool) -> float | None:
-    """Pitch of a full-profile threading insert, None for a partial profile (any pitch)."""
-    m = re.match(r"^\d{2}[EI]R(\d+(?:\.\d+)?)(ISO|UN|W)?$", tool.insert.code)
-    return float(m.group(1)) if m else None
+    """Pitch of a full-profile threading insert, None for a partial profile (a range, see
+    :func:`thread_pitch_range`) or an unknown code."""
+    r = thread_pitch_range(tool)
+    return r[0] if r is not None and r[0] == r[1] and _FULL.match(tool.insert.code) else None
+
+
+def cuts_pitch(tool: Tool, pitch: float) -> bool:
+    """True when the threading insert's pitch range covers ``pitch`` (mm)."""
+    r = thread_pitch_range(tool)
+    return r is not None and r[0] - 1e-6 <= pitch <= r[1] + 1e-6
 
 
 def thread_tools(lib: ToolLibrary, internal: bool) -> list[Tool]:
