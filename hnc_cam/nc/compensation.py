@@ -30,6 +30,22 @@ Choices where the manual is silent (it only says that start and cancel are G00/G
   written as many short chords is still seen whole), so a short move between two corners,
   an inside arc and a narrow groove are handled, while a program that comes back over ground
   it cut earlier is followed as written.
+* **Seams** (the interpreter flushes a run in the middle: G04, a T word, M98/M99, a G41<->G42
+  switch without G40): the first item of the next run carries ``seam = (previous run's last
+  programmed move, the controlled point where that run ended, its line)``; the move is of
+  zero length when that run ended on its start-up move. The joint is then handled as a
+  corner, the way a controller whose block buffer was interrupted does: the previous run has
+  already stopped at the point ``r`` normal to the end of its last move (it could not see the
+  next move); the new run is offset together with that last move, so a convex seam gets the
+  corner arc about the joint (which starts exactly at ``at``) and a concave seam is trimmed at
+  the intersection of the two offsets, reached from ``at`` straight back along the previous
+  offset. At a concave seam the stop at ``at`` overcuts the next move (inherent to the
+  interrupted buffer): the overcut depth is reported in ``notes`` (a warning). After a
+  G41<->G42 switch the start move goes straight from ``at`` to the first point of the new
+  side (type A). The lead's own offset is not returned, and departures on it are not
+  alarmed again. The interpreter treats a cycle (G71 ... G82) as a temporary cancel instead:
+  the run ends with a move back to the programmed point, the cycle runs uncompensated and
+  compensation starts up again (type A) with the first move after it.
 * A normal move whose compensated path vanishes entirely (it lies inside the trim of a
   concave corner, or it has zero length) is returned as one zero-length line at the current
   point, so that every item keeps at least one segment.
@@ -44,11 +60,12 @@ of the run (a short retract after a concave corner) are not alarms.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import Optional
 
 from ..errors import NCError
 from ..geometry.offset import offset_chain, translate_chain
-from ..geometry.primitives import Arc, Line, Segment
+from ..geometry.primitives import Arc, Line, Point, Segment, dist
 from ..geometry.tip import tip_vector
 
 #: moves before/after each move that the gouge check looks at
@@ -62,8 +79,14 @@ class CompItem:
     seg: Segment      # programmed geometry, x radius, from the programmed start to the programmed end
     kind: str         # 'rapid' | 'feed' (line or arc by the segment type)
     line: int         # 1-based source line
-    mode: str         # 'start' (the G41/G42 block's move), 'normal', or 'cancel' (the G40 block's move)
+    mode: str         # 'start' (the G41/G42 block's move), 'normal', 'cancel' (the G40 block's
+    #                   move), or 'lead' (the interpreter's placeholder for a seam, never passed in)
     payload: object   # opaque, handed back
+    at: Optional[Point] = None  # 'lead' only: the controlled point where the previous run ended
+    #: first item of a run that continues at a seam: (the previous run's last programmed move,
+    #: the controlled point where that run ended, its line)
+    seam: Optional[tuple] = None
+    notes: list = field(default_factory=list)  # warnings about this move, filled in by the offset
 
 
 def compensate_moves(items: list[CompItem], radius: float, tip: int, side: int
@@ -71,13 +94,64 @@ def compensate_moves(items: list[CompItem], radius: float, tip: int, side: int
     """Controlled-point path of one compensated run (see the module docstring).
 
     ``radius``: nose radius (mm); ``tip``: tip direction code 0-9; ``side``: 41 (tool left of
-    the path looking along the motion, view Z right / X up) or 42 (right).
+    the path looking along the motion, view Z right / X up) or 42 (right). Warnings (the
+    overcut at a concave seam) are appended to the ``notes`` of the item concerned.
     """
+    if items and items[0].seam is not None:
+        return _continue(items[0].seam, items, radius, tip, side)
+    return _compensate(items, radius, tip, side, None)
+
+
+def _continue(seam: tuple, items: list[CompItem], radius: float, tip: int, side: int
+              ) -> list[tuple[Segment, CompItem]]:
+    """A run that continues at a seam (see the module docstring)."""
+    prev, at, prev_line = seam
+    if any(it.mode == "normal" for it in items):
+        ctx = prev if items[0].mode != "start" and prev.length > 1e-9 else None
+        out = _compensate(items, radius, tip, side, ctx)
+    else:  # start and/or cancel only: uncompensated moves
+        out = [(it.seg, it) for it in items]
+    first_seg, first_it = out[0]
+    if first_it.mode == "start":
+        out[0] = (Line(at, first_seg.end), first_it)
+    elif dist(at, first_seg.start) > 1e-9:
+        out.insert(0, (Line(at, first_seg.start), first_it))
+    if radius > 0 and prev.length > 1e-9 and items[0].mode == "normal":
+        # the previous run stopped at ``at``: how far its nose reaches into the next moves
+        tv = tip_vector(int(tip), radius)
+        c = (at[0] - tv[0], at[1] - tv[1])
+        near, L = [], 0.0
+        for it in items:
+            if it.mode != "normal":
+                break
+            near.append(it)
+            L += it.seg.length
+            if len(near) > LOOKAHEAD and L > LOOKAHEAD_RADII * radius:
+                break
+        over, where = 0.0, None
+        for it in near:
+            if it.kind != "feed" or it.seg.length <= 1e-9:
+                continue
+            d = radius - it.seg.distance_to(c)
+            if d > over:
+                over, where = d, it
+        if where is not None and over > 1e-6:
+            where.notes.append(f"tool-nose radius compensation interrupted at a concave "
+                               f"corner (line {prev_line}): the nose stops at the end of "
+                               f"that move and overcuts this one by {over:.3f} mm")
+    return out
+
+
+def _compensate(items: list[CompItem], radius: float, tip: int, side: int,
+                ctx: Optional[Segment]) -> list[tuple[Segment, CompItem]]:
+    """One run; ``ctx``: the previous run's last programmed move, offset with this run as
+    context for the joint and then dropped (a seam)."""
     if not items:
         return []
     for it in items:
         if it.mode not in ("start", "normal", "cancel"):
-            raise ValueError(f"CompItem.mode must be start/normal/cancel, got {it.mode!r}")
+            raise ValueError(f"CompItem.mode must be start/normal/cancel (lead first only), "
+                             f"got {it.mode!r}")
         if it.mode in ("start", "cancel") and isinstance(it.seg, Arc):
             what = "start" if it.mode == "start" else "cancel"
             raise NCError(f"tool-nose radius compensation cannot {what} on an arc (G02/G03); "
@@ -102,13 +176,28 @@ def compensate_moves(items: list[CompItem], radius: float, tip: int, side: int
     if not normals:
         return [(it.seg, it) for it in items]
 
-    chain = [it.seg for it in normals]
+    k0 = 1 if ctx is not None else 0  # chain index of the first normal move
+    chain = ([ctx] if ctx is not None else []) + [it.seg for it in normals]
     try:
         res = offset_chain(chain, radius, 1 if side == 41 else -1, lookahead=LOOKAHEAD,
                            measure=("radius", "groove", "end"),
                            lookahead_length=LOOKAHEAD_RADII * radius)
     except ValueError as e:
         raise NCError(f"tool-nose radius compensation: {e}", line=normals[0].line) from None
+    if k0:
+        # drop the context move's own offset; the corner arc at the seam goes with the first
+        # normal move; indices back to ``normals``
+        keep = [(g, o) for g, o in zip(res.segments, res.origins)
+                if not (o.kind != "corner" and o.before == 0)]
+        res.segments = [g for g, _ in keep]
+        res.origins = [type(o)(o.kind, max(0, o.before - 1), o.after - 1) for _, o in keep]
+        deps = []
+        for d in res.departures:
+            segs = tuple(i - 1 for i in d.segments if i > 0)
+            if segs:
+                deps.append(type(d)(d.kind, segs, d.start, d.end, d.departure, d.at, d.message))
+        res.departures = deps
+        chain = chain[1:]
 
     touched = {o.before for o in res.origins if o.kind == "seg"}
     for d in res.departures:
