@@ -1160,7 +1160,8 @@ class Interp:
         if self.dry is not None:
             return
         self._flush_comp()  # the dwell happens after the buffered moves
-        x, z = self.x + self.tdx, self.z + self.tdz
+        x, z = self._comp_point()
+        x, z = x + self.tdx, z + self.tdz
         self.moves.append(Move("dwell", (x, z), (x, z), b.line, None, None, None, self.tool, self.reg,
                                self._rpm(self.x), self.sdir, self.coolant, float(p), 0.0, 0.0, 0.0,
                                "G04", self.comp))
@@ -1196,7 +1197,7 @@ class Interp:
         elif g == 28:
             if not b.axes:
                 raise self.balarm(b, "missing required word: G28 needs X/Z (intermediate point)", "G")
-            self._flush_comp()
+            self._flush_comp("G28", b.line)
             tx, tz = self._target(b, w)
             hx = "X" in w or "U" in w
             hz = "Z" in w or "W" in w
@@ -1215,7 +1216,7 @@ class Interp:
                 raise self.balarm(b, "G29 without a previous G28 (no intermediate point)", "G")
             if not b.axes:
                 raise self.balarm(b, "missing required word: G29 needs X/Z", "G")
-            self._flush_comp()
+            self._flush_comp("G29", b.line)
             ix, iz = self.g28
             ix = self.x if ix is None else ix
             iz = self.z if iz is None else iz
@@ -1390,6 +1391,7 @@ class Interp:
         reg = self._register(self.reg) if self.reg else None
         if reg is None or reg.radius <= 0:
             self.comp_mode = ""  # radius 0: the programmed path is the controlled point path
+            self.comp_items = []  # (no seam to continue)
             return
         if _missing("hnc_cam.nc.compensation"):
             raise self.balarm(b, "G41/G42 not yet supported (tool nose compensation module "
@@ -1408,19 +1410,43 @@ class Interp:
             self.comp_mode = ""
             self._flush_comp()
 
-    def _flush_comp(self) -> None:
+    def _flush_comp(self, seam: str = "", line: int = 0) -> None:
+        """Compensate and emit the buffered run. Flushed in the middle of compensation (G04,
+        T, M98/M99, G41<->G42, program end) the run leaves a 'lead' item so that the next run
+        continues from where this one stopped (a seam, see hnc_cam.nc.compensation);
+        ``seam == "cycle"``: a temporary cancel (back to the programmed point on ``line``; the
+        cycle restarts compensation after it); G28/G29 under compensation alarm (the manual:
+        cancel compensation before G28)."""
+        from .compensation import CompItem, compensate_moves
+        if seam in ("G28", "G29") and self.comp_mode in ("start", "normal") and self.dry is None:
+            raise self.alarm(f"cancel tool nose radius compensation (G40) before {seam} (the "
+                             f"manual, G28: compensation must be cancelled first)", line)
         items = self.comp_items
         if not items or self.dry is not None:
             return
         self.comp_items = []
-        if self.comp_mode == "normal" and items[-1].mode == "normal":
-            pass  # flushed mid-compensation (program end, call, cycle, tool change)
-        p0 = items[0].payload
+        run = [it for it in items if it.mode != "lead"]
+        if not run:
+            if seam == "cycle" and items[0].mode == "lead":  # temporary cancel at the seam
+                cm, self.comp_mode = self.comp_mode, ""
+                try:
+                    self._emit_line(True, items[0].at[0], items[0].at[1], self.x, self.z, line)
+                finally:
+                    self.comp_mode = cm
+            return
+        if items[0].mode == "lead":  # continues a run flushed in the middle (a seam)
+            run[0].seam = (items[0].seg, items[0].at, items[0].line)
+        items = run
+        cont = self.comp_mode == "normal" and run[-1].mode != "cancel"  # flushed mid-compensation
+        if cont and seam == "cycle":
+            e = run[-1].seg.end
+            items = run + [CompItem(Line(e, e), "rapid", line or run[-1].line, "cancel",
+                                    run[-1].payload)]
+        p0 = run[0].payload
         reg = self._register(p0[10]) if p0[10] else None
         radius = reg.radius if reg else 0.0
         tip = reg.tip if reg else 0
         side = p0[13]
-        from .compensation import compensate_moves
         try:
             out = compensate_moves(items, radius, tip, side)
         except NCError as e:
@@ -1448,6 +1474,22 @@ class Interp:
         finally:
             (self.op, self.F, self.per_rev, self.css, self.s_rpm, self.vc, self.sdir, self.coolant,
              self.tool, self.reg, self.tdx, self.tdz, self.comp, self.comp_mode) = save
+        for it in items:
+            for msg in getattr(it, "notes", ()):
+                self.warn(it.line, msg)
+        if cont and seam != "cycle" and out:
+            last = run[-1]
+            end = out[-1][0].end
+            ctx = last.seg if last.mode == "normal" else Line(end, end)
+            self.comp_items = [CompItem(ctx, last.kind, last.line, "lead", last.payload, end)]
+
+    def _comp_point(self) -> tuple[float, float]:
+        """Where the controlled point stands (programmed frame): after a run flushed in the
+        middle of compensation, the end of its compensated path, else the programmed point."""
+        items = self.comp_items
+        if items and items[0].mode == "lead":
+            return items[0].at
+        return self.x, self.z
 
     # -- cycles ----------------------------------------------------------------------------------
     def _cycle(self, code: int, b: Blk, w: dict):
@@ -1457,7 +1499,7 @@ class Interp:
             self._corner_not_followed()
         if self.unit != 1.0:
             raise self.balarm(b, f"G{code} in G20 (inch) is not supported: program cycles in mm (G21)", "G")
-        self._flush_comp()
+        self._flush_comp("cycle", b.line)
         words = {k: v for k, v in w.items() if k not in ("S", "T")}
         if code in (80, 81, 82):
             if self.cyc_code == code:
@@ -1483,7 +1525,8 @@ class Interp:
         except Exception as e:  # a bug in a cycle module must still give an alarm, not a traceback
             raise self.balarm(b, f"internal error in the G{code} cycle: {type(e).__name__}: {e}", "G") from None
         finally:
-            self.comp_mode = save_comp
+            # compensation restarts (type A) with the first move after the cycle
+            self.comp_mode = "start" if save_comp == "normal" else save_comp
         self.motion = save_motion
         return None
 
