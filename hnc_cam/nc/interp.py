@@ -43,7 +43,8 @@ Coordinates and offsets (choices where the manual is silent, also in the README)
   expression is an alarm ("undefined variable"); a call fills ``#0``–``#25`` with its words
   (0 when absent, as appendix 1 says), ``#30``/``#32`` with the X (radius) / Z work position.
 * Variables: ``#0-#49`` locals of the current level, ``#50-#199`` globals, ``#200+50*L+i``
-  local ``i`` of level ``L`` (0 = main program, up to 7 nested calls), ``#600+n`` /
+  local ``i`` of level ``L`` (0 = main program; up to 8 nested calls, the 8th without a
+  level block), ``#600+n`` /
   ``#700+n`` register n's Z offset / nose radius (writable, for this run), ``#800+n`` tool
   life (free storage), ``#1000/#1002`` machine X (radius) / Z, ``#1009`` 1 in G36 / 0 in
   G37, ``#1010-#1018`` programmed machine position, ``#1020/#1022`` work X (radius) / Z,
@@ -108,7 +109,10 @@ CYCLE_MOTION = frozenset({32, 80, 81, 82})
 _BASE_LETTERS = frozenset("NGMFSTXZUW")
 _AXIS = frozenset("XZUW")
 _LENGTH_LIMIT = 99999.999
-_MAX_LEVEL = 7  # levels 0 (main) .. 7: locals #200 .. #599 (manual 3.4.1)
+# levels 0 (main) .. 8: "nesting depth at most nine levels" (manual 3.4.4), i.e. the main
+# program and 8 nested calls; levels 0..7 are also reachable as #200 .. #599 (3.4.1), level 8
+# has no such block (#600 is the tool registers)
+_MAX_LEVEL = 8
 _ARC_R_SLACK = 1e-3
 _ARC_END_TOL = 0.01
 
@@ -682,7 +686,8 @@ class Interp:
         if reps < 1:
             return pc + 1, end
         if self.level >= _MAX_LEVEL:
-            raise self.balarm(b, f"subprogram nesting too deep (more than {_MAX_LEVEL + 1} levels)")
+            raise self.balarm(b, f"subprogram nesting too deep (more than {_MAX_LEVEL} nested calls: "
+                                 f"the manual allows {_MAX_LEVEL + 1} levels with the main program)")
         if self.dry is not None:
             raise self.balarm(b, "M98/G65 inside the profile of a compound cycle")
         self._flush_comp()
@@ -1433,6 +1438,8 @@ class Interp:
                     self._emit_line(True, items[0].at[0], items[0].at[1], self.x, self.z, line)
                 finally:
                     self.comp_mode = cm
+            else:
+                self.comp_items = items  # nothing moved since: the seam stays pending
             return
         if items[0].mode == "lead":  # continues a run flushed in the middle (a seam)
             run[0].seam = (items[0].seg, items[0].at, items[0].line)
@@ -1710,12 +1717,24 @@ def run(text: str, machine: Machine | None = None, *, file: str = "<program>",
             gc.enable()
 
 
+class ProgramFileError(NCError):
+    """The program file itself cannot be read: no line or column to point at, so the CLI
+    line is ``FILE: error: cannot read the program: REASON``."""
+
+    def one_line(self) -> str:
+        return f"{self.file}: error: {self.message}"
+
+
 def run_file(path: str, machine: Machine | None = None, **kw) -> Toolpath:
+    """:func:`run` on the file ``path`` (bytes that are not UTF-8 become U+FFFD, which then
+    alarm as unexpected characters where they matter); an unreadable file raises
+    :class:`ProgramFileError`."""
     from pathlib import Path
     p = Path(path)
     try:
         data = p.read_bytes()
     except OSError as e:
-        raise NCError(f"cannot read the program: {e.strerror or e}", 0, 0, "", str(path)) from None
+        reason = e.strerror or type(e).__name__
+        raise ProgramFileError(f"cannot read the program: {reason}", 0, 0, "", str(path)) from None
     text = data.decode("utf-8", errors="replace")
     return run(text, machine, file=str(path), **kw)
