@@ -465,3 +465,126 @@ def test_dome_arc_on_axis_ik_and_r(arc):
     assert cyl.start[0] == pytest.approx(10.0) and cyl.end[0] == pytest.approx(10.0)
     for a, b in zip(tp.moves, tp.moves[1:]):
         assert dist(a.end, b.start) < 1e-6
+
+
+# --------------------------------------------------------------------------- seams
+# A run flushed in the middle (G04, T, M98/M99, G41<->G42, a cycle) continues from where the
+# controlled point stopped: no jump between consecutive moves.
+
+SEAM = """%0103
+N1 T0101
+N2 G00 X40 Z5
+N3 G42 G00 X20 Z2
+N4 G01 Z-10 F0.2
+{mid}
+N6 G01 X16 Z-20
+N7 G01 X10 Z-25
+N8 G40 G00 X40 Z5
+N9 M30
+{sub}"""
+
+
+def contiguous(tp):
+    for a, b in zip(tp.moves, tp.moves[1:]):
+        assert dist(a.end, b.start) < 1e-9, (a, b)
+
+
+def at_r(text, m, tp, lines, r, tv, profile_lines=None, skip=()):
+    """The nose centre of the moves of ``lines`` lies at exactly r from the programmed
+    profile (the moves of ``profile_lines`` run without compensation)."""
+    plain = interp.run(text.replace("G42 ", "").replace("G41 ", "").replace("G40 ", ""), m)
+    profile = [mv.segment() for mv in plain.moves
+               if mv.line in (profile_lines or lines) and mv.kind in ("line", "arc")]
+    n = 0
+    for mv in tp.moves:
+        if mv.line not in lines or mv.kind not in ("line", "arc") or mv in skip:
+            continue
+        g = mv.segment()
+        for k in range(21):
+            p = g.point_at(k / 20)
+            c = (p[0] - tv[0], p[1] - tv[1])
+            assert min(s.distance_to(c) for s in profile) == pytest.approx(r, abs=1e-9), (mv, p)
+        n += 1
+    assert n
+
+
+@pytest.mark.parametrize("mid,sub", [
+    ("N5 G04 P1", ""),
+    ("N5 T0102", ""),                      # another register with the same radius and tip
+    ("N5 M98 P2", "%2\nN20 G01 X20 Z-10\nN21 M99\n"),  # the call's first move is a stand-still
+])
+def test_seam_convex_is_continuous_and_at_exactly_r(tmp_path, mid, sub):
+    r = 0.4
+    m = machine(tmp_path, {1: (r, 3), 2: (r, 3)})
+    text = SEAM.format(mid=mid, sub=sub)
+    tp = interp.run(text, m)
+    contiguous(tp)
+    assert not [w for w in tp.warnings if "interrupted" in w.message]
+    at_r(text, m, tp, {5, 7, 8}, r, (-r, -r))
+    # the convex corner at the seam (X20 Z-10): an arc of radius r about it, paired with N6
+    arcs = [mv for mv in tp.moves if mv.line == 7 and mv.kind == "arc"]
+    assert dist(arcs[0].center, (10 - r, -10 - r)) < 1e-9
+    assert arcs[0].segment().radius == pytest.approx(r)
+    # the previous run stopped r normal to the end of N4, where the arc starts
+    assert dist(arcs[0].start, (10.0 + r - r, -10.0 - r)) < 1e-9
+    if "G04" in mid:
+        dw = [mv for mv in tp.moves if mv.kind == "dwell"][0]
+        assert dist(dw.start, arcs[0].start) < 1e-9  # dwell where the tool stands
+
+
+def test_seam_concave_continuous_with_overcut_warning(tmp_path):
+    r = 0.4
+    m = machine(tmp_path, {1: (r, 3)})
+    text = SEAM.format(mid="N5 G04 P1", sub="").replace("N6 G01 X16 Z-20", "N6 G01 X30")
+    text = text.replace("N7 G01 X10 Z-25", "N7 G01 Z-25")
+    tp = interp.run(text, m)
+    contiguous(tp)
+    w = [w for w in tp.warnings if "interrupted" in w.message]
+    assert len(w) == 1 and w[0].line == 7 and "overcuts this one by 0.400 mm" in w[0].message
+    n6 = [mv for mv in tp.moves if mv.line == 7]
+    # back along the N4 offset to the trimmed corner, then the face at exactly r
+    assert n6[0].kind == "line" and dist(n6[0].start, (10.0 + r - r, -10.0 - r)) < 1e-9
+    assert dist(n6[0].end, (10.0 + r - r, -10.0 + r - r)) < 1e-9
+    at_r(text, m, tp, {8}, r, (-r, -r), profile_lines={5, 7, 8})
+    at_r(text, m, tp, {7}, r, (-r, -r), profile_lines={5, 7, 8}, skip=(n6[0],))
+
+
+def test_side_switch_without_g40_is_continuous(tmp_path):
+    r = 0.4
+    m = machine(tmp_path, {1: (r, 0)})
+    text = SEAM.format(mid="N5 G41 G01 X24", sub="").replace("N6 G01 X16 Z-20", "N6 G01 Z-20")
+    tp = interp.run(text, m)
+    contiguous(tp)
+    n5 = [mv for mv in tp.moves if mv.line == 6]
+    # the G41 start-up move goes from where G42 stopped (r above the end of N4) to r below N6
+    assert len(n5) == 1 and dist(n5[0].start, (10.0 + r, -10.0)) < 1e-9
+    assert dist(n5[0].end, (12.0 - r, -10.0)) < 1e-9
+    n6 = [mv for mv in tp.moves if mv.line == 7][0]
+    assert n6.start[0] == pytest.approx(12.0 - r) and n6.end[0] == pytest.approx(12.0 - r)
+
+
+def test_cycle_inside_a_compensated_run_is_a_temporary_cancel(tmp_path):
+    r = 0.4
+    m = machine(tmp_path, {1: (r, 3)})
+    text = SEAM.format(mid="N5 G80 X18 Z-10 F0.2", sub="")
+    tp = interp.run(text, m)
+    contiguous(tp)
+    cyc = [mv for mv in tp.moves if mv.line == 6]
+    # back to the programmed point (X20 Z-10) on the cycle's block, then the cycle uncompensated
+    assert dist(cyc[0].start, (10.0 + r - r, -10.0 - r)) < 1e-9 and cyc[0].kind == "rapid"
+    assert dist(cyc[0].end, (10.0, -10.0)) < 1e-9
+    g80 = [mv for mv in cyc if mv.op == "G80"]
+    assert {round(mv.end[0], 9) for mv in g80} >= {9.0, 10.0}
+    assert dist(cyc[-1].end, (10.0, -10.0)) < 1e-9
+    # N6 is the start-up move again (type A), N7 compensated at exactly r
+    n6 = [mv for mv in tp.moves if mv.line == 7]
+    assert len(n6) == 1 and dist(n6[0].start, (10.0, -10.0)) < 1e-9
+    at_r(text, m, tp, {8}, r, (-r, -r), profile_lines={5, 7, 8})
+
+
+@pytest.mark.parametrize("blk", ["N5 G28 X40 Z5", "N5 G28 U0"])
+def test_g28_under_compensation_alarms(tmp_path, blk):
+    m = machine(tmp_path, {1: (0.4, 3)})
+    with pytest.raises(NCError, match=r"G40\) before G28") as e:
+        interp.run(SEAM.format(mid=blk, sub=""), m)
+    assert e.value.line == 6
