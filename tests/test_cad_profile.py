@@ -233,13 +233,46 @@ def test_off_axis_hole_named(shaft_solid):
         profile(holed)
 
 
-def test_hex_named_and_no_envelope():
+def test_hex_named_and_its_envelope_is_the_circumscribed_cylinder():
     from build123d import RegularPolygon, extrude
     hexbar = extrude(RegularPolygon(15, 6), 40)
-    with pytest.raises(ProfileError, match=r"planar face parallel to the axis \(a hex, 25\.981 across flats\)"):
+    with pytest.raises(ProfileError, match=r"planar face parallel to the axis \(a hex, 25\.981 across flats\) "
+                                          r"at x=.* z=20\.000"):
         profile(hexbar)
-    with pytest.raises(ProfileError, match="every meridian half-plane cuts a non-turned face"):
-        profile(hexbar, envelope=True)
+    env = profile(hexbar, envelope=True)  # every half-plane touches a flat: through a corner
+    assert env.outside == [Line((0.0, 0.0), (15.0, 0.0)), Line((15.0, 0.0), (15.0, -40.0)),
+                           Line((15.0, -40.0), (0.0, -40.0))]
+    assert sum(n.startswith("ignored (envelope)") and "a hex" in n for n in env.notes) == 6
+    assert any("through a corner of the non-turned faces" in n for n in env.notes)
+
+
+def test_chamfered_hex_nut_envelope_is_the_turned_blank():
+    """A hex nut AF24 with 30 deg turned chamfers and a bore: the envelope is the turned blank
+    it was cut from (circumscribed diameter, the chamfer cones, the bore), exactly."""
+    from build123d import Pos, RegularPolygon, extrude
+    from hnc_cam.cad.sketch import Outline, revolve
+    R = 24 / math.sqrt(3)
+    k = (R - 12) * math.tan(math.radians(60))
+    turned = revolve(Outline((8.5, 0.0)).line_to(12.0, 0.0).line_to(R, -k).line_to(R, -20 + k)
+                     .line_to(12.0, -20.0).line_to(8.5, -20.0).close().segments())
+    nut = turned & (Pos(0, 0, -20) * extrude(RegularPolygon(R, 6), 20))
+    with pytest.raises(ProfileError, match=r"a hex, 24\.000 across flats"):
+        profile(nut)
+    env, ref = profile(nut, envelope=True), profile(turned)
+    _same_chain(env.outside, ref.outside)
+    _same_chain(env.bore, ref.bore)
+    assert env.max_diameter == pytest.approx(2 * R, abs=1e-9)
+
+
+def test_envelope_not_one_section_is_a_stated_limit():
+    """A square whose corners are not at the hex's corners: no single meridian section holds
+    the envelope; the error says so instead of returning a section that cuts a corner."""
+    from build123d import Align, Box, Pos, RegularPolygon, Rot, extrude
+    sq = (Pos(0, 0, -10) * Rot(0, 0, 30) * Box(20, 20, 10, align=(Align.CENTER, Align.CENTER, Align.MIN))
+          + Pos(0, 0, -30) * extrude(RegularPolygon(12, 6), 20))
+    with pytest.raises(ProfileError, match="no single section through a corner of those faces "
+                                           "contains the others"):
+        profile(sq, envelope=True)
 
 
 def test_partial_revolution_rejected():

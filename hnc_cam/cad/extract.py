@@ -10,6 +10,10 @@ How (and the choices made):
    type, the feature it probably is and where it is. With ``envelope=True`` such faces are
    ignored: the profile is taken in a meridian half-plane that does not cut them on the
    outline (the turned envelope the lathe makes before milling), and ``notes`` lists them.
+   When every half-plane cuts them on the outline (a hex or square bar, a flat the whole
+   length), the envelope is the section through a corner of those faces that contains the
+   sections in all other half-planes tried (the circumscribed cylinder of a hex); when no
+   single section does, ProfileError says the envelope is not supported for that part.
 3. The solid's boundary is cut with the half-plane {y' = 0, x' >= 0} through the axis at a
    fixed polar angle (0.3 rad, clear of the seams that revolves put at angle 0). OpenCascade
    returns the cuts of planes, cylinders and cones as lines and of spheres and tori as
@@ -433,6 +437,57 @@ def _envelope_section(solid, bb, problems, fit_tol: float, notes: list[str]):
             continue
         notes.append(f"envelope taken in the meridian half-plane at {math.degrees(theta):.1f} deg")
         return chains, len(chains) - 1
+    return _dominant_section(solid, bb, problems, bad, fit_tol, notes)
+
+
+#: half-planes (evenly spaced) whose sections the chosen envelope section must contain
+ENVELOPE_CHECKS = 36
+
+
+def _region(chains: list["_Chain"]):
+    """The section's region (shapely), outer loop closed along the axis, sampled within
+    1e-4 mm."""
+    from shapely.geometry import Polygon
+    from ..geometry.primitives import sample_chain
+    pts = sample_chain(chains[0].segs, 1e-4)
+    return Polygon([(z, r) for r, z in pts]).buffer(0)
+
+
+def _dominant_section(solid, bb, problems, bad, fit_tol: float, notes: list[str]):
+    """Every half-plane cuts a non-turned face on the outline (a hex or square bar, a flat
+    along the whole part): the turned envelope is then the section through the farthest
+    points. Candidates are the half-planes through the vertices of the non-turned faces
+    (for planar faces parallel to the axis, the distance from the axis at a given Z is
+    largest at the face's edges, i.e. at the polygon's corners); the one whose section
+    contains the sections of all the others and of ``ENVELOPE_CHECKS`` evenly spaced
+    half-planes (checked on polylines within 1e-4 mm) is taken. When none does (the
+    envelope is the union of several sections), ProfileError says so."""
+    angles: list[float] = []
+    for f in (p.face for p in problems):
+        for x, y, _z in occ.vertex_points(f):
+            if math.hypot(x, y) > 1e-6:
+                a = math.atan2(y, x) % (2 * math.pi)
+                if all(abs(a - b) > 1e-7 and abs(abs(a - b) - 2 * math.pi) > 1e-7 for b in angles):
+                    angles.append(a)
+    checks = [THETA + k * 2 * math.pi / ENVELOPE_CHECKS for k in range(ENVELOPE_CHECKS)]
+    sections: dict[float, tuple[list[_Chain], Any]] = {}
+    for theta in angles + checks:
+        try:
+            chains = _chains(occ.meridian_section(solid, theta, bb), fit_tol)
+        except ProfileError:
+            continue
+        sections[theta] = (chains, _region(chains))
+    cands = sorted((a for a in angles if a in sections),
+                   key=lambda a: (-round(sections[a][1].area, 6), a))
+    for a in cands:
+        grown = sections[a][1].buffer(1e-4)
+        if all(reg.difference(grown).area < 1e-6 for _, reg in sections.values()):
+            notes.append(f"envelope taken in the meridian half-plane at {math.degrees(a):.1f} deg "
+                         f"(through a corner of the non-turned faces): its section contains the "
+                         f"sections in {len(sections) - 1} other half-planes")
+            return sections[a][0], len(sections[a][0]) - 1
     raise ProfileError("envelope: every meridian half-plane cuts a non-turned face on the "
-                       "outline (a hex or a flat along the whole part?); cannot find the turned "
-                       "envelope")
+                       "outline and no single section through a corner of those faces "
+                       f"contains the others ({len(cands)} tried): the turned envelope is the "
+                       "union of several sections, which is not supported; profile the "
+                       "turned part without the milled features")

@@ -29,7 +29,7 @@ from OCP.GeomAbs import (GeomAbs_Circle, GeomAbs_Cone, GeomAbs_Cylinder, GeomAbs
 from OCP.GProp import GProp_GProps
 from OCP.IFSelect import IFSelect_RetDone
 from OCP.STEPControl import STEPControl_Reader
-from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE, TopAbs_SHELL, TopAbs_SOLID
+from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE, TopAbs_SHELL, TopAbs_SOLID, TopAbs_VERTEX
 from OCP.TopExp import TopExp
 from OCP.TopTools import TopTools_IndexedMapOfShape
 from OCP.TopoDS import TopoDS, TopoDS_Compound, TopoDS_Face, TopoDS_Shape
@@ -151,6 +151,15 @@ def solids(shape: TopoDS_Shape) -> list[TopoDS_Shape]:
 
 def faces(shape: TopoDS_Shape) -> list[TopoDS_Shape]:
     return [TopoDS.Face_s(s) for s in sub_shapes(shape, TopAbs_FACE)]
+
+
+def vertex_points(shape: TopoDS_Shape) -> list[tuple[float, float, float]]:
+    """The points of the shape's distinct vertices."""
+    out = []
+    for v in sub_shapes(shape, TopAbs_VERTEX):
+        p = BRep_Tool.Pnt_s(TopoDS.Vertex_s(v))
+        out.append((p.X(), p.Y(), p.Z()))
+    return out
 
 
 def shells(shape: TopoDS_Shape) -> list[TopoDS_Shape]:
