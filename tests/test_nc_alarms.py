@@ -221,4 +221,39 @@ def test_cli_alarm_is_one_line_exit_2(tmp_path):
 def test_cli_missing_file(tmp_path):
     r = subprocess.run([sys.executable, "-m", "hnc_cam.cli", "run", str(tmp_path / "nope.nc")],
                        capture_output=True, text=True)
-    assert r.returncode == 2 and "cannot read" in r.stderr and "Traceback" not in r.stderr
+    assert r.returncode == 2 and "Traceback" not in r.stderr
+    # one line naming the file, without a made-up line/column
+    assert r.stderr == f"{tmp_path / 'nope.nc'}: error: cannot read the program: No such file or directory\n"
+    r = subprocess.run([sys.executable, "-m", "hnc_cam.cli", "run", str(tmp_path)],
+                       capture_output=True, text=True)
+    assert r.returncode == 2 and r.stderr.startswith(f"{tmp_path}: error: cannot read the program: ")
+    assert len(r.stderr.splitlines()) == 1
+
+
+def _chain(depth: int) -> str:
+    """A main program and subprograms %2..%(depth+1), each calling the next: depth nested calls."""
+    out = ["%1", "#50=0", "M98 P2", "M30"]
+    for k in range(2, depth + 2):
+        out += [f"%{k}", "#50=#50+1"] + ([f"M98 P{k + 1}"] if k < depth + 1 else []) + ["M99"]
+    return "\n".join(out) + "\n"
+
+
+def test_nesting_eight_calls_run_and_the_ninth_alarms():
+    """Manual 3.4.4: nesting depth at most nine levels (the main program and 8 calls)."""
+    from hnc_cam.nc import parser
+    from hnc_cam.nc.interp import Interp
+    it = Interp(parser.load(_chain(8)))
+    it.run()
+    assert it._read(50) == 8
+    e = alarm(_chain(9))
+    # the 9th M98 sits in %9 (the 8th subprogram): line of "M98 P10"
+    assert "nesting too deep" in e.message
+    assert e.block == "M98 P10" and e.line == _chain(9).splitlines().index("M98 P10") + 1
+
+
+def test_alarm_inside_a_subprogram_points_at_its_line_in_the_file():
+    text = "%1\nG92 X0 Z0\nM98 P2\nM30\n%2\nG01 X10 F100\nG02 X20 Z-20 R1\nM99\n"
+    e = alarm(text)
+    assert (e.line, e.col) == (7, 14) and e.block == "G02 X20 Z-20 R1"
+    e = alarm("%1\nM98 P2\nM30\n%2\n#1=#7/0\nM99\n")
+    assert "division by zero" in e.message and e.line == 5

@@ -287,3 +287,104 @@ def test_lines_are_one_based_file_lines():
     text = "(comment)\n\n%5\nG92 X0 Z0\n\nG01 Z-1 F10\nM30\n"
     tp = run(text)
     assert tp.moves[0].line == 6
+
+
+# --- second-wave audit: work systems, tools, inch, cycle time, move fields -----------------------
+
+def _mach_wcs():
+    off = {f"G{n}": (0.0, 0.0) for n in range(54, 60)}
+    off.update({"G54": (20.0, -300.0), "G55": (5.0, -250.0)})  # (x radius, z) machine coords
+    return Machine(reference=(100.0, 150.0), work_offsets=off)
+
+
+def test_nonzero_g54_from_the_reference_is_continuous_in_work_coordinates():
+    tp = run(prog("G00 X40 Z10", "G01 Z-20 F100", "G00 X80 Z50"), _mach_wcs(), start="reference")
+    # the reference (machine 100, 150) seen from G54 (20, -300): work X dia 160, Z 450
+    assert pts(tp)[0][1] == (160.0, 450.0)
+    assert ((40.0, 10.0) in [p[2] for p in pts(tp)]) and end(tp) == (80.0, 50.0)
+    for a, b in zip(tp.moves, tp.moves[1:]):
+        assert math.dist(a.end, b.start) < 1e-9
+
+
+def test_switching_work_system_keeps_the_machine_position():
+    tp = run(prog("G00 X40 Z10", "G55", "G00 X40 Z10", "G53 G00 X0 Z0", "G54 G00 X0 Z0"),
+             _mach_wcs(), start="reference")
+    after = [m for m in tp.moves if m.line == 4]
+    # the tool did not move at G55: machine (40, -290) is work (35, -40) in G55 (radius, z)
+    assert after[0].start == pytest.approx((20.0 + 20.0 - 5.0, 10.0 - 300.0 + 250.0))
+    assert after[-1].end == pytest.approx((20.0, 10.0))
+    g53 = [m for m in tp.moves if m.line == 5]
+    assert g53[-1].end == pytest.approx((-5.0, 250.0))  # machine 0,0 in G55 work coordinates
+    g54 = [m for m in tp.moves if m.line == 6]
+    assert g54[0].start == pytest.approx((-20.0, 300.0)) and g54[-1].end == pytest.approx((0.0, 0.0))
+
+
+def test_g52_local_shift_on_top_of_a_nonzero_g54():
+    tp = run(prog("G52 X10 Z-5", "G00 X20 Z0", "G52 X0 Z0", "G00 X20 Z0"), _mach_wcs(), start="reference")
+    l3 = [m for m in tp.moves if m.line == 3]
+    assert l3[-1].end == pytest.approx((10.0, 0.0))
+    # cancelling the shift: the same machine point is now (10 + 5, 0 - 5) in G54
+    l5 = [m for m in tp.moves if m.line == 5]
+    assert l5[0].start == pytest.approx((15.0, -5.0)) and l5[-1].end == pytest.approx((10.0, 0.0))
+
+
+def _two_tools():
+    return Machine(registers={
+        1: Register(number=1, x=0.0, z=0.0, radius=0.4, tip=3),
+        2: Register(number=2, x=-12.0, z=25.0, x_wear=0.2, z_wear=-0.1, radius=0.8, tip=2)})
+
+
+def test_t_change_mid_program_and_a_foreign_register():
+    tp = run(prog("T0101", "G00 X50 Z5", "G01 Z-10 F100", "T0202", "G00 X30 Z5", "G01 Z-5",
+                  "T0201", "G01 Z-8"), _two_tools())
+    by = {m.line: m for m in tp.moves}
+    assert by[4].end == pytest.approx((25.0, -10.0)) and (by[4].tool, by[4].register) == (1, 1)
+    # each tool with its own register: the controlled point is the programmed point
+    assert by[7].end == pytest.approx((15.0, -5.0)) and (by[7].tool, by[7].register) == (2, 2)
+    # tool 2 with register 01: displaced by register 02 minus register 01
+    # (x (-12 + 0.2) / 2 = -5.9 radius, z 25 - 0.1 = 24.9)
+    assert by[9].start == pytest.approx((15.0 - 5.9, -5.0 + 24.9))
+    assert by[9].end == pytest.approx((15.0 - 5.9, -8.0 + 24.9)) and by[9].register == 1
+    j = tp.to_json()["moves"]
+    assert [m["tool"] for m in j] == [m.tool for m in tp.moves]
+
+
+def test_g20_converts_every_length_and_feed_to_mm():
+    tp = run(prog("G92 X0 Z0", "G20", "G01 X1 Z-1 F10", "G02 X2 Z-1.5 R0.5", "G03 X3 Z-2 I0 K-0.5",
+                  "G01 X4 Z-3 C0.1", "X5", "M03 S100 G95 G01 Z-4 F0.01", "G04 P1", "G21 G94 G01 Z-150"))
+    arcs = [m for m in tp.moves if m.kind == "arc"]
+    # G02 from (r 12.7, Z-25.4) to (r 25.4, Z-38.1) with R0.5 in: clockwise about (25.4, -25.4)
+    assert arcs[0].center == pytest.approx((25.4, -25.4)) and arcs[0].end == pytest.approx((25.4, -38.1))
+    assert arcs[1].center == pytest.approx((25.4, -50.8)) and arcs[1].end == pytest.approx((38.1, -50.8))
+    assert all(m.feed == pytest.approx(254.0) for m in tp.moves[:3])
+    chamfer = [m for m in tp.moves if m.line == 7]
+    corner = (4 * 25.4 / 2, -3 * 25.4)  # C0.1 in: 2.54 mm from the corner along both lines
+    assert math.dist(chamfer[-1].start, corner) == pytest.approx(2.54)
+    assert math.dist(chamfer[-1].end, corner) == pytest.approx(2.54)
+    per_rev = [m for m in tp.moves if m.line == 9][0]
+    assert per_rev.feed == pytest.approx(0.01 * 25.4 * 100) and per_rev.end[1] == pytest.approx(-101.6)
+    assert tp.moves[-1].end == pytest.approx((63.5, -150.0))  # back in mm
+
+
+def test_cycle_time_is_feeds_at_f_rapids_per_axis_and_dwells():
+    mach = Machine(rapid_x=3000.0, rapid_z=6000.0)
+    tp = run(prog("G92 X100 Z50", "G00 X40 Z2", "G01 Z-30 F150", "G02 X60 Z-40 R10 F75", "G04 P2.5",
+                  "G00 X100 Z50"), mach)
+    # rapids: (50, 50) -> (20, 2) and (30, -40) -> (50, 50), radius X; the slower axis decides
+    rapid = max(30 / 3000, 48 / 6000) * 60 + max(20 / 3000, 90 / 6000) * 60
+    arc = math.pi / 2 * 10  # quarter circle
+    expect = rapid + 32 / 150 * 60 + arc / 75 * 60 + 2.5
+    assert tp.cycle_time_s == pytest.approx(expect)
+    assert json.loads(tp.dumps())["cycle_time_s"] == pytest.approx(expect, abs=1e-6)
+
+
+def test_move_fields_spindle_tool_source_line():
+    tp = run("; set-up comment\n%1\nT0101\nG92 X100 Z50\nM03 S500\nG00 X40 Z2\nG01 Z-30 F100 M05\n"
+             "M04 S200\nG96 S100 G95 G01 X50 Z-35 F0.2\nM30\n", _two_tools())
+    a, b, c, d = tp.moves
+    assert [m.line for m in tp.moves] == [6, 6, 7, 9]
+    assert (a.kind, a.spindle, a.spindle_dir, a.feed) == ("rapid", 500, 3, None)
+    assert (c.kind, c.spindle, c.spindle_dir, c.feed) == ("line", 500, 3, 100)  # M05 acts after
+    rpm = 1000 * 100 / (2 * math.pi * 22.5)  # G96 at the move's mid radius
+    assert d.spindle == pytest.approx(rpm) and d.spindle_dir == 4 and d.feed == pytest.approx(0.2 * rpm)
+    assert {m.tool for m in tp.moves} == {1} and {m.register for m in tp.moves} == {1}

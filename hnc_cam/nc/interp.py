@@ -166,6 +166,9 @@ class Blk:
 _new_blk = object.__new__
 
 
+_new_blk = object.__new__
+
+
 class Asg:
     __slots__ = ("stmt", "line", "items")
 
