@@ -89,6 +89,52 @@ def _load_part(part: Any, params: Mapping[str, str] | None):
     return prof, getattr(loaded, "stock", None), name, dict(getattr(loaded, "params", {}) or {})
 
 
+def _file_key(path: str | Path | None):
+    """Cache key of a table file: None (the bundled default) or (resolved path, mtime, size),
+    so that an edited file is read again."""
+    if path is None:
+        return None
+    p = Path(path)
+    try:
+        st = p.stat()
+    except OSError:
+        return (str(path), None, None)  # the loader reports the error (not cached)
+    return (str(p.resolve()), st.st_mtime_ns, st.st_size)
+
+
+_TOOLS: dict[Any, ToolLibrary] = {}
+_MACHINES: dict[Any, Machine] = {}
+
+
+def _load_tools(path: str | Path | None) -> ToolLibrary:
+    """The tool library, parsed once per process and file version (a family's rows and a
+    worker's jobs share it; the tables are frozen dataclasses)."""
+    key = _file_key(path)
+    lib = _TOOLS.get(key)
+    if lib is None:
+        lib = load_tools(path)
+        _TOOLS[key] = lib
+    return lib
+
+
+def _load_machine(path: str | Path | None, lib: ToolLibrary) -> Machine:
+    key = (_file_key(path), id(lib))
+    mach = _MACHINES.get(key)
+    if mach is None:
+        mach = load_machine(path, tools=lib)
+        _MACHINES[key] = mach
+    return mach
+
+
+def warm(tools: str | Path | None = None, machine: str | Path | None = None,
+         templates: str | Path | None = None, number_format: str = "plain",
+         block_numbers: str = "every") -> None:
+    """Load the tables and the template environment once (a family worker's initializer)."""
+    from ..post import environment
+    _load_machine(machine, _load_tools(tools))
+    environment(None if templates is None else str(templates), number_format, block_numbers)
+
+
 def _interpret(text: str, machine: Machine, file: str):
     try:
         from ..nc import run
@@ -137,11 +183,11 @@ def generate(part: Any, stock: str | Stock | None = None, *, params: Mapping[str
     if stock is None:
         raise StockError(f"part {name}: no stock given and the part declares no STOCK")
     st = stock if isinstance(stock, Stock) else Stock.parse(str(stock))
-    lib = tools if isinstance(tools, ToolLibrary) else load_tools(tools)
+    lib = tools if isinstance(tools, ToolLibrary) else _load_tools(tools)
     if isinstance(machine, Machine):
         mach = machine
     else:
-        mach = load_machine(machine, tools=lib)
+        mach = _load_machine(machine, lib)
     if program_number is None:
         program_number = 1
     if not 0 <= int(program_number) <= 9999:

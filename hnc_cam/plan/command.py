@@ -58,20 +58,37 @@ def generate_command(args: argparse.Namespace) -> int:
 # family
 # ------------------------------------------------------------------------------------------
 
-def _init_worker() -> None:
-    """Import the CAD kernel once per worker process."""
+#: how many times this process ran the worker initializer (a reused worker reports 1)
+_INITS = 0
+
+
+def _init_worker(opts: dict[str, Any] | None = None) -> None:
+    """Once per worker process: import the CAD kernel, the interpreter and the simulator, and
+    load the tool library, the machine and the templates (cached in :mod:`hnc_cam.plan.api`
+    for every row the worker runs)."""
+    global _INITS
+    _INITS += 1
     try:
         import build123d  # noqa: F401
         from .. import cad  # noqa: F401
         from ..cad import extract  # noqa: F401
+        from .. import nc, sim  # noqa: F401
     except Exception:  # pragma: no cover - the row reports the real error
         pass
+    if opts:
+        try:
+            from .api import warm
+            warm(opts.get("tools"), opts.get("machine"), opts.get("templates"),
+                 opts.get("number_format", "plain"), opts.get("block_numbers", "every"))
+        except Exception:  # pragma: no cover - the rows report the real error
+            pass
 
 
 def _row_job(job: tuple) -> dict[str, Any]:
     """Generate one row; never raises (the error becomes the row's result)."""
     idx, line, part, stock, params, number, opts = job
-    out: dict[str, Any] = {"row": idx, "line": line, "program_number": number}
+    out: dict[str, Any] = {"row": idx, "line": line, "program_number": number,
+                           "worker": (os.getpid(), _INITS)}
     try:
         from .api import VerificationError, generate
         prog = generate(part, stock, params=params, program_number=number,
@@ -160,7 +177,7 @@ def family_command(args: argparse.Namespace) -> int:
     if dup:
         raise PlanError(f"{args.table}: program number(s) {sorted(dup)} appear in several rows")
     n_jobs = args.jobs or os.cpu_count() or 1
-    results.extend(_run_jobs(jobs, n_jobs))
+    results.extend(_run_jobs(jobs, n_jobs, opts))
     results.sort(key=lambda r: r["row"])
     out_dir.mkdir(parents=True, exist_ok=True)
     worst = 0
@@ -187,13 +204,15 @@ def family_command(args: argparse.Namespace) -> int:
     return worst
 
 
-def _run_jobs(jobs: list[tuple], n_jobs: int) -> list[dict[str, Any]]:
+def _run_jobs(jobs: list[tuple], n_jobs: int,
+              opts: dict[str, Any] | None = None) -> list[dict[str, Any]]:
     if not jobs:
         return []
     progress = None
     if sys.stderr.isatty():
+        from rich.console import Console
         from rich.progress import Progress
-        progress = Progress(transient=True)
+        progress = Progress(console=Console(stderr=True), transient=True)
     out: list[dict[str, Any]] = []
     task = None
     if progress is not None:
@@ -201,7 +220,7 @@ def _run_jobs(jobs: list[tuple], n_jobs: int) -> list[dict[str, Any]]:
         task = progress.add_task("generating", total=len(jobs))
     try:
         if n_jobs <= 1 or len(jobs) == 1:
-            _init_worker()
+            _init_worker(opts)
             for j in jobs:
                 out.append(_row_job(j))
                 if progress is not None:
@@ -209,7 +228,7 @@ def _run_jobs(jobs: list[tuple], n_jobs: int) -> list[dict[str, Any]]:
         else:
             from concurrent.futures import ProcessPoolExecutor, as_completed
             with ProcessPoolExecutor(max_workers=min(n_jobs, len(jobs)),
-                                     initializer=_init_worker) as ex:
+                                     initializer=_init_worker, initargs=(opts,)) as ex:
                 futs = [ex.submit(_row_job, j) for j in jobs]
                 for f in as_completed(futs):
                     out.append(f.result())
