@@ -166,9 +166,6 @@ class Blk:
 _new_blk = object.__new__
 
 
-_new_blk = object.__new__
-
-
 class Asg:
     __slots__ = ("stmt", "line", "items")
 
