@@ -999,3 +999,86 @@ def test_profiles_rounded_to_3_decimals_with_arcs_on_their_extremes(name, words,
     plan, ms = cycle_moves(tp, words.split()[0], A, offset, fr)
     check_region(plan, A, offset, fr, depth)
     ends_on_profile(tp, segs[1:], profile_lines(text))
+
+
+# --------------------------------------------------------------------------- audit additions
+
+PROFILE_WORDS = """%1
+N1 T0101
+N2 M03 S500
+N3 G00 X46 Z3
+N4 G71 U1.5 R1 P10 Q15 X0.4 Z0.1 F120 S600
+N10 G00 G42 X10 S900
+N11 G01 X20 Z-2 F60
+N12 Z-20
+N13 G02 X30 Z-25 R5
+N14 G01 Z-35
+N15 G40 G00 X46
+N16 G00 X100 Z100
+N17 M30
+"""
+
+
+def test_g41_g42_g40_and_f_s_inside_the_profile():
+    """G41/G42/G40 words inside ns..nf are allowed; F/S inside it apply to the finishing run
+    after the cycle, the cycle's F/S to roughing; the roughing is not compensated, the
+    finishing run is (register 1: r 0.8, tip 3), its nose centre at exactly r from the
+    profile."""
+    from hnc_cam.nc import run
+    from hnc_cam.tooling import load_machine
+    m = load_machine()
+    r = m.registers[1].radius
+    assert (r, m.registers[1].tip) == (0.8, 3)
+    tp = run(PROFILE_WORDS, m)
+    rough = [mv for mv in tp.moves if mv.op == "G71"]
+    assert rough and all(mv.comp == 40 for mv in rough)
+    assert {mv.feed for mv in rough if mv.kind != "rapid"} == {120.0}
+    assert {mv.spindle for mv in rough} == {600.0}
+    fin = [mv for mv in tp.moves if 7 <= mv.line <= 10 and mv.kind in ("line", "arc")]
+    assert fin and all(mv.comp == 42 and mv.feed == 60.0 and mv.spindle == 900.0 for mv in fin)
+    prof, _ = path((10, 3), ("G01", 20, -2), ("G01", 20, -20), ("G02", 30, -25, 5),
+                   ("G01", 30, -35))
+    for mv in fin:
+        g = mv.segment()
+        for k in range(21):
+            p = g.point_at(k / 20)
+            c = (p[0] + r, p[1] + r)  # controlled point -> nose centre (tip 3: (-r, -r))
+            assert min(s.distance_to(c) for s in prof) == pytest.approx(r, abs=1e-9), (mv, p)
+
+
+def test_m99_inside_the_profile_alarms():
+    from hnc_cam.nc import run
+    text = ("%1\nN1 G00 X46 Z3\nN2 G71 U1 R1 P10 Q12 X0.4 Z0.1 F100\nN10 G00 X0\n"
+            "N11 M99\nN12 G01 X40 Z-20\nN13 M30\n")
+    with pytest.raises(NCError, match="M98/M99 inside the profile") as e:
+        run(text, _machine(True))
+    assert e.value.line == 5
+
+
+def test_3328_finishing_contour_is_compensated(manual):
+    """3328: the bore's finishing contour after the G71 runs under G42 (the manual's erratum:
+    a bore cut toward -Z takes G41; the interpreter runs it as written, so the offset lands
+    on the other side) with the nose centre at exactly r from the programmed contour."""
+    from hnc_cam.nc import run_file
+    from hnc_cam.tooling import load_machine
+    m = load_machine()
+    r = m.registers[2].radius
+    tp = run_file(str(manual("3328.nc")), m)
+    lines = profile_lines(manual("3328.nc").read_text())
+    fin = [mv for mv in tp.moves if mv.line in lines and mv.comp == 42 and mv.op != "G71"
+           and mv.kind in ("line", "arc")]
+    assert len(fin) >= 5
+    segs, _ = P3328()
+    tip = m.registers[2].tip
+    from hnc_cam.geometry.tip import tip_vector
+    tv = tip_vector(tip, r)
+    for mv in fin:
+        g = mv.segment()
+        for k in range(21):
+            p = g.point_at(k / 20)
+            c = (p[0] - tv[0], p[1] - tv[1])
+            assert min(s.distance_to(c) for s in segs[1:]) == pytest.approx(r, abs=1e-7), (mv, p)
+    # ... on the right of the motion (+X for a cut toward -Z), i.e. inside the bore wall of
+    # dia 44: the erratum is reproduced, not corrected
+    mid = [mv for mv in fin if mv.kind == "line" and mv.start[1] > -14 and mv.end[1] < -1][0]
+    assert mid.start[0] - tv[0] == pytest.approx(22.0 + r)
