@@ -511,3 +511,87 @@ def test_alarm_through_the_interpreter_names_the_block():
         interp.run("%1\nG00 X30 Z5\nG80 U-2 Z-20 F100\nM30\n")
     with pytest.raises(NCError, match="lead 0"):
         interp.run("%1\nG00 X30 Z5\nG32 Z-20 F0\nM30\n")
+
+
+# ----------------------------------------------------------------------------- audit additions
+# every form of the issue's list: absolute and G91, straight and taper
+
+
+def test_g80_taper_absolute_and_straight_incremental():
+    # absolute taper: A = X40 Z3, C = X30 Z-30, I-5.5 -> B at radius 15 - 5.5 on Z3
+    ctx = run(80, {"X": 30, "Z": -30, "I": -5.5, "F": 100}, (20.0, 3.0))
+    approx_path(ctx.moves, [("rapid", (9.5, 3)), ("feed", (15, -30)),
+                            ("feed", (20, -30)), ("rapid", (20, 3))])
+    # G91 straight: C = A + (X-10 dia, Z-22)
+    ctx = run(80, {"X": -10, "Z": -22, "F": 100}, (20.0, 2.0), incremental=True)
+    approx_path(ctx.moves, [("rapid", (15, 2)), ("feed", (15, -20)),
+                            ("feed", (20, -20)), ("rapid", (20, 2))])
+
+
+def test_g81_face_incremental_without_k():
+    ctx = run(81, {"X": -60, "Z": -3.5}, (30.0, 5.0), incremental=True)
+    approx_path(ctx.moves, [("rapid", (30, 1.5)), ("feed", (0, 1.5)),
+                            ("feed", (0, 5)), ("rapid", (30, 5))])
+
+
+def test_g81_refuses_w():
+    alarm(81, {"X": 0, "Z": 0, "W": 1}, match="incremental W")
+
+
+def test_g82_taper_absolute_and_straight_incremental():
+    # absolute taper thread: C = X20 Z-25, I-1 -> B at radius 9 on the Z of A
+    ctx = run(82, {"X": 20, "Z": -25, "I": -1, "F": 2}, (15.0, 5.0))
+    approx_path(ctx.moves, [("rapid", (9, 5)), ("thread", (10, -25), 2, 0, 60),
+                            ("rapid", (15, -25)), ("rapid", (15, 5))])
+    # G91 straight thread with a run-out, start angle P90
+    ctx = run(82, {"X": -10, "Z": -30, "R": -2, "E": 1, "P": 90, "F": 1.5}, (15.0, 5.0),
+              incremental=True)
+    approx_path(ctx.moves, [("rapid", (10, 5)), ("thread", (10, -25), 1.5, 90, 60),
+                            ("thread", (11, -27), 1.5, 90, 60), ("rapid", (15, -27)),
+                            ("rapid", (15, 5))])
+
+
+def test_g82_refuses_u():
+    alarm(82, {"X": 19, "Z": -20, "F": 1, "U": -1}, match="incremental U")
+
+
+@pytest.mark.parametrize("a", [80, 60, 55, 30, 29, 0])
+def test_g76_every_listed_angle_is_accepted(a):
+    ctx = run(76, {**G3338, "A": a}, (45.0, 4.0))
+    threads = [m for m in ctx.moves if m[0] == "thread"]
+    assert threads and {m[4] for m in threads} == {a}
+    # single-flank infeed along the A/2 flank: each pass shifted by t·tan(A/2) toward -Z
+    crest = 58.15 / 2 + 1.299
+    for m in threads[0::2]:
+        t = crest - m[1][0]
+        assert m[1][1] == pytest.approx(-24 - t * math.tan(math.radians(a / 2)))
+
+
+@pytest.mark.parametrize("a", [45, 61, 90, -60])
+def test_g76_other_angles_alarm(a):
+    alarm(76, {**G3338, "A": a}, pos=(45.0, 4.0), match=f"angle A{a:g}")
+
+
+def test_g32_start_angle_and_run_out_through_the_interpreter():
+    interp = _interp()
+    tp = interp.run("%1\nG00 X20 Z5\nG32 X20 Z-30 R-2 E1 P45 F1.5\nG00 X30\nM30\n")
+    th = [m for m in tp.moves if m.kind == "thread"]
+    assert len(th) == 2 and all(m.angle == 45 and m.lead == 1.5 for m in th)
+    assert _dia(th[0].end) == (20.0, -30.0) and _dia(th[1].end) == (22.0, -32.0)
+
+
+@pytest.mark.parametrize("text,kinds", [
+    ("G80 X30 Z-20 F100", ["rapid", "line", "line", "rapid"]),
+    ("G81 X10 Z-2 F100", ["rapid", "line", "line", "rapid"]),
+    ("G82 X30 Z-20 F2", ["rapid", "thread", "rapid", "rapid"]),
+])
+def test_leg_types_through_the_interpreter(text, kinds):
+    """A->B->C->D->A with rapid and feed legs typed as the figures, through the interpreter
+    (every rapid leg of these cycles moves along one axis, so none is split in two)."""
+    interp = _interp()
+    tp = interp.run(f"%1\nG00 X40 Z5\n{text}\nM30\n")
+    ms = [m for m in tp.moves if m.line == 3]
+    assert [m.kind for m in ms] == kinds
+    for a, b in zip(ms, ms[1:]):
+        assert a.end == b.start
+    assert _dia(ms[0].start) == (40.0, 5.0) and _dia(ms[-1].end) == (40.0, 5.0)
