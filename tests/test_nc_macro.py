@@ -164,3 +164,25 @@ def test_parametric_family_macro_with_g65():
     ends = [(round(2 * m.end[0], 6), round(m.end[1], 6)) for m in it.moves if m.kind == "line"]
     assert ends == [(18, 0), (20, -1), (20, -30), (26, 0), (30, -2), (30, -10)]
     assert all(m.feed == 80 for m in it.moves if m.kind == "line")
+
+
+def test_tool_registers_read_the_machine_files_registers(tmp_path):
+    """#600+n / #700+n read register n of the machine in use (machine file entries win over the
+    tool library; the default library's register 01 carries a CNMG120408, r 0.8)."""
+    from hnc_cam.tooling import load_machine
+    f = tmp_path / "m.toml"
+    f.write_text("[[register]]\nnumber = 7\nx = -4.0\nz = 12.5\nz_wear = -0.05\nradius = 0.4\ntip = 2\n")
+    m = load_machine(str(f))
+    it = interp("%1\n#50=#607\n#51=#707\n#52=#701\n#53=#612\n#54=#712\nM30\n", machine=m)
+    # #6nn is register n's Z geometry offset (the length register), #7nn its nose radius;
+    # a register absent from the table reads 0 (a sharp point)
+    assert [it._read(n) for n in (50, 51, 52, 53, 54)] == [12.5, 0.4, 0.8, 0.0, 0.0]
+
+
+def test_locals_of_the_eighth_nested_call_are_its_own():
+    calls = "".join(f"%{k}\n#5={k}\n" + (f"M98 P{k + 1}\n" if k < 9 else "#60=#5\n") + f"#[60+{k}]=#5\nM99\n"
+                    for k in range(2, 10))
+    it = interp("%1\n#5=1\nM98 P2\n#61=#5\nM30\n" + calls)
+    # every level kept its own #5 through the calls below it; level k-1's block shows it
+    assert [it._read(n) for n in range(60, 70)] == [9, 1, 2, 3, 4, 5, 6, 7, 8, 9]
+    assert [it._read(200 + 50 * lv + 5) for lv in range(8)] == [1, 2, 3, 4, 5, 6, 7, 8]
