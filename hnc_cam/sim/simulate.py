@@ -56,7 +56,7 @@ from ..geometry import Arc
 from ..nc.toolpath import Move, Toolpath
 from ..tooling import Machine, Stock, ToolLibrary, load_machine
 from .region import chuck_zone, clean, diff, inter, polygons, stock_region, union as union_of
-from .tool import CHORD, ToolShape, tool_shape
+from .tool import CHORD, ToolShape, sweep_hulls, tool_shape
 
 FEED_KINDS = ("line", "arc", "thread")
 #: a move that removes less than this area (mm^2) removed nothing (air cut)
@@ -244,39 +244,32 @@ class _Sweeper:
         return np.array([(p[1], p[0]) for p in pts], dtype=float)
 
     def sweeps(self, moves: list[Move]) -> tuple[list[BaseGeometry | None], list[np.ndarray]]:
-        """Swept region of each move (None for dwells) and its path points."""
-        coords: list[np.ndarray] = []
-        owner: list[int] = []
+        """Swept region of each move (None for dwells) and its path points.
+
+        Every straight piece (a line, a chord of a sampled arc) sweeps the exact hull of the
+        outline at its two ends (:func:`hnc_cam.sim.tool.sweep_hulls`, vectorised per tool)."""
         paths: list[np.ndarray] = []
+        groups: dict[tuple, tuple[ToolShape, list, list, list]] = {}
         for k, m in enumerate(moves):
             if m.kind == "dwell":
                 paths.append(np.zeros((0, 2)))
                 continue
-            o = self.shape(m).outline
+            shape = self.shape(m)
             pts = self.path_points(m)
             paths.append(pts)
-            if len(pts) == 2 and abs(pts[0, 0] - pts[1, 0]) + abs(pts[0, 1] - pts[1, 1]) < 1e-12:
-                pts = pts[:1]
-            if len(pts) == 1:
-                coords.append(o + pts[0])
-                owner.append(k)
-                continue
-            for a, b in zip(pts[:-1], pts[1:]):
-                coords.append(np.vstack([o + a, o + b]))
-                owner.append(k)
+            g = groups.setdefault(shape.key, (shape, [], [], []))
+            g[1].append(pts[:-1])
+            g[2].append(pts[1:])
+            g[3].append(np.full(len(pts) - 1, k))
         out: list[BaseGeometry | None] = [None] * len(moves)
-        if not coords:
-            return out, paths
-        lens = np.array([len(c) for c in coords])
-        mp = shapely.multipoints(np.vstack(coords), indices=np.repeat(np.arange(len(coords)), lens))
-        hulls = shapely.convex_hull(mp)
-        owner_a = np.array(owner)
-        # group pieces per move (arcs have several)
-        starts = np.flatnonzero(np.r_[True, owner_a[1:] != owner_a[:-1]])
-        ends = np.r_[starts[1:], len(owner_a)]
-        for s, e in zip(starts, ends):
-            k = int(owner_a[s])
-            out[k] = hulls[s] if e - s == 1 else shapely.union_all(hulls[s:e])
+        for shape, starts, ends, owners in groups.values():
+            owner_a = np.concatenate(owners)
+            hulls = sweep_hulls(shape.outline, np.concatenate(starts), np.concatenate(ends))
+            # group pieces per move (arcs have several)
+            first = np.flatnonzero(np.r_[True, owner_a[1:] != owner_a[:-1]])
+            last = np.r_[first[1:], len(owner_a)]
+            for s, e in zip(first, last):
+                out[int(owner_a[s])] = hulls[s] if e - s == 1 else shapely.union_all(hulls[s:e])
         return out, paths
 
 

@@ -40,6 +40,7 @@ from dataclasses import dataclass, field
 from functools import lru_cache
 
 import numpy as np
+import shapely
 
 from ..geometry.tip import tip_direction, tip_vector
 from ..tooling import Insert, Register
@@ -77,6 +78,36 @@ class ToolShape:
         """The outline as a shapely Polygon with the controlled point at ``at`` = (z, x)."""
         import shapely
         return shapely.Polygon(self.outline + np.asarray(at, dtype=float))
+
+
+def sweep_hulls(outline: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Polygons ``conv((K + a_i) | (K + b_i))`` for a convex outline K (an (m, 2) array) and
+    straight moves a_i -> b_i (arrays (N, 2)): the exact region K sweeps along each move.
+
+    Built directly, without a convex-hull computation: with n the left normal of the move, the
+    ring runs over K's vertices from the one extreme in -n to the one extreme in +n (the side
+    facing the motion) translated by b, then on round to the first translated by a: m + 2
+    vertices per move. A zero-length move gives K itself (with a repeated vertex).
+    """
+    K = np.asarray(outline, dtype=float)
+    if float(np.sum(K[:, 0] * np.roll(K[:, 1], -1) - np.roll(K[:, 0], -1) * K[:, 1])) < 0:
+        K = K[::-1]  # clockwise given: the ring below needs counter-clockwise order
+    a = np.asarray(a, dtype=float).reshape(-1, 2)
+    b = np.asarray(b, dtype=float).reshape(-1, 2)
+    m, n_moves = len(K), len(a)
+    if n_moves == 0:
+        return np.zeros(0, dtype=object)
+    d = b - a
+    nrm = np.column_stack([-d[:, 1], d[:, 0]])
+    s = nrm @ K.T  # (N, m)
+    i_min, i_max = np.argmin(s, axis=1), np.argmax(s, axis=1)
+    c = np.mod(i_max - i_min, m)
+    t = np.arange(m + 2)[None, :]
+    fwd = t <= c[:, None]
+    idx = np.mod(i_min[:, None] + np.where(fwd, t, t - 1), m)
+    ring = K[idx] + np.where(fwd[:, :, None], b[:, None, :], a[:, None, :])
+    ring = np.concatenate([ring, ring[:, :1]], axis=1)
+    return shapely.polygons(ring)
 
 
 def _arc_points(c: np.ndarray, r: float, a0: float, a1: float) -> list[np.ndarray]:

@@ -45,7 +45,7 @@ from ..geometry import Line, Segment, Thread, TurnedProfile
 from .measure import distances
 from .region import clean, diff, inter, polygons, profile_polygon
 from .simulate import Issue, Machined
-from .tool import ToolShape, tool_shape
+from .tool import ToolShape, sweep_hulls, tool_shape
 
 NOISE = 0.002
 #: boundary points every 0.002 mm: the distance is 1-Lipschitz, so the maximum is found to 0.001
@@ -195,15 +195,40 @@ def _grid_points(g: BaseGeometry, n: int = 60) -> np.ndarray:
     return np.vstack(out) if out else np.zeros((0, 2))
 
 
-def _deepest(g: BaseGeometry, segs: Sequence[Segment], interior: bool) -> Deviation | None:
+def _edge_dist(pts: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Distance from each point to the nearest of the straight edges a_j -> b_j (all (n, 2))."""
+    best = np.full(len(pts), np.inf)
+    if not len(a):
+        return best
+    d = b - a
+    L2 = np.maximum(np.einsum("ij,ij->i", d, d), 1e-300)
+    for i0 in range(0, len(pts), 4096):
+        p = pts[i0:i0 + 4096, None, :]
+        t = np.clip(np.einsum("pij,ij->pi", p - a[None], d) / L2, 0.0, 1.0)
+        q = a[None] + t[:, :, None] * d[None]
+        best[i0:i0 + 4096] = np.sqrt(((p - q) ** 2).sum(axis=2)).min(axis=1)
+    return best
+
+
+def _seg_boxes(segs: Sequence[Segment]) -> np.ndarray:
+    """Boxes (z0, x0, z1, x1) of the model segments."""
+    return np.array([[b[1], b[0], b[3], b[2]] for b in (s.bbox() for s in segs)])
+
+
+def _deepest(g: BaseGeometry, segs: Sequence[Segment], interior: bool,
+             also: BaseGeometry | None = None, boxes: np.ndarray | None = None) -> Deviation | None:
     """The point of ``g`` farthest from the model boundary ``segs`` and its distance.
+
+    ``also``: a region that counts as model too (the unreachable leftover when measuring the
+    reachable part: its depth is measured from what the tools could at best leave there).
 
     Per component, only the segments whose boxes come within r of the component's box are
     measured, r first its diameter (a component that touches the model boundary has all its
     nearest segments there), then, if some point found no segment that near, the largest
     distance found (no farther segment can be nearer to any point): exact, and fast for many
-    small slivers on a long boundary."""
-    boxes = np.array([[b[1], b[0], b[3], b[2]] for b in (s.bbox() for s in segs)])  # z0 x0 z1 x1
+    small slivers on a long boundary. ``boxes``: :func:`_seg_boxes` of ``segs`` if known."""
+    if boxes is None:
+        boxes = _seg_boxes(segs)
     best: Deviation | None = None
     for p in polygons(g):
         pts = _boundary_points(p)
@@ -221,6 +246,22 @@ def _deepest(g: BaseGeometry, segs: Sequence[Segment], interior: bool) -> Deviat
             if len(cand) == len(segs) or d.max() <= r:
                 break
             r = float(d.max()) + 1e-6
+        if also is not None and not also.is_empty and d.max() > 0:
+            dm = float(d.max())
+            near = shapely.clip_by_rect(also, z0 - dm, x0 - dm, z1 + dm, x1 + dm)
+            if not near.is_empty:
+                a, b = _edges(near)
+                # deepest first: once the model distance of the rest is below the best
+                # combined distance found, no later point can beat it
+                order = np.argsort(-d)
+                top = 0.0
+                for i0 in range(0, len(order), 2048):
+                    ch = order[i0:i0 + 2048]
+                    if d[ch[0]] <= top:
+                        d[order[i0:]] = np.minimum(d[order[i0:]], top)
+                        break
+                    d[ch] = np.minimum(d[ch], _edge_dist(pts[ch], a, b))
+                    top = max(top, float(d[ch].max()))
         i = int(np.argmax(d))
         if best is None or d[i] > best.size_mm:
             best = Deviation(z=float(pts[i, 0]), x=float(pts[i, 1]), size_mm=float(d[i]))
@@ -229,54 +270,80 @@ def _deepest(g: BaseGeometry, segs: Sequence[Segment], interior: bool) -> Deviat
 
 # --- reachability -------------------------------------------------------------------------
 
-def _minkowski(region: BaseGeometry, outline: np.ndarray) -> BaseGeometry:
-    """Minkowski sum of a polygonal region with a convex polygon (exact for the polygons)."""
+def _edges(region: BaseGeometry) -> tuple[np.ndarray, np.ndarray]:
+    """(starts, ends) of the boundary edges of a polygonal region, (n, 2) each."""
+    starts, ends = [], []
+    for p in polygons(region):
+        for ring in [p.exterior, *p.interiors]:
+            c = shapely.get_coordinates(ring)
+            starts.append(c[:-1])
+            ends.append(c[1:])
+    if not starts:
+        return np.zeros((0, 2)), np.zeros((0, 2))
+    return np.concatenate(starts), np.concatenate(ends)
+
+
+def _minkowski_parts(region: BaseGeometry, outline: np.ndarray,
+                     near: BaseGeometry | None = None) -> list[BaseGeometry]:
+    """Pieces whose union is the Minkowski sum of a polygonal region with a convex polygon K
+    (exact for the polygons): ``A + K = (A + k0) | (boundary(A) + K)`` for any k0 in K, the
+    boundary term as the exact hull of each edge swept by K. With ``near``, only the pieces
+    that meet ``near`` (their union equals the sum wherever it meets ``near``)."""
     parts = polygons(region)
     if not parts:
-        return Polygon()
-    coords = []
-    for p in parts:
-        for ring in [p.exterior, *p.interiors]:
-            c = np.asarray(ring.coords)
-            coords.append(np.stack([c[:-1], c[1:]], axis=1))  # edges (n, 2, 2)
-    edges = np.concatenate(coords)
-    m = len(outline)
-    pts = (edges[:, :, None, :] + outline[None, None, :, :]).reshape(len(edges), 2 * m, 2)
-    hulls = shapely.convex_hull(shapely.multipoints(pts.reshape(-1, 2),
-                                                    indices=np.repeat(np.arange(len(edges)), 2 * m)))
-    # A + K = (A + k0) | (boundary(A) + K) for any k0 in the convex K (K need not hold the origin)
+        return []
+    a, b = _edges(region)
+    hulls = sweep_hulls(outline, a, b)
+    if near is not None:
+        shapely.prepare(near)
+        hulls = hulls[shapely.intersects(near, hulls)]
     k0 = outline.mean(axis=0)
-    moved = [shapely.affinity.translate(p, float(k0[0]), float(k0[1])) for p in parts]
-    return clean(shapely.union_all(np.concatenate([hulls, np.array(moved, dtype=object)])))
+    moved = shapely.transform(np.array(parts, dtype=object), lambda c: c + k0)
+    return [*hulls, *moved]
 
 
 def reachable(model_poly: BaseGeometry, shapes: Sequence[ToolShape], where: BaseGeometry,
               keep: BaseGeometry | None = None) -> BaseGeometry:
     """The part of ``where`` that some tool outline can cover without entering the model (or its
     mirror image below the axis) or ``keep`` (the chucking allowance beyond the part's left
-    end): the union of the openings of the free space by each outline."""
-    if where.is_empty or not shapes:
+    end): ``where`` intersected with the union of the openings of the free space by each
+    outline.
+
+    Computed locally: a point q is covered by a placement P of the controlled point with q in
+    P + K, so P lies within K's extent of q and P + K within twice that: the placements are
+    looked for in the boxes of ``where``'s components grown by the outline's extent, and only
+    the obstacles within twice that matter. Of the swept edges only those that meet the
+    placement window (first sum) or the leftover still unclassified (second sum) are united.
+    """
+    comps = [p for p in polygons(where) if not p.is_empty]
+    if not comps or not shapes:
         return Polygon()
-    ext = max(float(np.ptp(s.outline, axis=0).max()) for s in shapes) + 1.0
-    z0, x0, z1, x1 = where.bounds
-    inner = box(z0 - ext, x0 - ext, z1 + ext, x1 + ext)
-    outer = box(z0 - 3 * ext, x0 - 3 * ext, z1 + 3 * ext, x1 + 3 * ext)
     mirror = shapely.affinity.scale(model_poly, xfact=1.0, yfact=-1.0, origin=(0, 0))
     solids = [model_poly, mirror]
     if keep is not None and not keep.is_empty:
         solids += [keep, shapely.affinity.scale(keep, xfact=1.0, yfact=-1.0, origin=(0, 0))]
-    obst = clean(shapely.union_all(solids).intersection(outer))
-    out = []
+    solid = shapely.union_all(solids)
+    bounds = shapely.bounds(np.array(comps, dtype=object))
+    left = clean(where)
     for s in shapes:
+        if left.is_empty:
+            break
+        ext = float(np.ptp(s.outline, axis=0).max()) + 1.0
+        window = clean(shapely.union_all(shapely.box(bounds[:, 0] - ext, bounds[:, 1] - ext,
+                                                     bounds[:, 2] + ext, bounds[:, 3] + ext)))
+        reach_zone = clean(shapely.union_all(shapely.box(
+            bounds[:, 0] - 2 * ext, bounds[:, 1] - 2 * ext,
+            bounds[:, 2] + 2 * ext, bounds[:, 3] + 2 * ext)))
+        obst = inter(solid, reach_zone)
         # placements P of the controlled point with P + K inside the free space
-        blocked = _minkowski(obst, -s.outline[::-1])
-        place = clean(inner.difference(blocked))
+        blocked = _minkowski_parts(obst, -s.outline, near=window)
+        place = diff(window, shapely.union_all(blocked)) if blocked else window
         if place.is_empty:
             continue
-        out.append(_minkowski(place, s.outline))
-    if not out:
-        return Polygon()
-    return clean(shapely.union_all(out))
+        covered = _minkowski_parts(place, s.outline, near=left)
+        if covered:
+            left = diff(left, shapely.union_all(covered))
+    return diff(where, left)
 
 
 # --- threads ------------------------------------------------------------------------------
@@ -433,6 +500,7 @@ def verify(machined: Machined, model: TurnedProfile, tol: float = 0.01,
         raise ValueError("tolerance must be positive")
     model_poly = profile_polygon(model)
     segs = model_segments(model)
+    boxes = _seg_boxes(segs)
     material = machined.material
     zones = _zones(model, machined, threads)
     # the zone, widened by half a pitch at each end for the insert's flanks at the run-out
@@ -442,28 +510,39 @@ def verify(machined: Machined, model: TurnedProfile, tol: float = 0.01,
     over = diff(diff(model_poly, material), excl)
     under = diff(diff(inter(material, domain), model_poly), excl)
 
-    over_at = _deepest(over, segs, interior=True) if not over.is_empty else None
+    over_at = _deepest(over, segs, interior=True, boxes=boxes) if not over.is_empty else None
     max_over = over_at.size_mm if over_at else 0.0
 
-    under_at_all = _deepest(under, segs, interior=False) if not under.is_empty else None
+    # undercut: per component its depth; the components deeper than NOISE are classified into
+    # what the tools can reach and what they cannot
     unreach_list: list[Deviation] = []
     unreach_region: BaseGeometry = Polygon()
-    under_at = under_at_all
-    if under_at_all is not None and under_at_all.size_mm > NOISE:
-        # only regions worth classifying
-        big = [p for p in polygons(under) if p.area > 1e-6]
-        if big:
-            region = clean(shapely.union_all(big))
-            chuck_side = clean(machined.stock.intersection(box(-BIG, -1.0, model.z_min, BIG)))
-            reach = reachable(model_poly, _cutting_shapes(machined), region, chuck_side)
-            reach_part = clean(region.intersection(reach)) if not reach.is_empty else Polygon()
-            unreach_region = clean(region.difference(reach)) if not reach.is_empty else region
-            under_at = _deepest(reach_part, segs, interior=False) if not reach_part.is_empty else None
-            for p in polygons(unreach_region):
-                d = _deepest(p, segs, interior=False)
-                if d is not None and d.size_mm > NOISE:
-                    unreach_list.append(d)
-            unreach_list.sort(key=lambda d: -d.z)
+    under_at: Deviation | None = None
+    deep = []
+    for p in polygons(under):
+        d = _deepest(p, segs, interior=False, boxes=boxes)
+        if d is None:
+            continue
+        if d.size_mm > NOISE:
+            deep.append(p)
+        elif under_at is None or d.size_mm > under_at.size_mm:
+            under_at = d  # too shallow to classify: counted as reachable
+    if deep:
+        region = clean(shapely.union_all(deep))
+        chuck_side = clean(machined.stock.intersection(box(-BIG, -1.0, model.z_min, BIG)))
+        reach_part = reachable(model_poly, _cutting_shapes(machined), region, chuck_side)
+        unreach_region = diff(region, reach_part)
+        # reachable leftover: its depth beyond what the tools could at best leave (the model,
+        # and the unreachable leftover next to it), so a sliver the pass left on top of an
+        # unreachable corner counts by its own thickness, not by the corner's depth
+        d = _deepest(reach_part, segs, interior=False, also=unreach_region, boxes=boxes)
+        if d is not None and (under_at is None or d.size_mm > under_at.size_mm):
+            under_at = d
+        for p in polygons(unreach_region):
+            d = _deepest(p, segs, interior=False, boxes=boxes)
+            if d is not None and d.size_mm > NOISE:
+                unreach_list.append(d)
+        unreach_list.sort(key=lambda d: -d.z)
     max_under = under_at.size_mm if under_at else 0.0
     if over_at is not None and max_over > tol:
         blame(machined, over_at, removed=True)
