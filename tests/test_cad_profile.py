@@ -355,3 +355,136 @@ def test_ellipsoidal_dome_fitted_and_rest_exact():
                 for t in (math.pi / 2 * i / 3000 for i in range(3001)))
     assert worst <= 0.001
     assert any("fitted with" in n for n in p.notes)
+
+
+# ---------------------------------------------------------------------------- split pieces
+def _raw_section(shape, theta=0.3):
+    from hnc_cam.cad import occ
+    return occ.meridian_section(shape, theta, occ.bbox(shape))
+
+
+def _revolve_unmerged(edges):
+    """OCP revolve of a wire of build123d edges, without any unification (each edge gives
+    its own face)."""
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace, BRepBuilderAPI_MakeWire
+    from OCP.BRepPrimAPI import BRepPrimAPI_MakeRevol
+    from OCP.gp import gp_Ax1, gp_Dir, gp_Pnt
+    mw = BRepBuilderAPI_MakeWire()
+    for e in edges:
+        mw.Add(e.wrapped)
+    face = BRepBuilderAPI_MakeFace(mw.Wire(), True).Face()
+    return BRepPrimAPI_MakeRevol(face, gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), 2 * math.pi).Shape()
+
+
+def test_pieces_split_by_faces_are_merged():
+    """A dome arc modelled as two arcs (two spherical faces), the cylinder as two lines (two
+    faces) and the end face as two lines: the section has 7 pieces, the profile 3 exact
+    segments (end points, centre and radius to 1e-9)."""
+    from build123d import Edge
+    R = 10.0
+
+    def pa(a):  # point of the dome at a degrees from the apex, in the XZ plane
+        return (R * math.sin(math.radians(a)), 0, -R + R * math.cos(math.radians(a)))
+    edges = [Edge.make_three_point_arc(pa(0), pa(22.5), pa(45)),
+             Edge.make_three_point_arc(pa(45), pa(67.5), pa(90)),
+             Edge.make_line((R, 0, -R), (R, 0, -25)), Edge.make_line((R, 0, -25), (R, 0, -40)),
+             Edge.make_line((R, 0, -40), (5, 0, -40)), Edge.make_line((5, 0, -40), (0, 0, -40)),
+             Edge.make_line((0, 0, -40), (0, 0, 0))]
+    solid = _revolve_unmerged(edges)
+    raw = _raw_section(solid)
+    assert len(raw) == 6 and sum(e.kind == "circle" for e in raw) == 2  # really split
+    p = profile(solid)
+    assert p.outside == [Arc((0.0, 0.0), (10.0, -10.0), (0.0, -10.0), False),
+                         Line((10.0, -10.0), (10.0, -40.0)), Line((10.0, -40.0), (0.0, -40.0))]
+
+
+def test_face_split_by_an_imprinted_edge_is_merged():
+    """Two cylinders fused without unification: the cylindrical face is split by the circle
+    where they meet; and a ball fused on a cylinder whose own pole axis is X, turned so that
+    the ball's seam lies in the default meridian half-plane."""
+    from build123d import Align, Cylinder, Pos, Rot, Solid, Sphere
+    from OCP.BRepAlgoAPI import BRepAlgoAPI_Fuse
+    mn = (Align.CENTER, Align.CENTER, Align.MIN)
+
+    def fuse(a, b):
+        f = BRepAlgoAPI_Fuse(a.wrapped, b.wrapped)
+        f.Build()
+        return f.Shape()
+    two = fuse(Cylinder(10, 20, align=mn), Pos(0, 0, 20) * Cylinder(10, 20, align=mn))
+    raw = _raw_section(two)
+    assert sum(e.kind == "line" and abs(e.rz(e.first)[0] - 10) < 1e-9 for e in raw) == 2
+    assert profile(two).outside == [Line((0.0, 0.0), (10.0, 0.0)), Line((10.0, 0.0), (10.0, -40.0)),
+                                    Line((10.0, -40.0), (0.0, -40.0))]
+    ball = fuse(Cylinder(10, 30, align=(Align.CENTER, Align.CENTER, Align.MAX)),
+                Rot(0, -90, 0) * Sphere(10))  # the sphere's seam meridian is in y = 0
+    turned = (Rot(0, 0, math.degrees(0.3)) * Solid(ball)).wrapped  # ... now at 0.3 rad
+    assert profile(turned).outside == [Arc((0.0, 0.0), (10.0, -10.0), (0.0, -10.0), False),
+                                       Line((10.0, -10.0), (10.0, -40.0)),
+                                       Line((10.0, -40.0), (0.0, -40.0))]
+
+
+@pytest.mark.parametrize("rad", [0.3, 1.1, 2.3])
+def test_revolve_seam_in_the_section_half_plane(shaft, shaft_solid, rad):
+    """The seam every revolve leaves at angle 0, turned into each half-plane the section
+    uses: the profile is the same, exactly."""
+    from build123d import Rot
+    from hnc_cam.cad.fit import merge_segments
+    assert profile(Rot(0, 0, math.degrees(rad)) * shaft_solid).outside == profile(shaft_solid).outside
+    _same_chain(profile(Rot(0, 0, math.degrees(rad)) * shaft_solid).outside,
+                merge_segments(shaft.sketch()), tol=1e-9)
+
+
+# ---------------------------------------------------------------------------- more inputs
+def test_more_input_kinds(tmp_path, shaft_solid):
+    """build123d Part (algebra result), a CadQuery Workplane built in CadQuery (with a
+    chamfer and a fillet), a CadQuery Solid, an OCP TopoDS_Solid, str and Path file names,
+    upper-case suffixes."""
+    import cadquery as cq
+    from build123d import Cylinder, Part, Pos, export_brep, export_step
+    part = Cylinder(20, 50) - Pos(0, 0, 20) * Cylinder(8, 10)  # a blind bore on the right face
+    assert isinstance(part, Part)
+    p = profile(part)
+    assert p.outside == [Line((8.0, 0.0), (20.0, 0.0)), Line((20.0, 0.0), (20.0, -50.0)),
+                         Line((20.0, -50.0), (0.0, -50.0))]
+    assert p.bore == [Line((8.0, 0.0), (8.0, -10.0)), Line((8.0, -10.0), (0.0, -10.0))]
+    wp = cq.Workplane("XY").circle(12).extrude(30).faces(">Z").chamfer(2).faces("<Z").fillet(3)
+    q = profile(wp)
+    assert q.outside == [Line((0.0, 0.0), (10.0, 0.0)), Line((10.0, 0.0), (12.0, -2.0)),
+                         Line((12.0, -2.0), (12.0, -27.0)),
+                         Arc((12.0, -27.0), (9.0, -30.0), (9.0, -27.0), False),  # G03
+                         Line((9.0, -30.0), (0.0, -30.0))]
+    _same_chain(profile(wp.val()).outside, q.outside)              # cq.Solid
+    _same_chain(profile(wp.val().wrapped).outside, q.outside)      # OCP TopoDS_Solid
+    export_step(shaft_solid, tmp_path / "S.STP")
+    export_brep(shaft_solid, tmp_path / "S.BREP")
+    ref = profile(shaft_solid).outside
+    for f in (tmp_path / "S.STP", str(tmp_path / "S.BREP")):
+        _same_chain(profile(f).outside, ref)
+
+
+def test_part_modelled_along_x_and_reversed_axes(shaft_solid):
+    """A shaft modelled along +X (revolved about the X axis in build123d), profiled with
+    axis="X"; the same shaft along -X with axis="-X"; along Y; and a direction given as a
+    non-unit vector through a point off the origin. zero="left" and an explicit offset with
+    a non-Z axis."""
+    from build123d import Axis, Edge, Face, Plane, Pos, Rot, Wire, mirror, revolve
+    pts = [(0, 0), (0, 8), (-30, 8), (-30, 12), (-60, 12), (-60, 0)]  # (x, radius in y)
+    w = Wire([Edge.make_line((a[0], a[1], 0), (b[0], b[1], 0)) for a, b in zip(pts, pts[1:] + pts[:1])])
+    along_x = revolve(Face(w), Axis.X)
+    p = profile(along_x, axis="X")
+    assert p.outside == [Line((0.0, 0.0), (8.0, 0.0)), Line((8.0, 0.0), (8.0, -30.0)),
+                         Line((8.0, -30.0), (12.0, -30.0)), Line((12.0, -30.0), (12.0, -60.0)),
+                         Line((12.0, -60.0), (0.0, -60.0))]
+    flipped = mirror(along_x, Plane.YZ)  # now from x=0 to x=+60, the small end at x=0
+    _same_chain(profile(flipped, axis="-X").outside, p.outside)
+    _same_chain(profile(Rot(0, 0, 90) * along_x, axis="Y").outside, p.outside)
+    moved = Pos(3, 4, 5) * along_x
+    _same_chain(profile(moved, axis=((0, 4, 5), (2.5, 0, 0))).outside,
+                p.outside)
+    left = profile(along_x, axis="X", zero="left")
+    assert left.z_min == pytest.approx(0.0) and left.z_max == pytest.approx(60.0)
+    assert left.outside[0] == Line((0.0, 60.0), (8.0, 60.0))
+    off = profile(along_x, axis="X", zero=-30.0)  # model x = -30 (the step) becomes Z0
+    assert off.z_max == pytest.approx(30.0) and off.outside[2] == Line((8.0, 0.0), (12.0, 0.0))
+    with pytest.raises(ProfileError, match="not a body of revolution about the Z axis"):
+        profile(along_x)  # wrong axis: the cylinder faces are not about Z
