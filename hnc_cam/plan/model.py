@@ -61,6 +61,9 @@ class Operation:
     comp: int = 40  # 40 (cam / none), 41, 42 (control)
     passes: list[Any] = field(default_factory=list)
     new_tool: bool = True
+    #: False when the previous operation ran the same tool at the same speed: the spindle
+    #: line (G96/G97 S.. M03) is not repeated
+    set_spindle: bool = True
     contour: list[Segment] = field(default_factory=list)  # program geometry of the blocks
     retract: list[Point] = field(default_factory=list)  # after the operation, G00 in order
     notes: list[str] = field(default_factory=list)  # what the operation leaves undone, why

@@ -189,6 +189,8 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
     for op in ops:
         if prev is not None and prev.tool.number == op.tool.number:
             op.new_tool = False
+            if (prev.speed_mode, prev.speed) == (op.speed_mode, op.speed):
+                op.set_spindle = False
         prev = op
     plan.operations = ops
     return plan
@@ -350,8 +352,21 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
                                   else f" (G{comp} from register {finisher.register})")),
                        start=start, speed=finisher.vc_finish, feed=finisher.feed_finish,
                        blocks=blocks, ns=ns, nf=nf, comp=comp, contour=prog_run,
-                       retract=retract)
+                       retract=_retract(retract, blocks))
     return (rough, finish), groove_ops
+
+
+def _retract(points: list[Point], blocks) -> list[Point]:
+    """The retract moves after a contour, without those that go nowhere (the exit line of a
+    control-mode contour already ends at the first retract point; the G40 that the template
+    puts on the first retract move then cancels on a move that leaves)."""
+    last = blocks[-1]
+    end = (last.x, last.z)
+    out = list(points)
+    while len(out) > 1 and end[0] is not None and end[1] is not None \
+            and round(2 * out[0][0], 3) == round(2 * end[0], 3) and round(out[0][1], 3) == round(end[1], 3):
+        out.pop(0)
+    return out
 
 
 def _end_pocket_op(p: an.Pocket, t: Tool, opts: Options, x_a: float, name: str) -> Operation:
@@ -515,7 +530,7 @@ def _plan_bore(chain: list[Segment], stock: Stock, lib: ToolLibrary, opts: Optio
                 + (" (tip path of this tool, G40)" if opts.comp == "cam"
                    else f" (G41 from register {fin_t.register})")),
         start=start, speed=fin_t.vc_finish, feed=fin_t.feed_finish, blocks=blocks, ns=ns,
-        nf=nf, comp=comp, contour=prog, retract=[(x_a, last[1]), (x_a, z_a)])
+        nf=nf, comp=comp, contour=prog, retract=_retract([(x_a, last[1]), (x_a, z_a)], blocks))
     return [rough, finish]
 
 
