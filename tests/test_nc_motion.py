@@ -388,3 +388,14 @@ def test_move_fields_spindle_tool_source_line():
     rpm = 1000 * 100 / (2 * math.pi * 22.5)  # G96 at the move's mid radius
     assert d.spindle == pytest.approx(rpm) and d.spindle_dir == 4 and d.feed == pytest.approx(0.2 * rpm)
     assert {m.tool for m in tp.moves} == {1} and {m.register for m in tp.moves} == {1}
+
+
+def test_m00_stops_after_the_move_and_m06_is_accepted():
+    tp = run(prog("G92 X0 Z0", "M03 S300", "G01 Z-5 F100 M00", "M06 T0101", "G00 X20 M05", "G00 Z5"))
+    assert [m.line for m in tp.moves] == [4, 6, 7]
+    assert [w for w in tp.warnings if "M00" in w.message][0].line == 4
+    assert [m.spindle_dir for m in tp.moves] == [3, 3, 5]  # M05 acts after its block's move
+    assert tp.moves[1].tool == 1
+    from hnc_cam.errors import NCError
+    with pytest.raises(NCError, match="M00 and M30 in one block"):
+        run(prog("G92 X0 Z0", "M00 M30"))

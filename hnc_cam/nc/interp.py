@@ -857,7 +857,7 @@ class Interp:
         elif "T" in w or "F" in w or "S" in w:
             pass  # arguments of the call
         # M before
-        flow = 0
+        flow = -1  # the program-flow M code of the block (M00 is 0)
         for mc in ms:
             if mc not in M_KNOWN:
                 raise self.balarm(b, f"unknown M code M{mc:02d} (table 3.1)", "M", mc)
@@ -866,7 +866,7 @@ class Interp:
             elif mc == 7:
                 self.coolant = True
             elif mc in (0, 2, 30, 98, 99):
-                if flow:
+                if flow >= 0:
                     raise self.balarm(b, f"M{flow:02d} and M{mc:02d} in one block", "M")
                 flow = mc
         # compensation mode change (flush happens before the block's move)
@@ -912,7 +912,7 @@ class Interp:
                 self.sdir = 5
             elif mc == 9:
                 self.coolant = False
-        if flow:
+        if flow >= 0:
             if flow in (2, 30):
                 return 3
             if flow == 99:
