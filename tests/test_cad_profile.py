@@ -488,3 +488,21 @@ def test_part_modelled_along_x_and_reversed_axes(shaft_solid):
     assert off.z_max == pytest.approx(30.0) and off.outside[2] == Line((8.0, 0.0), (12.0, 0.0))
     with pytest.raises(ProfileError, match="not a body of revolution about the Z axis"):
         profile(along_x)  # wrong axis: the cylinder faces are not about Z
+
+
+def test_face_location_in_model_coordinates_with_another_axis():
+    """With axis="X" the offending face is still located in the user's model coordinates."""
+    from build123d import Cylinder, Pos, Rot
+    shaft = Rot(0, 90, 0) * (Cylinder(10, 40) - Pos(0, 0, 5) * Rot(90, 0, 0) * Cylinder(2, 30))
+    with pytest.raises(ProfileError, match=r"about the X axis: .*cross hole or cross pin of "
+                                           r"diameter 4\.000\) at x=5\.000 y=-?0\.000 z=-?0\.000 \(model\)"):
+        profile(shaft, axis="X")
+
+
+def test_null_and_edge_only_shapes_are_empty():
+    from build123d import Edge, Wire
+    from OCP.TopoDS import TopoDS_Shape
+    with pytest.raises(ProfileError, match="empty geometry: the shape is null"):
+        profile(TopoDS_Shape())
+    with pytest.raises(ProfileError, match="empty geometry: the shape holds no solid and no face"):
+        profile(Wire([Edge.make_line((0, 0, 0), (10, 0, 0))]))

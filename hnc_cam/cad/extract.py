@@ -40,6 +40,7 @@ How (and the choices made):
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from typing import Any
@@ -103,6 +104,7 @@ def profile(obj: Any, axis: Any = "Z", zero: str | float = "right", envelope: bo
                            f"(extent {bb[3] - bb[0]:.3g} x {bb[4] - bb[1]:.3g} x {bb[5] - bb[2]:.3g} mm)")
 
     problems, fnotes = occ.classify_faces(solid)
+    problems = [dataclasses.replace(p, model=occ.to_model(axis, p.where)) for p in problems]
     notes += fnotes
     if problems:
         if not envelope:

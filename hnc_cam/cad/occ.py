@@ -136,6 +136,24 @@ def axis_transform(shape: TopoDS_Shape, axis: Any) -> TopoDS_Shape:
     return BRepBuilderAPI_Transform(shape, t, True).Shape()
 
 
+def to_model(shape_axis: Any, p: tuple[float, float, float]) -> tuple[float, float, float]:
+    """A point of the turning frame (see :func:`axis_transform`) back in model coordinates."""
+    a = shape_axis
+    if isinstance(a, str):
+        s = a.strip().upper()
+        sign = -1.0 if s.startswith("-") else 1.0
+        d = {"X": (1, 0, 0), "Y": (0, 1, 0), "Z": (0, 0, 1)}[s.lstrip("+-")]
+        origin, d = (0.0, 0.0, 0.0), tuple(sign * v for v in d)
+    else:
+        origin, d = tuple(map(float, a[0])), tuple(map(float, a[1]))
+    if origin == (0.0, 0.0, 0.0) and d == (0, 0, 1):
+        return p
+    t = gp_Trsf()
+    t.SetTransformation(gp_Ax3(gp_Pnt(*origin), gp_Dir(*d)))
+    q = gp_Pnt(*p).Transformed(t.Inverted())
+    return (q.X(), q.Y(), q.Z())
+
+
 # ---------------------------------------------------------------------------- topology
 def sub_shapes(shape: TopoDS_Shape, kind) -> Iterator[TopoDS_Shape]:
     """The distinct sub-shapes of a kind (each shared face/edge once)."""
@@ -195,11 +213,12 @@ class FaceProblem:
     kind: str      # e.g. "planar face parallel to the axis"
     feature: str   # what it probably is: "flat/keyway/hex", "cross hole", ...
     where: tuple[float, float, float]  # a point on the face (turning frame, mm)
+    model: tuple[float, float, float] | None = None  # the same point in model coordinates
 
     def describe(self) -> str:
-        x, y, z = self.where
-        return (f"{self.kind} ({self.feature}) at x={x:.3f} y={y:.3f} z={z:.3f}, "
-                f"radius {math.hypot(x, y):.3f}")
+        x, y, z = self.model or self.where
+        return (f"{self.kind} ({self.feature}) at x={x:.3f} y={y:.3f} z={z:.3f} (model), "
+                f"radius {math.hypot(self.where[0], self.where[1]):.3f} from the axis")
 
 
 def _coaxial(ax: gp_Ax1) -> tuple[bool, bool]:
