@@ -399,3 +399,12 @@ def test_m00_stops_after_the_move_and_m06_is_accepted():
     from hnc_cam.errors import NCError
     with pytest.raises(NCError, match="M00 and M30 in one block"):
         run(prog("G92 X0 Z0", "M00 M30"))
+
+
+def test_g97_without_s_returns_to_the_speed_before_g96():
+    """Manual 3.3.6: G97 without S keeps the spindle speed in force before G96."""
+    tp = run(prog("G92 X60 Z0", "M03 S450", "G96 S120 G01 Z-5 F100", "G97 G01 Z-10", "G96 G01 Z-15"))
+    a, b, c = tp.moves
+    assert a.spindle == pytest.approx(1000 * 120 / (math.pi * 60))
+    assert b.spindle == 450
+    assert c.spindle == pytest.approx(a.spindle)  # G96 without S: the last surface speed

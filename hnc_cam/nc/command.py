@@ -4,7 +4,9 @@ The tool starts at the machine's reference point (as after homing, and as ``simu
 does). Prints the toolpath summary on stdout (or on stderr when the JSON goes to stdout), the
 warnings on stderr as ``FILE:LINE: warning: MESSAGE``, and writes the JSON when asked.
 Alarms propagate as :class:`~hnc_cam.errors.NCError`; the CLI prints them as
-``FILE:LINE:COL: alarm: MESSAGE  [block]`` and exits 2.
+``FILE:LINE:COL: alarm: MESSAGE  [block]`` and exits 2 (LINE is the line in the file, also
+inside subprograms). A program file that cannot be read is ``FILE: error: cannot read the
+program: REASON`` (exit 2): there is no line or column to point at.
 
 Only light modules are imported here: no OCP, build123d, cadquery, shapely or numpy.
 """
