@@ -9,12 +9,19 @@ Choices:
 * a contour starts with a lead-in along -Z from the cycle's start Z down to the first profile
   point, and ends with an exit line straight out in X at the last Z up to the start X, so
   that the ns block is a one-axis G00 and the nf block leaves the material;
-* arcs are written with ``R`` when they sweep at most 170 deg, otherwise with ``I``/``K``
-  (radius values, start to centre); also with ``I``/``K`` when the arc starts at an X or Z
-  extreme (tangent parallel to an axis), so that the centre stays exactly where the extreme
-  is the start point (see :func:`ease_arc_ends` for the ends); a segment whose rounded end points coincide is dropped,
-  an arc with a chord under 0.01 mm is written as a line (its sagitta is then far below the
-  0.001 mm resolution of the program).
+* before writing, the contour is cleaned by the kernel (:func:`clean`,
+  :mod:`hnc_cam.geometry.chain`): collinear lines and co-circular arcs merged, moves shorter
+  than the 0.001 mm resolution absorbed; the written path stays within 0.0005 mm of the
+  exact one (before the rounding of the words to 0.001 mm, which adds at most 0.0005 mm in Z
+  and 0.00025 mm in X);
+* arcs are written with ``R`` when they sweep at most 170 deg (as the manual's examples do),
+  otherwise with ``I``/``K`` (radius values, start to centre): near 180 deg the centre an R
+  word implies is ill-conditioned once the end points are rounded. An arc ending exactly on
+  its X or Z extreme is written as it is: the interpreter's roughing cycles accept the few
+  tenths of a micron the rounded arc may pass the extreme by (earlier versions split off a
+  0.0001 mm chord there, which left fragments in the program); a segment whose rounded end
+  points coincide is dropped, an arc with a chord under 0.01 mm is written as a line (its
+  sagitta is then far below the 0.001 mm resolution of the program).
 """
 from __future__ import annotations
 
