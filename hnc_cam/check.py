@@ -6,6 +6,14 @@
 "cycle_time_s", "removed_volume_mm3"}`` (rings of the remaining material, X as diameter).
 Exit 0, or 1 when there is a collision (or another check finding), 2 on bad input.
 
+The ``collisions`` list (its name is the contract) carries every finding of the simulator's
+checks, each with the program line and block; the message starts with the check's name:
+``"collision: ..."`` (a rapid that cuts material), ``"spindle stopped: ..."`` (a feed move that
+cuts, or any thread move, while the spindle is not turning), ``"zero feed: ..."`` (a move at
+feed 0 that cuts), ``"non-cutting edge: ..."`` (a feed move that cuts with the back of a known
+insert or the top of a blade). Rapids that only shave a sliver thinner than 0.1 mm are notes in
+the printed summary, not findings.
+
 ``verify PROGRAM --model PART [--set N=V] --stock SPEC [--tol MM] [--strict] [--machine FILE]
 [--tools FILE] [--json OUT] [--plot OUT]`` also compares with the model and writes
 ``{"pass", "max_overcut_mm", "max_undercut_mm", "unreachable": [{"z", "x", "size_mm"}],

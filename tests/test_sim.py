@@ -188,3 +188,31 @@ def test_round_and_grooving_outlines_cut_their_shape():
     assert cut.bounds[3] == pytest.approx(22 - 4, abs=1e-6)
     removed = m.stock.difference(m.material)
     assert removed.bounds == pytest.approx((-20 - math.sqrt(16 - 4), 18, -20 + math.sqrt(16 - 4), 20), abs=1e-3)
+
+
+def test_every_finding_names_its_check_in_the_json_message():
+    from hnc_cam.sim.simulate import CHECKS
+    # a rapid through the stock, a feed with the spindle stopped, a thread with it stopped,
+    # a move at feed 0 and a cut with the back of the insert, in one program
+    moves = [Move("line", (19.0, 2.0), (19.0, -8.0), 3, feed=0.0, spindle=500, duration=0.0)]
+    tp = Toolpath(moves=moves, source_lines=["", "", "G01 Z-8 F0"])
+    js = simulate(tp, Stock.parse("40x60"), SHARP).to_json()["collisions"]
+    assert [c["message"].split(":")[0] for c in js] == ["zero feed"]
+    t = prog("G00 X42 Z2", "X36", "G01 Z-10 F100", "G00 X42", "X39 Z3", "G32 Z-20 F1.5",
+             "G00 X42", "G00 X20 Z-10", "G00 X60 Z50")
+    m = sim(t)
+    got = {(c["line"], c["message"].split(":")[0]) for c in m.to_json()["collisions"]}
+    # (the stopped spindle also makes the thread's feed 0, and the rapid out of the stock from
+    # inside it is a collision too)
+    assert got == {(line_of(t, "G01 Z-10 F100"), "spindle stopped"),
+                   (line_of(t, "G32 Z-20 F1.5"), "spindle stopped"),
+                   (line_of(t, "G32 Z-20 F1.5"), "zero feed"),
+                   (line_of(t, "G00 X20 Z-10"), "collision"),
+                   (line_of(t, "G00 X60 Z50"), "collision")}
+    t2 = prog("T0101", "M03 S800", "G00 X42 Z2", "Z-70", "X30", "G01 Z-50 F50", "G00 X42",
+              "G00 X60 Z50")
+    m2 = sim(t2, machine=CNMG)
+    got2 = [(c["line"], c["message"].split(":")[0]) for c in m2.to_json()["collisions"]]
+    assert (line_of(t2, "G01 Z-50 F50"), "non-cutting edge") in got2
+    for i in [*m.issues, *m2.issues]:
+        assert i.message.startswith(CHECKS[i.kind] + ": ")

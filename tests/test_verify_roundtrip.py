@@ -54,3 +54,23 @@ def test_every_family_roundtrips(family, comp):
     prog, rep = assert_roundtrip(str(REPO / "parts" / family), tol=0.01, comp=comp)
     assert rep.passed and not rep.collisions
     assert rep.max_overcut_mm <= 0.01 and rep.max_undercut_mm <= 0.01
+
+
+@pytest.mark.parametrize("comp", ["cam", "control"])
+def test_unavoidable_nose_fillet_is_unreachable_in_both_comp_modes(comp):
+    # the sharp inner corner at the taper's start (X28 Z-50) keeps a 0.8 mm nose fillet of
+    # r (sqrt 2 - 1)-ish depth: it must be listed as unreachable only, never counted as a
+    # reachable undercut (control mode once measured the pass's sliver over it by the
+    # corner's depth and failed)
+    from hnc_cam.testing import assert_roundtrip
+    prog, rep = assert_roundtrip(SHAFT, tol=0.01, comp=comp, d3=44, taper_length=12,
+                                 dome_radius=20)
+    assert rep.passed and rep.max_undercut_mm <= 0.002, rep.summary()
+    corner = [u for u in rep.unreachable if abs(u.z + 50) < 0.1 and abs(2 * u.x - 28.03) < 0.05]
+    assert len(corner) == 1 and corner[0].size_mm == pytest.approx(0.017, abs=0.001)
+    # the reachable maximum is not at the unreachable corner
+    assert rep.undercut_at is None or abs(rep.undercut_at.z + 50) > 0.2 \
+        or rep.undercut_at.size_mm < 0.002
+    # the text lists the corner only under the unreachable leftover
+    head, _, tail = rep.summary().partition("leftover the tools cannot reach")
+    assert "Z-49.99" not in head and "Z-49.99" in tail

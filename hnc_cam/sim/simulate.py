@@ -26,6 +26,9 @@ Model (the choices made where the issue leaves room):
 
 Checks (each an :class:`Issue` with the program line and block):
 
+Each finding is an :class:`Issue` whose ``kind`` names the check and whose message starts with
+the check's name (:data:`CHECKS`), e.g. ``"collision: rapid move cuts material ..."``:
+
 * ``collision``: a rapid that removes material;
 * ``spindle``: a feed move that touches material with the spindle stopped; ``thread-spindle``: a
   thread move with the spindle stopped (whatever it touches);
@@ -69,13 +72,30 @@ RAPID_DEPTH = 0.1
 BATCH = 48
 
 
+#: the checks, by ``Issue.kind``: each finding's message starts with its name and a colon
+CHECKS = {"collision": "collision",
+          "spindle": "spindle stopped",
+          "thread-spindle": "spindle stopped",
+          "feed": "zero feed",
+          "non-cutting": "non-cutting edge",
+          "rapid-sliver": "rapid shaves a sliver"}
+
+
 @dataclass
 class Issue:
-    """A finding of the checks, with the program line (1-based) and the block text."""
+    """A finding of the checks, with the program line (1-based) and the block text.
+
+    ``kind`` names the check (a key of :data:`CHECKS`); the message is prefixed with the
+    check's name (``"zero feed: ..."``) unless it already starts with it."""
     line: int
     block: str
     message: str
     kind: str = "collision"
+
+    def __post_init__(self) -> None:
+        label = CHECKS.get(self.kind, self.kind)
+        if not self.message.startswith(label + ":"):
+            self.message = f"{label}: {self.message}"
 
     def to_json(self) -> dict[str, Any]:
         return {"line": self.line, "block": self.block, "message": self.message}
@@ -298,7 +318,7 @@ def simulate(toolpath: Toolpath, stock: Stock | BaseGeometry, machine: Machine |
     for m in moves:
         if m.kind == "thread" and m.spindle <= 0:
             issues.append(Issue(m.line, toolpath.block(m.line),
-                                "thread move with the spindle stopped", "thread-spindle"))
+                                "thread move while the spindle is not turning", "thread-spindle"))
 
     for b0 in range(0, n, batch):
         bm = moves[b0:b0 + batch]
@@ -372,16 +392,16 @@ def _check_move(m: Move, local: BaseGeometry, sweep: BaseGeometry, shape: ToolSh
             depth = 2 * shapely.maximum_inscribed_circle(rem, 1e-3).length
             if depth >= RAPID_DEPTH:
                 issues.append(Issue(m.line, block, f"rapid move cuts material ({rem.area:.3f} mm^2, "
-                                    f"{depth:.3f} mm deep at {_where(rem)}): collision", "collision"))
+                                    f"{depth:.3f} mm deep at {_where(rem)})", "collision"))
             else:
                 notes.append(Issue(m.line, block, f"rapid move shaves a sliver {depth:.3f} mm thick "
                                    f"({rem.area:.4f} mm^2 at {_where(rem)})", "rapid-sliver"))
             return
         if stopped:
-            issues.append(Issue(m.line, block, f"feed move with the spindle stopped cuts material "
+            issues.append(Issue(m.line, block, f"feed move cuts material while the spindle is not turning "
                                 f"({rem.area:.3f} mm^2 at {_where(rem)})", "spindle"))
         if no_feed:
-            issues.append(Issue(m.line, block, f"move at zero feed cuts material "
+            issues.append(Issue(m.line, block, f"move at feed 0 cuts material "
                                 f"({rem.area:.3f} mm^2 at {_where(rem)})", "feed"))
     if maybe_non_cutting and m.kind in FEED_KINDS and shape.non_cutting and len(path) >= 2:
         hit = _non_cutting_hit(shape, path, local)

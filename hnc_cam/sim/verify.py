@@ -131,13 +131,14 @@ class Report:
         t = self.cycle_time_s
         lines = [f"{'PASS' if self.passed else 'FAIL'} at tolerance {self.tol:g} mm",
                  f"max overcut  {self.max_overcut_mm:.4f} mm{at(self.overcut_at)}",
-                 f"max undercut {self.max_undercut_mm:.4f} mm{at(self.undercut_at)} (reachable)",
+                 f"max undercut {self.max_undercut_mm:.4f} mm{at(self.undercut_at)} "
+                 f"(leftover the tools can reach)",
                  f"cycle time {t:.1f} s ({int(t // 60)}:{t % 60:04.1f}), removed "
                  f"{self.removed_volume_mm3:.1f} mm^3, air cut {100 * self.air_cut_fraction:.1f} % "
                  f"of feed time"]
         if self.unreachable:
-            lines.append(f"{len(self.unreachable)} place(s) the tools cannot reach "
-                         f"({'counted' if self.strict else 'not counted'}):")
+            lines.append(f"leftover the tools cannot reach, {len(self.unreachable)} place(s) "
+                         f"({'counted (strict)' if self.strict else 'not counted in max undercut'}):")
             lines += [f"  X{2 * u.x:.3f} Z{u.z:.3f}: {u.size_mm:.4f} mm" for u in self.unreachable]
         lines += [f"  {t}" for t in self.threads]
         lines += [f"note: {n}" for n in self.notes]
