@@ -1092,3 +1092,26 @@ def test_3328_finishing_contour_is_compensated(manual):
     # dia 44: the erratum is reproduced, not corrected
     mid = [mv for mv in fin if mv.kind == "line" and mv.start[1] > -14 and mv.end[1] < -1][0]
     assert mid.start[0] - tv[0] == pytest.approx(22.0 + r)
+
+
+@pytest.mark.parametrize("end", [(29.999, -10), (30.001, -10), (30, -9.999), (30, -10.001)])
+def test_ik_arc_ending_off_its_circle_at_an_extreme(end):
+    """A quarter round written with I/K whose end, rounded to 0.001 mm, misses the circle
+    (inside or outside, in X or in Z) at its X extreme: planned, and the passes respect the
+    offset profile."""
+    from hnc_cam.nc import run
+    X, Z = end
+    text = ("%1\nN1 T0101\nN3 G00 X42 Z2\nN4 G71 U1 R0.5 P10 Q14 X0.4 Z0.1 F120\n"
+            "N10 G00 X10\nN11 G01 Z0\n"
+            f"N12 G03 X{X:g} Z{Z:g} I0 K-10\nN13 G01 Z-20\nN14 G01 X42\nN90 G00 X100 Z100\n"
+            "N91 M30\n")
+    tp = run(text, _machine(True))
+    xe = X / 2
+    segs = [Line((21.0, 2.0), (5.0, 2.0)), Line((5.0, 2.0), (5.0, 0.0)),
+            Arc((5.0, 0.0), (xe, Z), (5.0, -10.0), False), Line((xe, Z), (xe, -20.0)),
+            Line((xe, -20.0), (21.0, -20.0))]
+    A = (21.0, 2.0)
+    offset = offset_of(segs, 0.2, 0.1)
+    plan, _ = cycle_moves(tp, "G71", A, offset, Frame(False, 1, 1))
+    check_region(plan, A, offset, Frame(False, 1, 1), 1.0)
+    ends_on_profile(tp, segs[1:], profile_lines(text), tol=1e-3)
