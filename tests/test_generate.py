@@ -70,6 +70,26 @@ def test_cli_generate_writes_program_and_summary(tmp_path, capsys):
     assert "O0012 stepped_shaft:" in err and "cycle time" in err and "verified: pass" in err
 
 
+def test_cli_formatting_and_cycle_options(tmp_path, capsys):
+    """--number-format, --block-numbers, --thread-cycle and --face-cycle reach the program
+    (through plan.command._options), and the program still verifies."""
+    out = tmp_path / "o.nc"
+    rc = main(["generate", str(PARTS / "threaded_stud.py"), "--number-format", "zero",
+               "--block-numbers", "pq", "--thread-cycle", "g82", "--face-cycle", "g01",
+               "-o", str(out)])
+    err = capsys.readouterr().err
+    assert rc == 0 and "verified: pass" in err, err
+    text = out.read_text()
+    lines = text.splitlines()
+    assert "G82 " in text and "G76 " not in text and "G81 " not in text
+    assert "G00 G40 Z80.0" in lines and "G00 X100.0" in lines
+    assert [ln.split()[0] for ln in lines if ln.startswith("N")] == ["N1", "N2"]
+    assert any(ln.startswith("G71 ") and " P1 Q2 " in ln for ln in lines)
+    g82 = [ln for ln in lines if ln.startswith("G82 ")]
+    assert len(g82) >= 4 and g82[-1] == g82[-2]  # passes to depth, the last one repeated
+    assert all(ln.endswith(" F1.5") for ln in g82)
+
+
 @pytest.mark.parametrize("argv,msg", [
     (["--set", "nosuch=1"], "nosuch"),
     (["--stock", "30x120+2"], "smaller than the part's largest diameter"),
