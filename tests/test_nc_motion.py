@@ -271,6 +271,9 @@ def test_json_contract():
     assert arc["start"] == [0.0, 0.0] and arc["end"] == [24.0, -24.0]
     assert arc["center"] == [0.0, -15.0]
     assert arc["line"] == 6 and arc["tool"] == 0 and arc["feed"] == 60.0
+    # fields added to the contract: register, spindle (rpm; G96 resolved), spindle_dir, op
+    assert arc["register"] == 0 and arc["spindle"] == 400.0 and arc["spindle_dir"] == 3
+    assert arc["op"] == "G03"
     r = d["moves"][0]
     assert r["type"] == "rapid" and r["feed"] is None and "center" not in r
     assert d["warnings"] == [{"line": 5, "message": tp.warnings[0].message}]

@@ -4,6 +4,12 @@ Positions are of the tool's **controlled point** (the imaginary tip for tip code
 nose centre for 0/9) in **work coordinates**, after tool offsets and nose-radius
 compensation, with X as **radius** (physical). JSON and display use diameters.
 
+JSON of a move (``Move.to_json``): the issue's contract ``type start end [center cw] feed tool
+line`` (X as diameter, ``feed`` in mm/min or null, ``line`` 1-based in the file), plus
+``register`` (offset register oo), ``spindle`` (rpm, G96 resolved per move; 0 = stopped),
+``spindle_dir`` (3/4/5), ``op`` (the G code or cycle that made it), ``lead``/``angle`` on
+threads and ``seconds`` on dwells.
+
 A G00 is carried as the real dog-leg: one ``rapid`` move per straight piece (both axes at
 their own rates until the shorter one arrives, then the other alone).
 """
@@ -66,6 +72,11 @@ class Move:
         d["feed"] = None if self.feed is None else _r(self.feed)
         d["tool"] = self.tool
         d["line"] = self.line
+        # additions to the issue's contract (consumers may ignore them)
+        d["register"] = self.register
+        d["spindle"] = _r(self.spindle)  # rpm turning during the move (G96 resolved), 0 = stopped
+        d["spindle_dir"] = self.spindle_dir  # 3 M03, 4 M04, 5 stopped
+        d["op"] = self.op
         if self.kind == "thread":
             d["lead"] = _r(self.lead)
             d["angle"] = _r(self.angle)
