@@ -588,3 +588,53 @@ def test_g28_under_compensation_alarms(tmp_path, blk):
     with pytest.raises(NCError, match=r"G40\) before G28") as e:
         interp.run(SEAM.format(mid=blk, sub=""), m)
     assert e.value.line == 6
+
+
+_seam_steps = st.lists(st.tuples(st.floats(1.0, 8.0), st.floats(-4.0, 4.0),
+                                 st.sampled_from(["G01", "G02", "G03"]), st.floats(0.6, 2.0),
+                                 st.sampled_from(["", "N80 G04 P0.5", "N80 T0102", "N80 M98 P2"])),
+                       min_size=2, max_size=6)
+
+
+@settings(max_examples=60, deadline=None)
+@given(_seam_steps, st.sampled_from([0.4, 0.8]), st.sampled_from([0, 3]))
+def test_random_seams_never_jump(tmp_path_factory, steps, r, tip):
+    """Runs interrupted at random places (G04, T, M98 with a dwell inside): the controlled
+    point never jumps between consecutive moves, and every compensated feed move's nose
+    centre stays at least r from the moves around it, except where a concave-seam overcut is
+    warned."""
+    m = machine(tmp_path_factory.mktemp("m"), {1: (r, tip), 2: (r, tip)})
+    x, z = 20.0, 0.0
+    lines = ["%1", "N1 T0101", "N2 G00 X60 Z5", "N3 G42 G00 X40 Z2", "N4 G01 Z0 F0.2"]
+    for dz, dx, g, k, mid in steps:
+        if mid:
+            lines.append(mid)
+        nx, nz = max(2.0, x + dx), z - dz
+        if g == "G01":
+            lines.append(f"N10 G01 X{2 * nx:.3f} Z{nz:.3f}")
+        else:
+            R = math.hypot(nx - x, nz - z) * k
+            lines.append(f"N10 {g} X{2 * nx:.3f} Z{nz:.3f} R{R:.3f}")
+        x, z = nx, nz
+    lines += ["N90 G40 G00 X60 Z5", "N91 M30", "%2", "N95 G04 P0.1", "N96 M99"]
+    text = "\n".join(lines) + "\n"
+    try:
+        tp = interp.run(text, m)
+    except NCError as e:
+        assert e.line >= 4
+        return
+    contiguous(tp)
+    if any("interrupted" in w.message for w in tp.warnings):
+        return
+    plain = interp.run(text.replace("G42 ", "").replace("G40 ", ""), m)
+    profile = [mv.segment() for mv in plain.moves
+               if mv.kind in ("line", "arc") and 5 <= mv.line < len(lines) - 4]
+    tv = tip_vector(tip, r)
+    for mv in tp.moves:
+        if mv.comp != 42 or mv.kind not in ("line", "arc") or not 6 <= mv.line < len(lines) - 4:
+            continue
+        g = mv.segment()
+        for k in range(11):
+            p = g.point_at(k / 10)
+            c = (p[0] - tv[0], p[1] - tv[1])
+            assert min(s.distance_to(c) for s in profile) >= r - 1e-6, (mv, text)
