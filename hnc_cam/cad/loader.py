@@ -201,7 +201,8 @@ def _threads(mod: ModuleType, params: dict[str, Any], where: str) -> list[Thread
             (t.pitch > 0 and math.isfinite(t.pitch), f"pitch={t.pitch!r} must be positive"),
             (t.diameter > 0 and math.isfinite(t.diameter),
              f"diameter={t.diameter!r} must be positive"),
-            (isinstance(t.starts, int) and t.starts >= 1,
+            (isinstance(t.starts, (int, float)) and not isinstance(t.starts, bool)
+             and float(t.starts).is_integer() and t.starts >= 1,
              f"starts={t.starts!r} must be a whole number >= 1"),
             (t.z_start > t.z_end, f"z_start={t.z_start!r} must be greater than z_end="
                                   f"{t.z_end!r} (z_start is the end nearer the right face)"),
