@@ -37,15 +37,17 @@ Choices where the manual is silent (it only says that start and cancel are G00/G
   corner, the way a controller whose block buffer was interrupted does: the previous run has
   already stopped at the point ``r`` normal to the end of its last move (it could not see the
   next move); the new run is offset together with that last move, so a convex seam gets the
-  corner arc about the joint (which starts exactly at ``at``) and a concave seam is trimmed at
-  the intersection of the two offsets, reached from ``at`` straight back along the previous
-  offset. At a concave seam the stop at ``at`` overcuts the next move (inherent to the
-  interrupted buffer): the overcut depth is reported in ``notes`` (a warning). After a
-  G41<->G42 switch the start move goes straight from ``at`` to the first point of the new
-  side (type A). The lead's own offset is not returned, and departures on it are not
-  alarmed again. The interpreter treats a cycle (G71 ... G82) as a temporary cancel instead:
-  the run ends with a move back to the programmed point, the cycle runs uncompensated and
-  compensation starts up again (type A) with the first move after it.
+  corner arc about the joint (which starts exactly at the stop point) and a concave seam is
+  trimmed at the intersection of the two offsets, reached from the stop point straight back
+  along the previous offset. At a concave seam the stop overcuts the next move (inherent to
+  the interrupted buffer): the overcut depth is appended to that move's ``notes`` (the
+  interpreter turns it into a warning). After a G41<->G42 switch the start move goes
+  straight from the stop point to the first point of the new side (type A). The previous
+  move's own offset is not returned again, and departures on it are not alarmed again. The
+  interpreter treats a cycle (G71 ... G82) as a temporary cancel instead: the run ends with
+  a rapid back to the programmed point, the cycle runs uncompensated and compensation starts
+  up again (type A) with the first move after it; G28/G29 under compensation alarm (the
+  manual: cancel compensation before G28).
 * A normal move whose compensated path vanishes entirely (it lies inside the trim of a
   concave corner, or it has zero length) is returned as one zero-length line at the current
   point, so that every item keeps at least one segment.
