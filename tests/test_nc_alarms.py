@@ -223,10 +223,10 @@ def test_cli_missing_file(tmp_path):
                        capture_output=True, text=True)
     assert r.returncode == 2 and "Traceback" not in r.stderr
     # one line naming the file, without a made-up line/column
-    assert r.stderr == f"{tmp_path / 'nope.nc'}: error: cannot read the program: No such file or directory\n"
+    assert r.stderr == f"error: {tmp_path / 'nope.nc'}: cannot read the program: No such file or directory\n"
     r = subprocess.run([sys.executable, "-m", "hnc_cam.cli", "run", str(tmp_path)],
                        capture_output=True, text=True)
-    assert r.returncode == 2 and r.stderr.startswith(f"{tmp_path}: error: cannot read the program: ")
+    assert r.returncode == 2 and r.stderr.startswith(f"error: {tmp_path}: cannot read the program: ")
     assert len(r.stderr.splitlines()) == 1
 
 

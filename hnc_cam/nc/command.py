@@ -5,8 +5,8 @@ does). Prints the toolpath summary on stdout (or on stderr when the JSON goes to
 warnings on stderr as ``FILE:LINE: warning: MESSAGE``, and writes the JSON when asked.
 Alarms propagate as :class:`~hnc_cam.errors.NCError`; the CLI prints them as
 ``FILE:LINE:COL: alarm: MESSAGE  [block]`` and exits 2 (LINE is the line in the file, also
-inside subprograms). A program file that cannot be read is ``FILE: error: cannot read the
-program: REASON`` (exit 2): there is no line or column to point at.
+inside subprograms). A program file that cannot be read is ``error: FILE: cannot read the
+program: REASON`` (exit 2; no line or column to point at), as for any unreadable input file.
 
 Only light modules are imported here: no OCP, build123d, cadquery, shapely or numpy.
 """

@@ -1719,10 +1719,11 @@ def run(text: str, machine: Machine | None = None, *, file: str = "<program>",
 
 class ProgramFileError(NCError):
     """The program file itself cannot be read: no line or column to point at, so the CLI
-    line is ``FILE: error: cannot read the program: REASON``."""
+    line is ``error: FILE: cannot read the program: REASON``, the shape of every other
+    unreadable input file (machine, tools, part)."""
 
     def one_line(self) -> str:
-        return f"{self.file}: error: {self.message}"
+        return f"error: {self.file}: {self.message}"
 
 
 def run_file(path: str, machine: Machine | None = None, **kw) -> Toolpath:
