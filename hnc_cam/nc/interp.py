@@ -902,10 +902,8 @@ class Interp:
                 if g00 == 53:
                     raise self.balarm(b, "G53 cannot be used with a cycle", "G")
                 self._cycle(m, b, w)
-        if comp_cmd == 40 and self.comp_mode == "cancel":
-            # G40 without a (non-zero) move: compensation ends here
-            self.comp_mode = ""
-            self._flush_comp()
+        # G40 without a (non-zero) move: compensation stays pending ("cancel") and ends with
+        # the next move, which goes from the last compensated point to its programmed end
         # M after
         for mc in ms:
             if mc == 5:
@@ -1293,9 +1291,27 @@ class Interp:
         f = self._feed(rpm, line, F) if (F is not None or self.F is None or self.per_rev) else self.F
         if f <= 0 and not self.per_rev:
             raise self.alarm("feed rate F is 0: a feed move needs a positive F", line)
+        if f > 0 and self.css and self.per_rev:
+            t = self._css_time(L, f / rpm, lambda u: x0 + (x1 - x0) * u)
+        else:
+            t = L / f * 60.0 if f > 0 else 0.0
         self.moves.append(Move("line", (x0 + tdx, z0 + tdz), (x1 + tdx, z1 + tdz), line, f, None, None,
                                self.tool, self.reg, rpm, self.sdir, self.coolant,
-                               L / f * 60.0 if f > 0 else 0.0, 0.0, 0.0, 0.0, self.op, self.comp))
+                               t, 0.0, 0.0, 0.0, self.op, self.comp))
+
+    def _css_time(self, L: float, f_rev: float, x_at) -> float:
+        """Seconds for a G96 + G95 feed move of length ``L`` at ``f_rev`` mm/rev whose
+        radius at fraction u is ``x_at(u)``: the spindle speed (and so the feed) changes
+        along the move, time = integral of ds / (f_rev * n(r)), by Simpson's rule over 16
+        intervals (exact for lines away from the rpm clamp, where 1/n is linear in r)."""
+        n = 16
+        acc = 0.0
+        for i in range(n + 1):
+            rpm = self._rpm(x_at(i / n))
+            if rpm <= 0:
+                return 0.0
+            acc += (1 if i == 0 or i == n else 4 if i % 2 else 2) / rpm
+        return L * acc / (3 * n) / f_rev * 60.0
 
     def _rapid_moves(self, x0, z0, x1, z1, dx, dz, line) -> None:
         m = self.m
@@ -1350,12 +1366,15 @@ class Interp:
         f = self._feed(rpm, line, F) if (F is not None or self.F is None or self.per_rev) else self.F
         if f <= 0 and not self.per_rev:
             raise self.alarm("feed rate F is 0: a feed move needs a positive F", line)
+        if f > 0 and self.css and self.per_rev:
+            t = self._css_time(L, f / rpm, lambda u: cx + r * math.sin(a0 + s * u))
+        else:
+            t = L / f * 60.0 if f > 0 else 0.0
         tdx = self.tdx
         tdz = self.tdz
         self.moves.append(Move("arc", (x0 + tdx, z0 + tdz), (x1 + tdx, z1 + tdz), line, f,
                                (cx + tdx, cz + tdz), cw, self.tool, self.reg, rpm, self.sdir,
-                               self.coolant, L / f * 60.0 if f > 0 else 0.0, 0.0, 0.0, 0.0, self.op,
-                               self.comp))
+                               self.coolant, t, 0.0, 0.0, 0.0, self.op, self.comp))
 
     def _emit_thread(self, x0, z0, x1, z1, lead, angle, thread_angle, line) -> None:
         if self.dry is not None:
@@ -1383,8 +1402,9 @@ class Interp:
                 self.comp_mode = "cancel"
             self.comp = 40
             return
-        # G41/G42 (possibly switching sides: finish the old buffer first)
-        if self.comp != 40:
+        # G41/G42 (possibly switching sides, or after a G40 still waiting for its move:
+        # finish the old buffer first)
+        if self.comp != 40 or self.comp_mode == "cancel":
             self._flush_comp()
         self.comp = g
         if self.dry is not None:
@@ -1444,7 +1464,8 @@ class Interp:
         if items[0].mode == "lead":  # continues a run flushed in the middle (a seam)
             run[0].seam = (items[0].seg, items[0].at, items[0].line)
         items = run
-        cont = self.comp_mode == "normal" and run[-1].mode != "cancel"  # flushed mid-compensation
+        # flushed mid-compensation (or with a G40 waiting for its move)
+        cont = self.comp_mode in ("normal", "cancel") and run[-1].mode != "cancel"
         if cont and seam == "cycle":
             e = run[-1].seg.end
             items = run + [CompItem(Line(e, e), "rapid", line or run[-1].line, "cancel",
@@ -1532,8 +1553,9 @@ class Interp:
         except Exception as e:  # a bug in a cycle module must still give an alarm, not a traceback
             raise self.balarm(b, f"internal error in the G{code} cycle: {type(e).__name__}: {e}", "G") from None
         finally:
-            # compensation restarts (type A) with the first move after the cycle
-            self.comp_mode = "start" if save_comp == "normal" else save_comp
+            # compensation restarts (type A) with the first move after the cycle; a pending
+            # G40 is done (the cycle began with the move back to the programmed point)
+            self.comp_mode = {"normal": "start", "cancel": ""}.get(save_comp, save_comp)
         self.motion = save_motion
         return None
 
