@@ -638,3 +638,47 @@ def test_random_seams_never_jump(tmp_path_factory, steps, r, tip):
             p = g.point_at(k / 10)
             c = (p[0] - tv[0], p[1] - tv[1])
             assert min(s.distance_to(c) for s in profile) >= r - 1e-6, (mv, text)
+
+
+G40_ALONE = """%0104
+N1 T0101
+N2 G00 X40 Z5
+N3 G42 G00 X20 Z2
+N4 G01 Z-10 F0.2
+N5 G40
+{mid}
+N7 G01 X30 Z-20
+N8 G00 X40 Z5
+N9 M30
+"""
+
+
+@pytest.mark.parametrize("mid,first", [
+    ("", 8),                      # the next move is the cancel move
+    ("N6 G04 P1", 8),             # a dwell in between: the tool waits at the stop point
+    ("N6 G80 X18 Z-10 F0.2", 7),  # a cycle: back to the programmed point first
+    ("N6 G28 X40 Z5", 7),         # G28 after G40: its first leg is the cancel move
+])
+def test_g40_without_a_move_cancels_with_the_next_move(tmp_path, mid, first):
+    r = 0.4
+    m = machine(tmp_path, {1: (r, 3)})
+    tp = interp.run(G40_ALONE.format(mid=mid), m)
+    contiguous(tp)
+    stop = (10.0 + r - r, -10.0 - r)  # r normal to the end of N4, plus the tip vector
+    after = [mv for mv in tp.moves if mv.line >= 7 and mv.kind != "dwell"]
+    assert dist(after[0].start, stop) < 1e-9 and after[0].line == first
+    assert all(mv.comp == 40 for mv in after if mv.line != 7 or "G80" not in mid)
+    n7 = [mv for mv in tp.moves if mv.line == 8]
+    assert dist(n7[-1].end, (15.0, -20.0)) < 1e-9  # uncompensated from there on
+
+
+def test_g41_after_g40_without_a_move_starts_from_the_stop_point(tmp_path):
+    r = 0.4
+    m = machine(tmp_path, {1: (r, 0)})
+    tp = interp.run(G40_ALONE.format(mid="N6 G41").replace("N8 G00", "N75 G01 Z-30\nN8 G40 G00"),
+                    m)
+    contiguous(tp)
+    n7 = [mv for mv in tp.moves if mv.line == 8]
+    # the start-up move of the new G41 run from where G42 stopped (r above the end of N4)
+    assert len(n7) == 1 and dist(n7[0].start, (10.0 + r, -10.0)) < 1e-9
+    assert n7[0].comp == 41 and dist(n7[0].end, (15.0 - r, -20.0)) < 1e-9

@@ -114,7 +114,7 @@ def _continue(seam: tuple, items: list[CompItem], radius: float, tip: int, side:
     else:  # start and/or cancel only: uncompensated moves
         out = [(it.seg, it) for it in items]
     first_seg, first_it = out[0]
-    if first_it.mode == "start":
+    if first_it.mode in ("start", "cancel"):
         out[0] = (Line(at, first_seg.end), first_it)
     elif dist(at, first_seg.start) > 1e-9:
         out.insert(0, (Line(at, first_seg.start), first_it))
