@@ -1,6 +1,7 @@
 """Profile benchmark: ms per part for build + profile of each parts/ family (defaults), for 200
-variants of family 1 (stepped_shaft), and the cold import time of build123d (in a fresh
-subprocess, so it is not hidden by this process's own import).
+variants of family 1 (stepped_shaft), STEP files, the turned envelope (keyway, hex), and the
+cold import time of build123d (in a fresh subprocess, so it is not hidden by this process's
+own import).
 
     /work/venv/bin/python benchmarks/profile.py [--variants N]
 """
@@ -59,6 +60,23 @@ def main() -> None:
             tp += time.perf_counter() - t
         segs = len(prof.outside) + len(prof.bore or [])
         print(f"{fam:<16}{tb / n * 1e3:>10.1f}{tp / n * 1e3:>12.1f}{(tb + tp) / n * 1e3:>10.1f}{segs:>10}")
+
+    print()
+    data = ROOT / "tests" / "data"
+    from build123d import Pos, RegularPolygon, extrude
+    from build123d import Box
+    keyed = load_module(ROOT / "parts" / "stepped_shaft.py").part() - Pos(0, 14, -38) * Box(8, 8, 20)
+    hexbar = extrude(RegularPolygon(15, 6), 40)
+    cases = [("stepped_shaft.step (read + profile)", lambda: profile(data / "stepped_shaft.step")),
+             ("spline_knob.step (B-spline, fitted)", lambda: profile(data / "spline_knob.step")),
+             ("keyed shaft, envelope=True", lambda: profile(keyed, envelope=True)),
+             ("hex bar, envelope=True", lambda: profile(hexbar, envelope=True))]
+    for label, fn in cases:
+        fn()  # warm
+        t = time.perf_counter()
+        for _ in range(5):
+            fn()
+        print(f"{label:<40}{(time.perf_counter() - t) / 5 * 1e3:>8.1f} ms")
 
     n = args.variants
     t = time.perf_counter()
