@@ -19,7 +19,8 @@ Choices where the manual is silent (it only says that start and cancel are G00/G
   neighbouring move (the first move is shorter than the trim at a concave corner), it goes to
   the first point of the path that does not.
 * **Cancel**: the cancel move goes from the compensated end of the last normal move straight
-  to its programmed end point (uncompensated from there on).
+  to its programmed end point (uncompensated from there on). A G40 block without a move
+  leaves the cancel pending: the interpreter makes the next move the cancel move.
 * A start immediately followed by a cancel (no normal move) leaves both moves uncompensated.
 * **Corner arcs** (convex corners) are executed with, and returned paired with, the move
   that **ends** at the corner (the item the arc leads out of), as a controller does in single
