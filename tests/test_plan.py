@@ -209,3 +209,22 @@ def test_programs_run_in_the_interpreter(shape, stock, comp):
     # the program ends at the tool-change point
     end = prog.toolpath.moves[-1].end
     assert end == pytest.approx(MACH.tool_change, abs=1e-6)
+
+
+def test_tool_tables_parsed_once_per_file_version(tmp_path):
+    """generate() parses a tool library once per process and file version (family workers
+    share it across rows); an edited file is read again."""
+    import os
+    from hnc_cam.plan.api import _load_machine, _load_tools
+    assert _load_tools(None) is _load_tools(None)
+    assert _load_machine(None, _load_tools(None)) is _load_machine(None, _load_tools(None))
+    src = (tmp_path / "tools.toml")
+    from importlib import resources
+    text = resources.files("hnc_cam").joinpath("data", "tools.toml").read_text("utf-8")
+    src.write_text(text)
+    a = _load_tools(src)
+    assert _load_tools(str(src)) is a
+    src.write_text(text.replace("depth = 1.5", "depth = 1.25"))
+    os.utime(src, ns=(1, 1))
+    b = _load_tools(src)
+    assert b is not a and b.by_number(1).depth == 1.25 and a.by_number(1).depth == 1.5
