@@ -12,10 +12,10 @@ joint, so merging many small pieces cannot drift):
 * :func:`merge_segments`: lines are merged while every joint they absorb lies within ``tol``
   of the merged line and all of them point the same way; arcs are merged while they have the
   same direction, their centres and radii agree within ``tol`` and every absorbed joint lies
-  within ``tol`` of the merged circle. The merged chain stays within ``tol`` of the original
-  (a line between two points within ``tol`` of the carrier deviates at most ``tol``; an arc
-  point moves at most ``|dc| + |dr| <= 2 tol`` radially, checked as ``tol`` at the joints,
-  the centre kept from the first piece).
+  within ``tol`` of the merged circle (the centre and radius kept from the first piece). A
+  merged line stays within ``tol`` of the pieces it replaces (the pieces are straight between
+  joints within ``tol`` of it); a merged arc within ``2 tol`` (a point of a piece is off the
+  merged circle by at most ``|dc| + |dr|``).
 * :func:`absorb_short`: a piece shorter than ``min_len`` is removed, its line neighbours
   taking the gap (arcs keep their end points on their circles); the path moves by less than
   ``min_len / 2`` (proof in the function's docstring).

@@ -11,8 +11,8 @@ Choices:
   that the ns block is a one-axis G00 and the nf block leaves the material;
 * before writing, the contour is cleaned by the kernel (:func:`clean`,
   :mod:`hnc_cam.geometry.chain`): collinear lines and co-circular arcs merged, moves shorter
-  than the 0.001 mm resolution absorbed; the written path stays within 0.0005 mm of the
-  exact one (before the rounding of the words to 0.001 mm, which adds at most 0.0005 mm in Z
+  than the 0.001 mm resolution absorbed; the written path stays within 0.0005 mm (plus
+  2 x 1e-7 mm for the merge) of the exact one (before the rounding of the words to 0.001 mm, which adds at most 0.0005 mm in Z
   and 0.00025 mm in X);
 * arcs are written with ``R`` when they sweep at most 170 deg (as the manual's examples do),
   otherwise with ``I``/``K`` (radius values, start to centre): near 180 deg the centre an R
