@@ -411,3 +411,19 @@ def test_g97_without_s_returns_to_the_speed_before_g96():
     assert a.spindle == pytest.approx(1000 * 120 / (math.pi * 60))
     assert b.spindle == 450
     assert c.spindle == pytest.approx(a.spindle)  # G96 without S: the last surface speed
+
+
+def test_g96_g95_facing_time_integrates_the_changing_speed():
+    """Facing X100 -> X0 at 100 m/min, 0.2 mm/rev, clamp 2000 rpm: the feed rises as the
+    radius falls until the clamp radius rc; time = pi (R^2 - rc^2) / (1000 vc f) + rc / (nmax f)."""
+    vc, f, nmax = 100.0, 0.2, 2000.0
+    tp = run(prog("G92 X100 Z0", "M03 S500", "G96 S100 G95 G01 X0 F0.2"), Machine(max_rpm=nmax))
+    rc = 1000 * vc / (2 * math.pi * nmax)
+    minutes = math.pi * (50.0 ** 2 - rc ** 2) / (1000 * vc * f) + rc / (nmax * f)
+    assert tp.cycle_time_s == pytest.approx(minutes * 60, rel=2e-3)
+    # a G96 + G95 arc: quarter circle R20 from X40 Z0 up to X80 Z-20 about (X80, Z0) (radius
+    # 20 -> 40), no clamp: time = integral of 2 pi x ds / (1000 vc f)
+    tp = run(prog("G92 X40 Z0", "M03 S500", "G96 S100 G95 G02 X80 Z-20 R20 F0.2"))
+    # x(a) = 40 - 20 cos(a), ds = 20 da, a in 0..pi/2: integral = 20 (40 pi/2 - 20)
+    minutes = 2 * math.pi * 20 * (40 * math.pi / 2 - 20) / (1000 * vc * f)
+    assert tp.cycle_time_s == pytest.approx(minutes * 60, rel=1e-4)

@@ -34,7 +34,8 @@ Coordinates and offsets (choices where the manual is silent, also in the README)
   arrives, then the other alone (two ``rapid`` moves).
 * Feeds: F in mm/min (G94) or mm/rev (G95, converted with the spindle speed of the move);
   G96 is resolved per move at the radius of the move's midpoint, clamped to the machine's
-  max rpm. A feed move before any F uses ``machine.default_feed`` (mm/min) with a warning.
+  max rpm (the move's ``spindle`` and ``feed``); the duration of a G96 + G95 move integrates
+  the speed that changes along it (Simpson's rule over 16 intervals). A feed move before any F uses ``machine.default_feed`` (mm/min) with a warning.
 * Arcs: R wins over I/K; a negative R is the arc over 180 deg (FANUC usage); an R smaller
   than half the chord by at most 0.001 mm is read as the half circle (programs round to
   3 decimals); with I/K the end must lie within 0.01 mm of the circle; I/K with the end on
