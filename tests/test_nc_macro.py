@@ -186,3 +186,14 @@ def test_locals_of_the_eighth_nested_call_are_its_own():
     # every level kept its own #5 through the calls below it; level k-1's block shows it
     assert [it._read(n) for n in range(60, 70)] == [9, 1, 2, 3, 4, 5, 6, 7, 8, 9]
     assert [it._read(200 + 50 * lv + 5) for lv in range(8)] == [1, 2, 3, 4, 5, 6, 7, 8]
+
+
+def test_writing_a_work_origin_moves_the_work_system_not_the_tool():
+    m = Machine(work_offsets={f"G{n}": (0.0, 0.0) for n in range(54, 60)})
+    it = interp("%1\nG00 X40 Z10\n#1042=-50\n#1060=7\n#50=#1022\n#51=#1062\nG56\n#52=#1020\n"
+                "G00 X40 Z10\nM30\n", machine=m)
+    # G54's Z origin moved 50 toward the chuck: the same machine point reads Z60
+    assert it._read(50) == 60.0 and it._read(51) == 0.0
+    assert it._read(52) == 20.0 - 7.0  # G56 X origin 7 (radius)
+    assert it.moves[-1].end == pytest.approx((20.0, 10.0))
+    assert it.moves[-1].start[0] == pytest.approx(13.0)
