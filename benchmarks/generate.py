@@ -3,7 +3,10 @@
 * parts/s for a 200-row family of family 1 (parts/stepped_shaft.py) with --jobs 1 and
   --jobs 2, verification included (the default);
 * ms per part for generate() alone, warm (CAD kernel imported, one part generated before
-  timing), with and without verification.
+  timing), with and without verification, and per stage (part loading, planning, rendering,
+  interpreter, simulation + verification).
+
+The machine's load average is printed with the figures: on a shared machine they scale with it.
 
 Run: python benchmarks/generate.py [--rows 200] [--no-family]
 """
@@ -58,13 +61,48 @@ def warm_generate(n: int, verify: bool) -> float:
     return (time.perf_counter() - t0) / n * 1000
 
 
+def stages(n: int = 10) -> str:
+    """ms per part for each stage of generate (warm): part loading (CAD kernel), planning
+    (with the tool-nose compensation), rendering, the interpreter, simulation + verification."""
+    from hnc_cam.cad import load_part
+    from hnc_cam.nc import run
+    from hnc_cam.plan import Options, make_plan
+    from hnc_cam.plan.api import _load_machine, _load_tools
+    from hnc_cam.post import render
+    from hnc_cam.sim import simulate, verify
+    from hnc_cam.tooling import Stock
+    lib = _load_tools(None)
+    mach = _load_machine(None, lib)
+    t = dict.fromkeys(("load", "plan", "render", "interpret", "verify"), 0.0)
+    for i in range(n + 1):
+        t0 = time.perf_counter()
+        lp = load_part(str(PART), {"length": str(95 + i % 10)})
+        t1 = time.perf_counter()
+        st = Stock.parse(lp.stock)
+        plan = make_plan(lp.profile, st, lib, mach, Options(), name="b")
+        t2 = time.perf_counter()
+        text = render(plan)
+        t3 = time.perf_counter()
+        tp = run(text, machine=mach, start="reference")
+        t4 = time.perf_counter()
+        verify(simulate(tp, st, machine=mach, model=plan.profile), plan.profile, tol=0.01)
+        t5 = time.perf_counter()
+        if i:  # the first round warms up
+            for k, v in zip(t, (t1 - t0, t2 - t1, t3 - t2, t4 - t3, t5 - t4)):
+                t[k] += v
+    return ", ".join(f"{k} {1000 * v / n:.1f}" for k, v in t.items())
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--rows", type=int, default=200)
     ap.add_argument("--no-family", action="store_true")
     a = ap.parse_args()
+    import os
+    print(f"load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
     print(f"generate, warm, family 1: {warm_generate(10, False):.1f} ms/part without "
           f"verification, {warm_generate(5, True):.1f} ms/part with verification")
+    print(f"stages, ms/part: {stages()}")
     if not a.no_family:
         for jobs in (1, 2):
             print(f"family of {a.rows} rows, --jobs {jobs}: {family(a.rows, jobs):.2f} parts/s "
