@@ -157,8 +157,12 @@ def test_axis_option_and_program_zero(shaft_solid):
     _same_chain(profile(along_x, axis="X").outside, ref.outside)
     off = Pos(5, -3, 20) * shaft_solid
     _same_chain(profile(off, axis=((5, -3, 0), (0, 0, 1))).outside, ref.outside)
-    with pytest.raises(ProfileError, match="not a body of revolution about the Z axis"):
+    with pytest.raises(ProfileError, match=r"not a body of revolution about the Z axis: .*every "
+                                           r"round face is about the axis through \(5, -3, 0\) "
+                                           r"along \(0, 0, 1\): axis=\(\(5, -3, 0\), \(0, 0, 1\)\)\?"):
         profile(off)
+    with pytest.raises(ProfileError, match=r"about the model's X axis: axis=\"X\" or \"-X\"\?"):
+        profile(along_x)
     left = profile(shaft_solid, zero="left")
     assert left.z_min == pytest.approx(0.0) and left.z_max == pytest.approx(100.0)
     assert left.outside[0].start == (0.0, 100.0)

@@ -35,8 +35,11 @@ How (and the choices made):
      a part without a bore opening on the right. A cavity opening only on the left face
      (e.g. a centre hole) is not part of either chain; ``notes`` says so.
 6. Program zero: ``zero="right"`` (default) puts the right face at Z0, the part toward -Z;
-   ``"left"`` puts the left face at Z0 (part toward +Z); a number ``a`` puts model Z = a (on
-   the turning axis) at Z0.
+   ``"left"`` puts the left face at Z0 (part toward +Z); a number ``a`` puts the point of
+   the turning axis at coordinate ``a`` along it (model Z for the default axis, model X for
+   ``axis="X"``, measured from the axis point for an explicit axis) at Z0.
+7. A part refused as not turned about the requested axis gets a hint when every round face
+   of the model is about one other axis (``axis="X"``? or the axis through a point).
 """
 from __future__ import annotations
 
@@ -71,13 +74,16 @@ def profile(obj: Any, axis: Any = "Z", zero: str | float = "right", envelope: bo
 
     ``obj``: build123d Part/Solid/Compound/BuildPart, CadQuery Workplane/Shape, OCP
     TopoDS_Shape or a path to .step/.stp/.brep. ``axis``: "Z" (default), "X", "Y" or
-    ``((px, py, pz), (dx, dy, dz))``. ``zero``: "right", "left" or a model Z. ``envelope``:
+    ``((px, py, pz), (dx, dy, dz))`` (a leading "-" reverses: the right face is then at the
+    smallest model coordinate). ``zero``: "right", "left" or a coordinate along the axis.
+    ``envelope``:
     profile the turned envelope of a part with milled features. ``fit_tol``: arc-fitting
     tolerance for free-form curves (mm).
     """
     if not fit_tol > 0:
         raise ProfileError(f"fit_tol must be positive, got {fit_tol!r}")
-    shape = occ.axis_transform(occ.to_shape(obj), axis)
+    obj_shape = occ.to_shape(obj)
+    shape = occ.axis_transform(obj_shape, axis)
     if shape.IsNull():
         raise ProfileError("empty geometry: the shape is null")
     notes: list[str] = []
@@ -111,7 +117,8 @@ def profile(obj: Any, axis: Any = "Z", zero: str | float = "right", envelope: bo
             first = problems[0].describe()
             more = f" (and {len(problems) - 1} more such face(s))" if len(problems) > 1 else ""
             raise ProfileError(f"not a body of revolution about the {_axis_name(axis)} axis: "
-                               f"{first}{more}; use envelope=True to profile the turned envelope")
+                               f"{first}{more}; use envelope=True to profile the turned envelope"
+                               f"{_axis_hint(obj_shape, axis)}")
         for p in problems:
             notes.append(f"ignored (envelope): {p.describe()}")
         chains, islands = _envelope_section(solid, bb, problems, fit_tol, notes)
@@ -141,6 +148,27 @@ def profile(obj: Any, axis: Any = "Z", zero: str | float = "right", envelope: bo
     if prof.length < 1e-6 or prof.max_radius < 1e-6:
         raise ProfileError("degenerate geometry: zero length or zero diameter")
     return prof
+
+
+def _axis_hint(shape, axis: Any) -> str:
+    """When every round face of the model is about one other axis, say which (the part was
+    modelled along another axis, or off the origin)."""
+    try:
+        ca = occ.common_axis(shape)
+    except Exception:  # noqa: BLE001 - a hint only
+        return ""
+    if ca is None:
+        return ""
+    p, d = ca
+    names = {(1.0, 0.0, 0.0): "X", (0.0, 1.0, 0.0): "Y", (0.0, 0.0, 1.0): "Z"}
+    if p == (0.0, 0.0, 0.0) and d in names:
+        if isinstance(axis, str) and axis.strip().upper().lstrip("+") == names[d]:
+            return ""
+        return (f" (every round face is about the model's {names[d]} axis: axis=\"{names[d]}\" "
+                f"or \"-{names[d]}\"?)")
+    pt = ", ".join(f"{v:g}" for v in p)
+    dr = ", ".join(f"{v:g}" for v in d)
+    return f" (every round face is about the axis through ({pt}) along ({dr}): axis=(({pt}), ({dr}))?)"
 
 
 def _axis_name(axis: Any) -> str:

@@ -405,6 +405,42 @@ def classify_faces(shape: TopoDS_Shape) -> tuple[list[FaceProblem], list[str]]:
     return problems, notes
 
 
+def common_axis(shape: TopoDS_Shape) -> tuple[tuple[float, float, float],
+                                              tuple[float, float, float]] | None:
+    """The one axis every cylindrical, conical and toroidal face of the shape is about
+    (point nearest the origin, unit direction), when there is such an axis and at least one
+    such face, else None: a hint for a turned part modelled along another axis."""
+    axes = []
+    for f in faces(shape):
+        ad = BRepAdaptor_Surface(f, True)
+        t = ad.GetType()
+        if t == GeomAbs_Cylinder:
+            axes.append(ad.Cylinder().Axis())
+        elif t == GeomAbs_Cone:
+            axes.append(ad.Cone().Axis())
+        elif t == GeomAbs_Torus:
+            axes.append(ad.Torus().Axis())
+    if not axes:
+        return None
+    a0 = axes[0]
+    d0, p0 = a0.Direction(), a0.Location()
+    for a in axes[1:]:
+        d, p = a.Direction(), a.Location()
+        if abs(abs(d.X() * d0.X() + d.Y() * d0.Y() + d.Z() * d0.Z()) - 1.0) > ANG_TOL:
+            return None
+        v = gp_Vec(p0, p)
+        if v.Crossed(gp_Vec(d0)).Magnitude() > POS_TOL:
+            return None
+    d = (d0.X(), d0.Y(), d0.Z())
+    k = max(range(3), key=lambda i: abs(d[i]))
+    if d[k] < 0:
+        d = (-d[0], -d[1], -d[2])
+    t = p0.X() * d[0] + p0.Y() * d[1] + p0.Z() * d[2]
+    q = (p0.X() - t * d[0], p0.Y() - t * d[1], p0.Z() - t * d[2])
+    clean = lambda v: 0.0 if abs(v) < 1e-9 else round(v, 6)  # noqa: E731
+    return tuple(map(clean, q)), tuple(map(clean, d))
+
+
 # ---------------------------------------------------------------------------- section
 @dataclass
 class SectionEdge:
