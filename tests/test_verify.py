@@ -208,3 +208,45 @@ def test_deepest_point_pruning_is_exact():
     pts = np.vstack([_boundary_points(p) for p in polygons(g)])
     d, _ = distances(pts, segs)
     assert got.size_mm == pytest.approx(d.max(), abs=1e-12)
+
+
+def test_plot_shows_what_the_issue_names(tmp_path):
+    # arc cut with an uncompensated 0.8 nose (undercut beyond tol), a gouge at the end face
+    # (overcut), a corner the nose cannot reach, and a rapid through the stock
+    import matplotlib.pyplot as plt
+    from matplotlib.collections import LineCollection
+
+    from hnc_cam.sim.plot import figure, plot
+    model = TurnedProfile(outside=[Line((0, 0), (5, 0)), Arc((5, 0), (15, -10), (5, -10), False),
+                                   *poly((15, -10), (15, -30), (20, -30), (20, -50))])
+    t = prog("T0101", "M03 S800", "G00 X42 Z2", "X35", "G01 Z-30 F200", "X42", "G00 Z2",
+             "X31", "G01 Z-30", "X42", "G00 Z2", "X20", "G01 Z-0.05", "X10",
+             "G03 X30 Z-10 R10", "G01 Z-30", "X42", "G00 X42 Z-58", "G00 X39", "G00 X60 Z50")
+    m, r = run_verify(t, model, machine=NOSE08)
+    assert not r.passed and r.max_overcut_mm > 0.01 and r.overcut_at.z > -0.06
+    assert r.max_undercut_mm > 0.01
+    assert [c.line for c in r.collisions] == [line_of(t, "G00 X39")]
+    fig = figure(m, report=r, model=model, title="case")
+    try:
+        ax = fig.axes[0]
+        labels = [t.get_text() for t in ax.get_legend().get_texts()]
+        for want in ("stock", "remaining material", "machined outline", "model", "rapid (G00)",
+                     "feed T01 G01-G03", "overcut > 0.01 mm", "undercut > 0.01 mm",
+                     "unreachable leftover", "collision / check"):
+            assert want in labels, (want, labels)
+        rapid = next(c for c in ax.collections
+                     if isinstance(c, LineCollection) and c.get_label() == "rapid (G00)")
+        assert rapid.get_linestyle()[0][1] is not None  # dashed
+        # the deviations are drawn where they are: the overcut patch holds the gouge at Z0
+        over = next(p for p in ax.patches if p.get_label() == "overcut > 0.01 mm")
+        ext = over.get_path().get_extents()
+        assert ext.x0 > -0.06 and ext.x1 <= 1e-6 and ext.y1 > 4
+        keys = "\n".join(t.get_text() for t in ax.texts)
+        for want in ("FAIL at tol 0.01 mm", f"max overcut {r.max_overcut_mm:.4f} mm",
+                     f"max undercut {r.max_undercut_mm:.4f} mm", "cycle time", "removed",
+                     "air cut", "collisions/checks: 1"):
+            assert want in keys, want
+    finally:
+        plt.close(fig)
+    plot(m, tmp_path / "case.png", report=r, model=model, title="case")
+    assert (tmp_path / "case.png").read_bytes()[:4] == b"\x89PNG"

@@ -2,8 +2,8 @@
 
 One figure in the half-plane, Z to the right and X (radius) up as in the manual's figures:
 the stock (light grey), the remaining material (light blue) and its outline, the model outline
-(black), the toolpath of the controlled point (rapids dashed, feed moves coloured by the
-operation that produced them), deviations beyond the tolerance (overcut red, reachable undercut
+(black), the toolpath of the controlled point (rapids dashed, feed moves coloured by operation:
+tool and cycle, see :func:`operation`), deviations beyond the tolerance (overcut red, reachable undercut
 orange, unreachable leftover purple hatched, each with its deepest point marked), collisions
 (red crosses), a legend and the key figures. PNG or SVG by the file's suffix.
 """
@@ -18,8 +18,19 @@ from ..geometry import Arc
 from .region import polygons
 from .simulate import Machined
 
-OP_COLOURS = ["#2ca02c", "#ff9896", "#9467bd", "#8c564b", "#e377c2", "#17becf", "#bcbd22",
-              "#7f7f7f", "#ff7f0e"]
+#: feed colours, one per operation (tool and cycle), none of them the red of the rapids, the
+#: orange of the undercut or the purple of the unreachable leftover
+OP_COLOURS = ["#2ca02c", "#1f77b4", "#8c564b", "#17becf", "#bcbd22", "#7f7f7f", "#e377c2",
+              "#006d5b", "#393b79"]
+
+
+def operation(move) -> str:
+    """The operation a feed move belongs to, for the legend: its tool and the cycle that made
+    it (plain G01/G02/G03 contour moves of one tool are one operation), e.g. ``T01 G71``."""
+    op = move.op or ("G32" if move.kind == "thread" else "G01")
+    if op in ("G01", "G02", "G03"):
+        op = "G01-G03"
+    return f"T{move.tool:02d} {op}"
 
 
 def _fill(ax, g: BaseGeometry, **kw) -> bool:
@@ -52,12 +63,15 @@ def _outline(ax, g: BaseGeometry, **kw) -> None:
                 first = False
 
 
-def _components_beyond(g: BaseGeometry, segs, tol: float) -> BaseGeometry:
+def _components_beyond(g: BaseGeometry, segs, tol: float,
+                       also: BaseGeometry | None = None) -> BaseGeometry:
+    """Components of ``g`` deeper than ``tol`` from the model (and from ``also``, as
+    :func:`hnc_cam.sim.verify.verify` measures the reachable leftover)."""
     from shapely import union_all
     from .verify import _deepest
     keep = []
     for p in polygons(g):
-        d = _deepest(p, segs, interior=False)
+        d = _deepest(p, segs, interior=False, also=also)
         if d is not None and d.size_mm > tol:
             keep.append(p)
     return union_all(keep) if keep else g.__class__()
@@ -71,7 +85,6 @@ def plot(machined: Machined, out: str | Path, report: Any = None, model: Any = N
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    from matplotlib.collections import LineCollection
 
     from ..io import write_atomic
 
@@ -79,6 +92,20 @@ def plot(machined: Machined, out: str | Path, report: Any = None, model: Any = N
     if suffix not in (".png", ".svg"):
         from ..errors import HncError
         raise HncError(f"--plot {out}: the plot is written as PNG or SVG (.png/.svg)")
+    fig = figure(machined, report=report, model=model, title=title)
+    buf = io.BytesIO()
+    fig.savefig(buf, format=suffix[1:], bbox_inches="tight")
+    plt.close(fig)
+    write_atomic(out, buf.getvalue())
+
+
+def figure(machined: Machined, report: Any = None, model: Any = None, title: str | None = None):
+    """The matplotlib figure of :func:`plot` (the caller closes it)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.collections import LineCollection
+
     # frame the work (stock and model), not the trips to the tool-change point
     z0, x0, z1, x1 = machined.stock.bounds if not machined.stock.is_empty else (0, 0, 1, 1)
     if model is not None:
@@ -109,12 +136,11 @@ def plot(machined: Machined, out: str | Path, report: Any = None, model: Any = N
         if m.kind == "rapid":
             rapid_segs.append(seg)
         else:
-            op = m.op or ("thread" if m.kind == "thread" else "G01/G02/G03")
-            by_op.setdefault(op, []).append(seg)
+            by_op.setdefault(operation(m), []).append(seg)  # in program order
     if rapid_segs:
         ax.add_collection(LineCollection(rapid_segs, colors="#d62728", linestyles="dashed",
                                          linewidths=0.6, alpha=0.7, label="rapid (G00)"))
-    for i, (op, segs) in enumerate(sorted(by_op.items())):
+    for i, (op, segs) in enumerate(by_op.items()):
         ax.add_collection(LineCollection(segs, colors=OP_COLOURS[i % len(OP_COLOURS)],
                                          linewidths=0.8, label=f"feed {op}"))
 
@@ -130,7 +156,7 @@ def plot(machined: Machined, out: str | Path, report: Any = None, model: Any = N
                 pass
             reach_under = report.undercut.difference(report.unreachable_region) \
                 if not report.undercut.is_empty else report.undercut
-            under = _components_beyond(reach_under, segs, tol)
+            under = _components_beyond(reach_under, segs, tol, also=report.unreachable_region)
             _fill(ax, under, facecolor="#ff7f0e", edgecolor="#ff7f0e", lw=1.5,
                   label=f"undercut > {tol:g} mm")
             _fill(ax, report.unreachable_region, facecolor="none", edgecolor="#9467bd",
@@ -189,7 +215,4 @@ def plot(machined: Machined, out: str | Path, report: Any = None, model: Any = N
     ax.set_title(title or machined.toolpath.file)
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, framealpha=0.85)
     fig.tight_layout()
-    buf = io.BytesIO()
-    fig.savefig(buf, format=suffix[1:], bbox_inches="tight")
-    plt.close(fig)
-    write_atomic(out, buf.getvalue())
+    return fig
