@@ -516,3 +516,21 @@ def test_null_and_edge_only_shapes_are_empty():
         profile(TopoDS_Shape())
     with pytest.raises(ProfileError, match="empty geometry: the shape holds no solid and no face"):
         profile(Wire([Edge.make_line((0, 0, 0), (10, 0, 0))]))
+
+
+def test_eccentric_boss_and_oblique_cut_named_with_envelopes(shaft_solid):
+    """An eccentric pin on the left end (its turned envelope: radius offset + pin radius) and
+    a corner cut off at 45 deg (an oblique plane)."""
+    from build123d import Align, Box, Cylinder, Pos, Rot
+    boss = shaft_solid + Pos(3, 0, -100) * Cylinder(5, 10, align=(Align.CENTER, Align.CENTER, Align.MAX))
+    with pytest.raises(ProfileError, match=r"eccentric\) cylinder or axial hole of diameter 10\.000, "
+                                           r"axis 3\.000 mm off centre\) at x=3\.000 .*z=-105\.000"):
+        profile(boss)
+    env = profile(boss, envelope=True)
+    assert env.outside[-2:] == [Line((8.0, -100.0), (8.0, -110.0)), Line((8.0, -110.0), (0.0, -110.0))]
+    assert any("at 0.0 deg (through a corner" in n for n in env.notes)
+    cut = shaft_solid - Pos(0, 20, -100) * Rot(45, 0, 0) * Box(50, 10, 10)
+    with pytest.raises(ProfileError, match=r"planar face oblique to the axis \(a bevel or cut not "
+                                           r"turned about the axis\) at x=0\.000 y=15\.828 z=-97\.101"):
+        profile(cut)
+    assert profile(cut, envelope=True).outside == profile(shaft_solid).outside

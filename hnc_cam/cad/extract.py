@@ -497,6 +497,7 @@ def _dominant_section(solid, bb, problems, bad, fit_tol: float, notes: list[str]
         for x, y, _z in occ.vertex_points(f):
             if math.hypot(x, y) > 1e-6:
                 a = math.atan2(y, x) % (2 * math.pi)
+                a = 0.0 if a > 2 * math.pi - 1e-9 else a
                 if all(abs(a - b) > 1e-7 and abs(abs(a - b) - 2 * math.pi) > 1e-7 for b in angles):
                     angles.append(a)
     checks = [THETA + k * 2 * math.pi / ENVELOPE_CHECKS for k in range(ENVELOPE_CHECKS)]
