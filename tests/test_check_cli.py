@@ -138,3 +138,23 @@ def test_simulate_offset_stock_with_model(files, capsys):
     js = json.loads(out.read_text())
     xs = [p[0] for ring in js["machined"] for p in ring]
     assert max(xs) == pytest.approx(42.0, abs=1e-6)  # the dia 40 part grown by 1 mm radially
+
+
+@pytest.mark.cad
+def test_generated_program_verifies_with_the_default_tables(tmp_path, capsys):
+    # defaults agree: the tool library generate uses fills the default machine's registers, so
+    # the program verifies without --tools/--machine; a machine whose registers are sharp
+    # points makes the same program leave the nose fillets' worth of material off the model
+    from pathlib import Path
+    part = str(Path(__file__).resolve().parents[1] / "parts" / "stepped_shaft.py")
+    nc = tmp_path / "o.nc"
+    assert main(["generate", part, "--no-verify", "-o", str(nc)]) == 0
+    out = tmp_path / "v.json"
+    rc = main(["verify", str(nc), "--model", part, "--stock", "45x117+2", "--json", str(out)])
+    js = json.loads(out.read_text())
+    assert rc == 0 and js["pass"] is True and js["collisions"] == [], capsys.readouterr().out
+    (tmp_path / "sharp.toml").write_text(SHARP)
+    rc2 = main(["verify", str(nc), "--model", part, "--stock", "45x117+2", "--machine",
+                str(tmp_path / "sharp.toml"), "--json", str(out)])
+    js2 = json.loads(out.read_text())
+    assert rc2 == 1 and js2["pass"] is False and js2["max_overcut_mm"] > 0.1
