@@ -105,6 +105,22 @@ def test_cli_bad_input_exit_2_and_nothing_written(tmp_path, capsys, argv, msg):
     assert list(tmp_path.iterdir()) == []
 
 
+def test_cli_tool_missing_from_the_library(tmp_path, capsys):
+    """A --tools library without a finishing tool: exit 2, the message names what is missing,
+    nothing written."""
+    lib = (REPO / "hnc_cam" / "data" / "tools.toml").read_text()
+    first = lib.split("[[tool]]")[:2]  # the header comments and tool 1 (roughing) only
+    tools = tmp_path / "lib" / "tools.toml"
+    tools.parent.mkdir()
+    tools.write_text("[[tool]]".join(first))
+    out = tmp_path / "o.nc"
+    rc = main(["generate", str(PARTS / "stepped_shaft.py"), "--tools", str(tools), "-o", str(out)])
+    err = capsys.readouterr().err
+    assert rc == 2 and err.startswith("error:")
+    assert "no OD finishing tool" in err
+    assert not out.exists()
+
+
 @pytest.mark.parametrize("pitch,needs", [("1.0", "16ER1ISO"), ("2.0", "16ER2ISO")])
 def test_threaded_stud_pitch_without_an_insert_is_refused(tmp_path, capsys, pitch, needs):
     """The thread's pitch comes from the part (THREADS); the bundled 16ER1.5ISO cuts 1.5 only,
