@@ -148,6 +148,16 @@ def test_default_machine_and_tools_fill_registers():
                  "G00 X60 Z50"), machine=load_machine())
     shapes = {k: s for k, s in m.shapes.items()}
     assert shapes[(1, None)].nose_radius == pytest.approx(0.8)
+    # a register in neither the machine file nor the tool library is a sharp point: the
+    # default 80 deg outline with its corner exactly at the controlled point
+    m2 = sim(prog("T0909", "M03 S800", "G00 X42 Z2", "X30", "G01 Z-30 F200", "X42",
+                  "G00 X60 Z50"), machine=load_machine())
+    s9 = m2.shapes[(9, None)]
+    assert s9.nose_radius == 0.0 and s9.centre == (0.0, 0.0)
+    assert min(float(abs(p).sum()) for p in s9.outline) == pytest.approx(0.0, abs=1e-12)
+    # with the sharp point the shoulder at Z-30 is square: no nose fillet left in the corner
+    corner = m2.material.intersection(shapely.box(-30.0, 15.0, -29.0, 16.0))
+    assert corner.area < 1e-6
 
 
 def test_zero_feed_touching_material():
