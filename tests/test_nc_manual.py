@@ -180,3 +180,41 @@ def test_o0099_levels_and_1000_arguments(manual):
     tp = it.run()
     assert any("without M99" in w.message for w in tp.warnings)
     assert it.absolute is False  # %9990 switched to G91 and plain subprograms keep modal state
+
+
+def _machine_file(tmp_path, body: str):
+    from hnc_cam.tooling import load_machine
+    f = tmp_path / "machine.toml"
+    f.write_text(body)
+    return load_machine(str(f))
+
+
+def test_3303_g54_g59_from_the_machine_file(manual, tmp_path):
+    """A is X40 Z30 in G54, B is X30 Z30 in G59, with non-zero origins (X as diameters in
+    the machine file); from the reference point, as `hnc-cam run` starts."""
+    m = _machine_file(tmp_path, "[work_offsets]\nG54 = {x = 120.0, z = -400.0}\n"
+                                "G59 = {x = 100.0, z = -350.0}\n")
+    tp = run_file(str(manual("3303.nc")), m, start="reference")
+    n1 = [mv for mv in tp.moves if mv.line == 7]
+    n3 = [mv for mv in tp.moves if mv.line == 9]
+    rx, rz = m.reference
+    assert dia(n1[0].start) == pytest.approx((2 * rx - 120.0, rz + 400.0))  # reference in G54
+    assert dia(n1[-1].end) == (40, 30) and dia(n3[-1].end) == (30, 30)
+    # G59 does not move the tool: N03 starts at A seen from G59 (origin 10 dia lower, 50 right)
+    assert dia(n3[0].start) == pytest.approx((40 + 120 - 100, 30 - 400 + 350))
+    for a, b in zip(n1 + n3, (n1 + n3)[1:]):
+        if a.line == b.line:
+            assert math.dist(a.end, b.start) < 1e-9
+
+
+def test_ex21_offset_and_wear_then_cancel(manual, tmp_path):
+    """Fig. 3.3.42: T0202 applies register 02 (offset + wear) by moving the slide; the
+    controlled point follows the programmed path; T0200 in the last block cancels it there."""
+    m = _machine_file(tmp_path, "use_tool_library = false\n[[register]]\nnumber = 2\nx = -6.0\n"
+                                "z = 4.0\nx_wear = 0.04\nz_wear = -0.02\n")
+    tp = run_file(str(manual("ex21_fig3.3.42.nc")), m)
+    e = ends(tp)
+    assert e[0] == (50, 100) and e[1] == (50, 200)
+    # cancelled: programmed X100 Z250 plus register 02's own displacement (-5.96 dia, 3.98)
+    assert e[-1] == (pytest.approx(100 - 5.96), pytest.approx(250 + 3.98))
+    assert tp.moves[-1].register == 0 and tp.moves[-1].tool == 2
