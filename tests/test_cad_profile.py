@@ -534,3 +534,29 @@ def test_eccentric_boss_and_oblique_cut_named_with_envelopes(shaft_solid):
                                            r"turned about the axis\) at x=0\.000 y=15\.828 z=-97\.101"):
         profile(cut)
     assert profile(cut, envelope=True).outside == profile(shaft_solid).outside
+
+
+def test_revolved_degree1_bspline_polyline_gives_exact_lines():
+    """Some exporters write a polyline as a degree-1 B-spline: its revolution is one free-form
+    face with creases. The profile is its lines within 1e-6 (nothing fitted), and the volume
+    check (OpenCascade integrates such a face poorly) does not refuse it."""
+    from build123d import Axis, Edge, Face, Wire, revolve
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeEdge
+    from OCP.Geom import Geom_BSplineCurve
+    from OCP.gp import gp_Pnt
+    from OCP.TColgp import TColgp_Array1OfPnt
+    from OCP.TColStd import TColStd_Array1OfInteger, TColStd_Array1OfReal
+    rz = [(12, 0), (12, -10), (15, -15), (15, -30), (10, -40)]
+    n = len(rz)
+    P, K, M = TColgp_Array1OfPnt(1, n), TColStd_Array1OfReal(1, n), TColStd_Array1OfInteger(1, n)
+    for i, (r, z) in enumerate(rz):
+        P.SetValue(i + 1, gp_Pnt(r, 0, z))
+        K.SetValue(i + 1, float(i))
+        M.SetValue(i + 1, 2 if i in (0, n - 1) else 1)
+    poly = Edge(BRepBuilderAPI_MakeEdge(Geom_BSplineCurve(P, K, M, 1)).Edge())
+    w = Wire([Edge.make_line((0, 0, 0), (12, 0, 0)), poly, Edge.make_line((10, 0, -40), (0, 0, -40)),
+              Edge.make_line((0, 0, -40), (0, 0, 0))])
+    p = profile(revolve(Face(w), Axis.Z))
+    pts = [(0, 0)] + rz + [(0, -40)]
+    _same_chain(p.outside, [Line(a, b) for a, b in zip(pts, pts[1:])], tol=1e-6)
+    assert not any("fitted" in note for note in p.notes)
