@@ -295,7 +295,7 @@ def test_random_parameter_sets_refused_or_exact(fam):
     defaults = family_parameters(mod)
     rng = random.Random(sum(map(ord, fam)))
     built = refused = 0
-    for _ in range(8):
+    for _ in range(12):
         params = {}
         for k, v in defaults.items():
             if rng.random() < 0.4:
@@ -313,7 +313,7 @@ def test_random_parameter_sets_refused_or_exact(fam):
         assert len(got) == len(expected), (params, got, expected)
         assert all(_same(g, x) for g, x in zip(got, expected)), params
         built += 1
-    assert built + refused == 8
+    assert built + refused == 12 and built >= 3, (built, refused)
 
 
 def test_user_part_file_with_constants(tmp_path):
