@@ -464,6 +464,9 @@ def test_more_input_kinds(tmp_path, shaft_solid):
                          Arc((12.0, -27.0), (9.0, -30.0), (9.0, -27.0), False),  # G03
                          Line((9.0, -30.0), (0.0, -30.0))]
     _same_chain(profile(wp.val()).outside, q.outside)              # cq.Solid
+    _same_chain(profile(wp.faces(">Z").workplane()).outside, q.outside)  # chain, no solid on top
+    with pytest.raises(ProfileError, match="the CadQuery Workplane holds no shape"):
+        profile(cq.Workplane("XY"))
     _same_chain(profile(wp.val().wrapped).outside, q.outside)      # OCP TopoDS_Solid
     export_step(shaft_solid, tmp_path / "S.STP")
     export_brep(shaft_solid, tmp_path / "S.BREP")

@@ -83,9 +83,17 @@ def to_shape(obj: Any) -> TopoDS_Shape:
     # build123d BuildPart (builder): its result is .part
     if hasattr(obj, "part") and not hasattr(obj, "wrapped") and hasattr(obj, "builder_parent"):
         obj = obj.part
-    # CadQuery Workplane: its objects (solids) on the stack
+    # CadQuery Workplane: its objects (solids) on the stack; when the stack holds no solid
+    # (a chain ending in .faces(...) or .workplane()), the solid the chain carries
     if hasattr(obj, "vals") and hasattr(obj, "objects") and not hasattr(obj, "wrapped"):
         vals = [v for v in obj.vals() if hasattr(v, "wrapped")]
+        if not any(solids(v.wrapped) for v in vals) and hasattr(obj, "findSolid"):
+            try:
+                found = obj.findSolid()
+            except ValueError:
+                found = None
+            if found is not None and hasattr(found, "wrapped"):
+                vals = [found]
         if not vals:
             raise ProfileError("the CadQuery Workplane holds no shape")
         if len(vals) == 1:
