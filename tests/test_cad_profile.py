@@ -563,3 +563,17 @@ def test_revolved_degree1_bspline_polyline_gives_exact_lines():
     pts = [(0, 0)] + rz + [(0, -40)]
     _same_chain(p.outside, [Line(a, b) for a, b in zip(pts, pts[1:])], tol=1e-6)
     assert not any("fitted" in note for note in p.notes)
+
+
+def test_square_bar_and_double_d_envelopes(shaft_solid):
+    """A square bar's envelope is its circumscribed cylinder; a double-D shaft's is the round
+    shaft (a half-plane between the flats is clean)."""
+    from build123d import Box, Pos
+    sq = profile(Pos(0, 0, -20) * Box(20, 20, 40), envelope=True)
+    r = math.hypot(10, 10)
+    _same_chain(sq.outside, [Line((0.0, 0.0), (r, 0.0)), Line((r, 0.0), (r, -40.0)),
+                             Line((r, -40.0), (0.0, -40.0))], tol=1e-9)
+    double_d = (shaft_solid - Pos(0, 22, -38) * Box(40, 20, 20)) - Pos(0, -22, -38) * Box(40, 20, 20)
+    env = profile(double_d, envelope=True)
+    assert env.outside == profile(shaft_solid).outside
+    assert sum(n.startswith("ignored (envelope)") for n in env.notes) == 2
