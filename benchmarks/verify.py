@@ -13,9 +13,11 @@ report fails, and the leftover is classified reachable/unreachable, the expensiv
 
     python benchmarks/verify.py            # all three sizes
     python benchmarks/verify.py 1 10       # chosen pass counts
+    python benchmarks/verify.py --shaft    # only the per-part figure for parts/stepped_shaft.py
 
 Prints per size: moves, interpreter time, simulate time, verify time, peak memory, and the
-growth factor of simulate+verify time per 10x moves.
+growth factor of simulate+verify time per 10x moves; then (all sizes run) the per-part
+simulate and verify time of generated programs for parts/stepped_shaft.py.
 """
 from __future__ import annotations
 
@@ -90,9 +92,47 @@ def one(passes: int) -> dict:
             "simulate_r08_s": t4 - t3, "verify_r08_s": t5 - t4, "pass_r08": rep2.passed}
 
 
+def shaft() -> dict:
+    """Per-part simulate and verify time for generated programs of parts/stepped_shaft.py
+    (both comp modes, three lengths; medians of three rounds): the cost that generate and
+    family pay per part for their verification."""
+    import statistics
+    from pathlib import Path
+
+    import hnc_cam
+    from hnc_cam.cad import load_part
+    from hnc_cam.nc.interp import run
+    from hnc_cam.sim import simulate, verify
+    from hnc_cam.tooling import Stock, load_machine
+    part = str(Path(__file__).resolve().parents[1] / "parts" / "stepped_shaft.py")
+    machine = load_machine()
+    cases = []
+    for comp in ("cam", "control"):
+        for length in (95, 100, 104):
+            params = {"length": str(length)}
+            prog = hnc_cam.generate(part, params=params, verify=False, comp=comp)
+            loaded = load_part(part, params)
+            tp = run(prog.text, machine, start="reference")
+            cases.append((tp, Stock.parse(loaded.stock), loaded.profile))
+    ts, tv, ok = [], [], True
+    for _ in range(3):
+        for tp, stock, prof in cases:
+            t0 = time.perf_counter()
+            m = simulate(tp, stock, machine, model=prof)
+            t1 = time.perf_counter()
+            ok = verify(m, prof).passed and ok
+            ts.append(t1 - t0)
+            tv.append(time.perf_counter() - t1)
+    return {"simulate_ms": 1000 * statistics.median(ts), "verify_ms": 1000 * statistics.median(tv),
+            "pass": ok, "moves": len(cases[0][0].moves)}
+
+
 def main(argv: list[str]) -> int:
     if argv and argv[0] == "--one":
         print(json.dumps(one(int(argv[1]))))
+        return 0
+    if argv and argv[0] == "--shaft":
+        print(json.dumps(shaft()))
         return 0
     sizes = [int(a) for a in argv] or [1, 10, 100]
     rows = []
@@ -114,6 +154,13 @@ def main(argv: list[str]) -> int:
         f = (b["total"] / a["total"]) / (b["moves"] / a["moves"]) * 10
         print(f"growth {a['moves']} -> {b['moves']} moves: simulate+verify x{b['total'] / a['total']:.1f} "
               f"(x{f:.1f} per 10x moves)")
+    if not argv:
+        out = subprocess.run([sys.executable, __file__, "--shaft"], capture_output=True,
+                             text=True, check=True)
+        r = json.loads(out.stdout.strip().splitlines()[-1])
+        print(f"parts/stepped_shaft.py, generated programs (~{r['moves']} moves): simulate "
+              f"{r['simulate_ms']:.0f} ms + verify {r['verify_ms']:.0f} ms per part (median), "
+              f"{'all pass' if r['pass'] else 'SOME FAIL'}")
     return 0
 
 
