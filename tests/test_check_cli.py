@@ -158,3 +158,21 @@ def test_generated_program_verifies_with_the_default_tables(tmp_path, capsys):
                 str(tmp_path / "sharp.toml"), "--json", str(out)])
     js2 = json.loads(out.read_text())
     assert rc2 == 1 and js2["pass"] is False and js2["max_overcut_mm"] > 0.1
+
+
+@pytest.mark.cad
+def test_verify_json_unreachable_in_diameter_and_bad_model(files, capsys):
+    # T0101 of the default library has a 0.8 nose: the square shoulder at X30 Z-30 keeps its
+    # fillet, listed as unreachable with x as a diameter, not counted: exit 0
+    out = files / "u.json"
+    rc = main(["verify", str(files / "good.nc"), "--model", str(files / "part.py"), "--stock",
+               "40x60", "--json", str(out)])
+    js = json.loads(out.read_text())
+    assert rc == 0 and js["pass"] is True, capsys.readouterr().out
+    (u,) = js["unreachable"]
+    assert u["x"] == pytest.approx(30.0, abs=0.6) and u["z"] == pytest.approx(-30.0, abs=0.3)
+    assert u["size_mm"] == pytest.approx(0.8 * (1 - 0.5 ** 0.5), abs=0.002)
+    assert "cannot reach" in capsys.readouterr().out
+    rc = main(["verify", str(files / "good.nc"), "--model", str(files / "nosuch.py"),
+               "--stock", "40x60"])
+    assert rc == 2 and "nosuch" in capsys.readouterr().err
