@@ -104,3 +104,26 @@ def test_non_cutting_sides_only_for_known_inserts():
     assert tool_shape(Register(number=1, radius=0.8, tip=3)).non_cutting == ()
     known = tool_shape(Register(number=1, radius=0.8, tip=3, insert=Insert.parse("CNMG120408")))
     assert len(known.non_cutting) == 2
+
+
+def test_sweep_hulls_equal_the_convex_hull_of_both_placements():
+    import numpy as np
+    import shapely
+
+    from hnc_cam.sim.tool import sweep_hulls
+    from hnc_cam.tooling import Register
+    rng = np.random.default_rng(7)
+    for reg, ta in ((Register(number=1, radius=0.8, tip=3), None),
+                    (Register(number=2, radius=0.4, tip=2), None),
+                    (Register(number=3, radius=0.2, tip=8), 60.0)):
+        K = tool_shape(reg, ta).outline
+        a = rng.normal(size=(300, 2)) * 5
+        b = a + rng.normal(size=(300, 2)) * rng.choice([0.0, 1e-9, 0.05, 1.0, 20.0], size=(300, 1))
+        b[:60, 1] = a[:60, 1]  # along Z
+        b[60:120, 0] = a[60:120, 0]  # along X
+        for outline in (K, -K, K[::-1]):  # any orientation
+            got = sweep_hulls(outline, a, b)
+            ref = shapely.convex_hull(shapely.linestrings(
+                np.concatenate([outline[None] + a[:, None], outline[None] + b[:, None]], axis=1)))
+            assert shapely.is_valid(got).all()
+            assert shapely.area(shapely.symmetric_difference(got, ref)).max() < 1e-9

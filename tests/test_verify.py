@@ -250,3 +250,21 @@ def test_plot_shows_what_the_issue_names(tmp_path):
         plt.close(fig)
     plot(m, tmp_path / "case.png", report=r, model=model, title="case")
     assert (tmp_path / "case.png").read_bytes()[:4] == b"\x89PNG"
+
+
+def test_reachable_sliver_over_an_unreachable_corner_counts_by_its_own_thickness():
+    # the finishing pass runs 0.005 mm (radius) above the dia 30 face into a square shoulder
+    # with a 0.8 nose: the band it leaves is reachable and 0.005 deep; the nose fillet in the
+    # corner, r (1 - cos 45) deep from the model, cannot be reached. The band must not be
+    # measured by the corner's depth where it meets the fillet.
+    t = prog(*ROUGH, "X30.01", "G01 Z-30", "X42", "G00 X60 Z50")
+    _, r = run_verify(t, STEP, machine=NOSE08)
+    assert r.max_undercut_mm == pytest.approx(0.005, abs=0.001), r.summary()
+    assert r.passed
+    (u,) = r.unreachable
+    assert u.size_mm == pytest.approx(0.8 * (1 - math.sqrt(0.5)), abs=0.002)
+    assert abs(u.z + 30) < 0.5 and abs(u.x - 15) < 0.5
+    # the same band 0.02 mm thick fails, located on the band, not in the corner
+    _, r2 = run_verify(prog(*ROUGH, "X30.04", "G01 Z-30", "X42", "G00 X60 Z50"), STEP,
+                       machine=NOSE08)
+    assert r2.max_undercut_mm == pytest.approx(0.02, abs=0.001) and not r2.passed
