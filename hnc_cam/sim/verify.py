@@ -10,16 +10,24 @@ Choices (the issue leaves them open):
   maximum is found to 0.001 mm) and
   on an interior grid (a part that was cut off entirely has its deepest point inside).
 * **Undercut** = remaining material minus model, its size at a point the distance to the model;
-  the maximum lies on the region's boundary. It is split into what the tools can reach and what
-  they cannot: the region a tool outline K can sweep without entering the model (nor its mirror
-  image below the axis) is the morphological opening of the free space by K, computed with exact
-  Minkowski sums of the sampled polygons with the convex outline. The stock beyond the part's
-  left end (the chucking allowance, where the part is cut off later) is an obstacle too, so the
-  nose fillet a pass leaves exactly at the cut-off line is not a defect. Leftover outside the union of
-  the openings of every cutting tool the program used (in inner corners sharper than the nose
-  radius, in grooves narrower than the insert, under shoulders the insert's orientation cannot
-  reach) is *unreachable*: listed with location and size, a failure only with ``strict``.
-  Leftover inside is *reachable*: a defect, counted in ``max_undercut_mm``.
+  the maximum lies on the region's boundary. Components deeper than ``NOISE`` are split into what
+  the tools can reach and what they cannot: the region a tool outline K can sweep without
+  entering the model (nor its mirror image below the axis) is the morphological opening of the
+  free space by K, computed with exact Minkowski sums of the sampled polygons with the convex
+  outline (each edge swept by K as an exact hull, :func:`hnc_cam.sim.tool.sweep_hulls`), locally:
+  placements within K's extent of the leftover, obstacles within twice that, and only the swept
+  edges that meet the placement window or the leftover are united (:func:`reachable`). The
+  stock beyond the part's left end (the chucking allowance, where the part is cut off later) is
+  an obstacle too, so the nose fillet a pass leaves exactly at the cut-off line is not a defect.
+  Leftover outside the union of the openings of every cutting tool the program used (in inner
+  corners sharper than the nose radius, in grooves narrower than the insert, under shoulders the
+  insert's orientation cannot reach) is *unreachable*: listed with location and size (its
+  distance to the model), a failure only with ``strict``. Leftover inside is *reachable*: a
+  defect, counted in ``max_undercut_mm`` by its distance to what the tools could at best leave
+  there, the model together with the unreachable leftover. Where no unreachable leftover is
+  near, that is the distance to the model; a pass that stops 0.005 mm above a face running into
+  a square shoulder leaves a 0.005 mm band, not a band as deep as the nose fillet in the corner
+  under it. Components no deeper than ``NOISE`` are not classified and count as reachable.
 * **Threads**: thread zones (the model's declared threads, or the span of the program's thread
   moves) are excluded from the overcut/undercut comparison between the thread's root and its
   nominal diameter. Instead the achieved root diameter (external: the smallest diameter of the
