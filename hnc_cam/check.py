@@ -89,7 +89,7 @@ def simulate_command(args: argparse.Namespace) -> int:
     for w in tp.warnings:
         print(f"{tp.file}:{w.line}: warning: {w.message}", file=sys.stderr)
     m = simulate(tp, stock, machine, model=model)
-    print(m.summary())
+    print(m.summary(), file=sys.stderr if args.json == "-" else sys.stdout)
     if args.json:
         _write_json(args.json, m.to_json())
     if args.plot:
@@ -109,8 +109,9 @@ def verify_command(args: argparse.Namespace) -> int:
         print(f"{tp.file}:{w.line}: warning: {w.message}", file=sys.stderr)
     m = simulate(tp, stock, machine, model=loaded.profile)
     rep = verify(m, loaded.profile, tol=args.tol, threads=loaded.threads, strict=args.strict)
-    print(f"{tp.file} against {args.model}:")
-    print(rep.summary())
+    out = sys.stderr if args.json == "-" else sys.stdout  # stdout carries only the JSON
+    print(f"{tp.file} against {args.model}:", file=out)
+    print(rep.summary(), file=out)
     if args.json:
         _write_json(args.json, rep.to_json())
     if args.plot:

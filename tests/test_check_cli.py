@@ -176,3 +176,30 @@ def test_verify_json_unreachable_in_diameter_and_bad_model(files, capsys):
     rc = main(["verify", str(files / "good.nc"), "--model", str(files / "nosuch.py"),
                "--stock", "40x60"])
     assert rc == 2 and "nosuch" in capsys.readouterr().err
+
+
+def test_json_to_stdout_is_pure_json_and_unwritable_output_is_bad_input(tmp_path):
+    """`--json -` keeps the summary off stdout; an output path that cannot be created is
+    exit 2 with one line, no traceback; written files get the umask's mode, not 0600."""
+    import json as _json
+    import os
+    import stat
+    import subprocess
+    import sys as _sys
+    prog = tmp_path / "p.nc"
+    prog.write_text("%1\nG00 X20 Z2\nM03 S500\nG01 X20 Z-10 F100\nG00 X40\nM30\n")
+    exe = [_sys.executable, "-m", "hnc_cam.cli"]
+    r = subprocess.run(exe + ["simulate", str(prog), "--stock", "30x50", "--json", "-"],
+                       capture_output=True, text=True)
+    assert "removed_volume_mm3" in _json.loads(r.stdout)
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    r = subprocess.run(exe + ["simulate", str(prog), "--stock", "30x50", "--json",
+                              str(blocker / "out.json")], capture_output=True, text=True)
+    assert r.returncode == 2 and "Traceback" not in r.stderr and "cannot write" in r.stderr
+    out = tmp_path / "o.json"
+    subprocess.run(exe + ["simulate", str(prog), "--stock", "30x50", "--json", str(out)],
+                   capture_output=True, text=True)
+    umask = os.umask(0)
+    os.umask(umask)
+    assert stat.S_IMODE(out.stat().st_mode) == 0o666 & ~umask
