@@ -967,36 +967,26 @@ class Interp:
 
     # -- targets ---------------------------------------------------------------------------------
     def _target(self, b: Blk, w: dict, g53: bool = False) -> tuple[float, float]:
-        x, z = self.x, self.z
         u = self.unit
-        sx = 0.5 * u if self.diam else u
-        X = w.get("X")
-        U = w.get("U")
-        Z = w.get("Z")
-        W = w.get("W")
-        if X is not None:
-            if U is not None:
-                raise self.balarm(b, "X and U in one block", "U")
-            if g53:
-                x = X * sx - self.ox
-            elif self.absolute:
-                x = X * sx
-            else:
-                x += X * sx
-        elif U is not None:
-            x += U * sx
-        if Z is not None:
-            if W is not None:
-                raise self.balarm(b, "Z and W in one block", "W")
-            if g53:
-                z = Z * u - self.oz
-            elif self.absolute:
-                z = Z * u
-            else:
-                z += Z * u
-        elif W is not None:
-            z += W * u
+        x = self._axis(b, w, "X", "U", self.x, 0.5 * u if self.diam else u, self.ox, g53)
+        z = self._axis(b, w, "Z", "W", self.z, u, self.oz, g53)
         return x, z
+
+    def _axis(self, b: Blk, w: dict, absolute: str, incremental: str, cur: float,
+              scale: float, origin: float, g53: bool) -> float:
+        """Target of one axis from its absolute word (X/Z: G90, G91 or G53 machine
+        coordinates) or its incremental word (U/W); both in one block alarm."""
+        A = w.get(absolute)
+        inc = w.get(incremental)
+        if A is not None:
+            if inc is not None:
+                raise self.balarm(b, f"{absolute} and {incremental} in one block", incremental)
+            if g53:
+                return A * scale - origin
+            return A * scale if self.absolute else cur + A * scale
+        if inc is not None:
+            return cur + inc * scale
+        return cur
 
     # -- motion --------------------------------------------------------------------------------
     def _g00(self, b: Blk, w: dict, g53: bool = False):
