@@ -17,13 +17,13 @@ from __future__ import annotations
 
 import math
 import re
-import tomllib
 from dataclasses import dataclass, field, replace
 from importlib import resources
 from pathlib import Path
 from typing import Any, Mapping
 
 from .errors import StockError, ToolError
+from .schema import Key, check_table, key_line, parse_toml, read_toml
 
 # --------------------------------------------------------------------------------------------
 # ISO 1832 turning inserts
@@ -169,6 +169,21 @@ class Register:
 
 SHARP = Register(number=0)
 
+#: what an M code of the machine's PLC does, as the interpreter models it: spindle direction
+#: (before the block's motion) and stop (after it), coolant on (before) / off (after), tool
+#: change and "other" (acts, no effect on the toolpath), optional stop (after; the run
+#: continues, as with the optional-stop switch off)
+M_MEANINGS = ("spindle_cw", "spindle_ccw", "spindle_stop", "coolant_on", "coolant_off",
+              "tool_change", "optional_stop", "other")
+#: M codes fixed by the CNC (manual §3.1.1): program stop, end, end and rewind, call, return
+CNC_M_CODES = (0, 2, 30, 98, 99)
+#: the standard PLC's M codes (manual table 3.1) plus M08 (flood coolant on most lathes)
+DEFAULT_M_CODES = {3: "spindle_cw", 4: "spindle_ccw", 5: "spindle_stop", 6: "tool_change",
+                   7: "coolant_on", 8: "coolant_on", 9: "coolant_off"}
+#: machine file [limits] key -> Machine field
+LIMIT_KEYS = {"moves": "move_limit", "cycle_passes": "pass_limit", "calls": "call_limit",
+              "program_bytes": "program_bytes", "line_chars": "line_chars"}
+
 
 @dataclass(frozen=True)
 class Machine:
@@ -185,6 +200,16 @@ class Machine:
     work_offsets: dict[str, tuple[float, float]] = field(
         default_factory=lambda: {f"G{n}": (0.0, 0.0) for n in range(54, 60)})
     registers: dict[int, Register] = field(default_factory=dict)
+    #: the PLC's M codes (number -> one of :data:`M_MEANINGS`); M00 M02 M30 M98 M99 are the
+    #: CNC's own and not listed (manual §3.1)
+    m_codes: dict[int, str] = field(default_factory=lambda: dict(DEFAULT_M_CODES))
+    # [limits]: what one program run may produce; far above any real program, they turn a
+    # runaway program into an alarm within seconds and bounded memory
+    move_limit: int = 500_000  # moves in the toolpath
+    pass_limit: int = 10_000  # passes (levels, repetitions) of one cycle block
+    call_limit: int = 1_000_000  # subprogram entries (M98/G65 calls and their L repetitions)
+    program_bytes: int = 64 * 1024 * 1024  # size of a program file or text
+    line_chars: int = 65_536  # characters in one line
 
     def register(self, number: int) -> Register:
         """Offset register ``number``; one absent from the table is a sharp point."""
@@ -224,21 +249,20 @@ def _xz(tbl: Mapping[str, Any], key: str, default: tuple[float, float], where: s
     return (x / 2 if x_is_diameter else x, z)
 
 
-def _load_toml(path: str | Path | None, default_name: str) -> tuple[dict, str]:
+def _load_toml_text(path: str | Path | None, default_name: str) -> tuple[dict, str, str]:
+    """``(data, where, text)`` of a TOML file or the bundled default; unreadable, not UTF-8,
+    binary or invalid TOML is a :class:`ToolError` with the place."""
     if path is None:
         text = resources.files("hnc_cam").joinpath("data", default_name).read_text("utf-8")
         where = f"<default {default_name}>"
-    else:
-        p = Path(path)
-        try:
-            text = p.read_text("utf-8")
-        except OSError as e:
-            raise ToolError(f"{path}: cannot read: {e.strerror or e}") from None
-        where = str(path)
-    try:
-        return tomllib.loads(text), where
-    except tomllib.TOMLDecodeError as e:
-        raise ToolError(f"{where}: not valid TOML: {e}") from None
+        return parse_toml(text, where, ToolError), where, text
+    data, text = read_toml(str(path), ToolError)
+    return data, str(path), text
+
+
+def _load_toml(path: str | Path | None, default_name: str) -> tuple[dict, str]:
+    data, where, _text = _load_toml_text(path, default_name)
+    return data, where
 
 
 def parse_register(tbl: Mapping[str, Any], where: str) -> Register:
@@ -259,6 +283,44 @@ def parse_register(tbl: Mapping[str, Any], where: str) -> Register:
                     radius=radius, tip=tip, insert=ins,
                     approach=_num(tbl, "approach", 95.0, where),
                     kind=str(tbl.get("kind", ins.kind if ins else "turn")))
+
+
+def _m_codes(tbl: Any, where: str) -> dict[int, str]:
+    """The default M codes updated by the machine file's ``[m_codes]`` (``M08 = "coolant_on"``)."""
+    out = dict(DEFAULT_M_CODES)
+    if tbl is None:
+        return out
+    if not isinstance(tbl, Mapping):
+        raise ToolError(f"{where}: [m_codes] must be a table such as M08 = \"coolant_on\"")
+    for k, v in tbl.items():
+        m = re.fullmatch(r"[Mm](\d{1,2})", str(k))
+        if m is None:
+            raise ToolError(f"{where}: m_codes.{k}: a key is an M code M00-M99, such as M08")
+        n = int(m.group(1))
+        if n in CNC_M_CODES:
+            raise ToolError(f"{where}: m_codes.{k}: M{n:02d} is fixed by the CNC (manual 3.1.1), "
+                            f"not a PLC code")
+        if v not in M_MEANINGS:
+            raise ToolError(f"{where}: m_codes.{k} = {v!r}: the meaning must be one of "
+                            f"{', '.join(M_MEANINGS)}")
+        out[n] = v
+    return out
+
+
+def _limits(tbl: Any, where: str) -> dict[str, int]:
+    """The machine file's ``[limits]`` as Machine fields (positive integers)."""
+    if tbl is None:
+        return {}
+    if not isinstance(tbl, Mapping):
+        raise ToolError(f"{where}: [limits] must be a table")
+    out = {}
+    for k, v in tbl.items():
+        if k not in LIMIT_KEYS:
+            raise ToolError(f"{where}: limits.{k}: unknown key (known: {', '.join(LIMIT_KEYS)})")
+        if isinstance(v, bool) or not isinstance(v, int) or v <= 0:
+            raise ToolError(f"{where}: limits.{k} must be a positive integer, got {v!r}")
+        out[LIMIT_KEYS[k]] = v
+    return out
 
 
 def load_machine(path: str | Path | None = None, tools: "ToolLibrary | None" = None) -> Machine:
@@ -296,6 +358,7 @@ def load_machine(path: str | Path | None = None, tools: "ToolLibrary | None" = N
     for k in ("rapid_x", "rapid_z", "max_rpm", "default_feed"):
         if getattr(mach, k) <= 0:
             raise ToolError(f"{where}: {k} must be positive")
+    mach = replace(mach, m_codes=_m_codes(data.get("m_codes"), where), **_limits(data.get("limits"), where))
     regs: dict[int, Register] = {}
     use_lib = data.get("use_tool_library", True)
     if use_lib:
@@ -330,31 +393,60 @@ class ToolLibrary:
         return [t for t in self.tools if use in t.uses and (kind is None or t.kind == kind)]
 
 
+#: the keys of a ``[[tool]]`` entry: type, allowed range or values (see :mod:`hnc_cam.schema`)
+TOOL_KEYS = {
+    "number": Key("int", 1, 99, required=True),
+    "register": Key("int", 1, 99),
+    "name": Key("str"),
+    "insert": Key("str", required=True),
+    "radius": Key("float", 0, 10, "mm"),
+    "holder": Key("str"),
+    "hand": Key("str", choices=("R", "L", "N"), fold=True),
+    "tip": Key("int", 0, 9),
+    "approach": Key("float", 0, 180, "deg", lo_open=True),
+    "kind": Key("str", choices=("turn", "bore", "thread", "groove")),
+    "uses": Key("strs", choices=("rough", "finish", "face", "profile", "thread", "thread_id",
+                                 "groove")),
+    "depth": Key("float", 0.01, 20, "mm"),
+    "feed_rough": Key("float", 0.01, 2, "mm/rev"),
+    "feed_finish": Key("float", 0.01, 2, "mm/rev"),
+    "vc_rough": Key("float", 1, 2000, "m/min"),
+    "vc_finish": Key("float", 1, 2000, "m/min"),
+    "rpm": Key("float", 0, 50000, "rpm"),
+    "min_bore": Key("float", 0, 2000, "mm"),
+    "x": Key("float", -2000, 2000, "mm"),
+    "z": Key("float", -2000, 2000, "mm"),
+}
+
+
 def load_tools(path: str | Path | None = None) -> ToolLibrary:
-    data, where = _load_toml(path, "tools.toml")
+    """Load a tool library (or the bundled one). Every ``[[tool]]`` key is checked against
+    :data:`TOOL_KEYS`: an unknown key, a wrong type, a value out of range or not among the
+    allowed ones is a :class:`ToolError` naming the file and line."""
+    data, where, text = _load_toml_text(path, "tools.toml")
+    unknown = [k for k in data if k != "tool"]
+    if unknown:
+        n = key_line(text, "", unknown[0]) or key_line(text, unknown[0], "\0")
+        raise ToolError(f"{where}{':' + str(n) if n else ''}: unknown table or key "
+                        f"'{unknown[0]}' (a tool library holds [[tool]] entries)")
     entries = data.get("tool")
     if not isinstance(entries, list) or not entries:
         raise ToolError(f"{where}: no [[tool]] entries")
     tools: list[Tool] = []
     seen: set[int] = set()
     for i, t in enumerate(entries):
-        w = f"{where}: tool[{i}]"
-        num = t.get("number")
-        if not isinstance(num, int) or not 0 < num < 100:
-            raise ToolError(f"{w}: number must be an integer 1-99, got {num!r}")
+        check_table(t, TOOL_KEYS, where, text=text, table="tool", index=i, error=ToolError,
+                    label=f"tool[{i}]")
+        num = t["number"]
+        line = key_line(text, "tool", "number", i)
+        w = f"{where}:{line}" if line else where
         if num in seen:
             raise ToolError(f"{w}: tool number {num} appears twice")
         seen.add(num)
-        w = f"{where}: tool T{num:02d}"
+        w = f"{w}: tool T{num:02d}"
         reg = t.get("register", num)
-        if not isinstance(reg, int) or not 0 < reg < 100:
-            raise ToolError(f"{w}: register must be an integer 1-99")
-        if "insert" not in t:
-            raise ToolError(f"{w}: insert code missing")
         ins = Insert.parse(str(t["insert"]), t.get("radius"))
         tip = t.get("tip", 3)
-        if not isinstance(tip, int) or not 0 <= tip <= 9:
-            raise ToolError(f"{w}: tip direction code must be 0-9, got {tip!r}")
         holder = str(t.get("holder", ""))
         approach = t.get("approach")
         if approach is None:

@@ -31,8 +31,10 @@ def test_unknown_g_code():
 
 
 def test_unknown_m_code():
-    e = alarm(prog("M08"))
-    assert "unknown M code M08" in e.message and (e.line, e.col) == (2, 1)
+    # M10 is in neither the CNC's own codes nor the default machine's PLC table
+    e = alarm(prog("G00 X10 M10"))
+    assert "unknown M code M10" in e.message and (e.line, e.col) == (2, 9)
+    assert '[m_codes]' in e.message and 'M10 = "other"' in e.message
 
 
 def test_unknown_word():

@@ -77,7 +77,7 @@ def test_endless_recursion_stops():
 
 def test_empty_subprogram_repeated_forever_stops():
     r = outcome("%1\nM98 P2 L4294967295\nM30\n%2\n")
-    assert isinstance(r, NCError) and "step limit" in r.message
+    assert isinstance(r, NCError) and "too many subprogram runs" in r.message and r.line == 2
 
 
 def test_deeply_nested_expressions_alarm():

@@ -70,7 +70,7 @@ def test_u_w_and_x_z_mixed():
 
 
 def test_g91_x_is_a_diameter_increment():
-    tp = run(prog("G91 G01 X15 Z20 F100", "X30 Z20", "X-20 Z20", "X-25 Z-60"))
+    tp = run(prog("G91 G01 X15 Z20 F100", "X30 Z20", "X-20 Z20", "X-25 Z-60"), start=(0, 0))
     assert [p[2] for p in pts(tp)] == [(15, 20), (45, 40), (25, 60), (0, 0)]
 
 
@@ -162,7 +162,7 @@ def test_g04_dwell_counts_time():
 
 def test_g28_g29_via_the_intermediate_point():
     mach = Machine(reference=(100.0, 150.0))
-    tp = run(prog("G92 X50 Z100", "G28 X80 Z200", "G29 X40 Z250"), mach)
+    tp = run(prog("G92 X50 Z100", "G28 X80 Z200", "G29 X40 Z250"), mach, start=(0, 0))
     ends = [p[2] for p in pts(tp)]
     # G92 X50 Z100 at machine 0,0: work = machine + (25, 100); reference (100, 150) -> dia 250, Z250
     assert (80, 200) in ends and (250, 250) in ends

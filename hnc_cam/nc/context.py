@@ -15,6 +15,8 @@ class CycleContext(Protocol):
     line: int  # 1-based source line of the cycle block
     incremental: bool  # G91 active
     diameter_mode: bool  # G36 active (X words are diameters)
+    max_passes: int  # the machine's limit of passes of one cycle block ([limits] cycle_passes)
+    moves_left: int  # moves the toolpath may still take ([limits] moves)
 
     @property
     def pos(self) -> Point:

@@ -103,6 +103,30 @@ def _positive(ctx: Any, letter: str, what: str) -> float:
     return float(v)
 
 
+def _max_passes(ctx: Any) -> int:
+    return int(getattr(ctx, "max_passes", 10_000))
+
+
+def _level_bound(ctx: Any, start, segs, allowance, depth: float, face: bool, letter: str) -> None:
+    """Alarm when the depth of cut is so small against the profile's extent along the level
+    axis that the cycle would take more levels than the machine's [limits] cycle_passes
+    (counted before planning, so that planning never runs away)."""
+    k = 1 if face else 0
+    far = 0.0
+    for sg in segs:
+        for p in (sg.start, sg.end):
+            far = max(far, abs(p[k] - start[k]))
+        if isinstance(sg, Arc):
+            far = max(far, abs(sg.center[k] - start[k]) + sg.radius)
+    far += abs(allowance[k])
+    levels = far / depth
+    limit = _max_passes(ctx)
+    if levels > limit:
+        ctx.alarm(f"G{ctx.code} {letter}{depth:g}: about {levels:.0f} pass levels over "
+                  f"{far:.3f} mm, more than the machine's limit of {limit} ([limits] cycle_passes)",
+                  letter)
+
+
 def _g71_g72(ctx: Any, face: bool) -> RoughPlan:
     code = ctx.code
     depth_letter, wrong = ("W", "U") if face else ("U", "W")
@@ -128,6 +152,7 @@ def _g71_g72(ctx: Any, face: bool) -> RoughPlan:
         allowance = (_x_units(ctx, float(dx or 0.0)), float(dz or 0.0))
     ns, nf, segs, lines, motions = _profile(ctx)
     start = ctx.pos
+    _level_bound(ctx, start, segs, allowance, depth, face, depth_letter)
     if face and segs:
         a1 = segs[0].end
         if abs(a1[0] - start[0]) > 1e-6:
@@ -145,6 +170,10 @@ def _g73(ctx: Any) -> RoughPlan:
     if abs(count_w - round(count_w)) > 1e-9:
         ctx.alarm(f"G73 R{count_w:g}: the number of passes must be a whole number", "R")
     count = int(round(count_w))
+    limit = _max_passes(ctx)
+    if count > limit:
+        ctx.alarm(f"G73 R{count}: more passes than the machine's limit of {limit} "
+                  f"([limits] cycle_passes)", "R")
     if not ctx.has("U") and not ctx.has("W"):
         ctx.alarm("G73 needs U and/or W (total roughing stock ΔI/ΔK)", "U")
     stock = (float(ctx.word("U") or 0.0), float(ctx.word("W") or 0.0))
@@ -152,6 +181,10 @@ def _g73(ctx: Any) -> RoughPlan:
         ctx.warn("G73: finishing allowance X/Z not programmed, taken as 0")
     allowance = (_x_units(ctx, float(ctx.word("X") or 0.0)), float(ctx.word("Z") or 0.0))
     ns, nf, segs, lines, motions = _profile(ctx)
+    left = getattr(ctx, "moves_left", None)
+    if left is not None and count * (len(segs) + 2) > left:
+        ctx.alarm(f"G73 R{count}: {count} passes over a profile of {len(segs)} blocks exceed the "
+                  f"moves the toolpath may still take ({left}, [limits] moves)", "R")
     try:
         return pattern_repeat(ctx.pos, segs, motions, stock=stock, allowance=allowance,
                               count=count)

@@ -370,7 +370,8 @@ def _g76(ctx: Any) -> None:
         ctx.warn(f"G76: the start point A (X{a[0] * (2 if ctx.diameter_mode else 1):g}) lies "
                  f"inside the thread crest at the start")
     try:
-        depths = g76_depths(k, d, dd, ddmin, finishing)
+        depths = g76_depths(k, d, dd, ddmin, finishing,
+                            min(MAX_G76_PASSES, int(getattr(ctx, "max_passes", MAX_G76_PASSES))))
     except ValueError as exc:
         ctx.alarm(f"G76: {exc}")
     dirz = 1.0 if c[1] > a[1] else -1.0

@@ -83,6 +83,7 @@ from ..errors import NCError
 from ..geometry import Arc, Line, cross
 from ..tooling import Machine, Register, load_machine
 from . import parser as P
+from .lexer import printable
 from .expr import EvalError, Expr
 from .toolpath import Move, Toolpath, Warning_
 
@@ -103,9 +104,9 @@ G_GROUP: dict[int, int] = {
     36: 16, 37: 16,
     96: 17, 97: 17,
 }
-M_BEFORE = frozenset({3, 4, 6, 7})
-M_AFTER = frozenset({0, 2, 5, 9, 30, 98, 99})
-M_KNOWN = M_BEFORE | M_AFTER
+#: M codes of the CNC itself (manual 3.1.1); every other M code is the PLC's and must be listed
+#: with its meaning in the machine file's [m_codes] (``Machine.m_codes``)
+M_CNC = frozenset({0, 2, 30, 98, 99})
 CYCLE_MOTION = frozenset({32, 80, 81, 82})
 _BASE_LETTERS = frozenset("NGMFSTXZUW")
 _AXIS = frozenset("XZUW")
@@ -130,6 +131,10 @@ _UNKNOWN_LETTERS = {"H": "H is not an HNC-21T address (table 2.1)",
 
 _SHAPES: dict = {}  # letters of a plain block -> (letters, extra, axes, uw), shared
 _GS = [(0,), (1,), (2,), (3,)]
+
+
+_VACANT50 = [None] * 50
+_ZERO50 = [0] * 50
 
 
 class _Halt(Exception):
@@ -189,10 +194,12 @@ class Cond:
 def _range_error(letter: str, v: float) -> Optional[str]:
     r = _RANGES.get(letter)
     if r is None:
-        if abs(v) > _LENGTH_LIMIT:
+        if not abs(v) <= _LENGTH_LIMIT:
             return f"value out of range: {letter}{v:g} (limit ±99999.999, table 2.1)"
         return None
     lo, hi, integer = r
+    if not math.isfinite(v):
+        return f"value out of range: the number of {letter} is too large (table 2.1)"
     if integer and not float(v).is_integer():
         return f"value out of range: {letter} must be an integer, got {v:g}"
     if v < lo or v > hi:
@@ -213,11 +220,15 @@ class Interp:
               "comp_items", "comp_mode", "op")
 
     def __init__(self, src: P.Source, machine: Machine | None = None, *,
-                 step_limit: int | None = None, start: tuple[float, float] | str = (0.0, 0.0),
+                 step_limit: int | None = None, start: tuple[float, float] | str = "reference",
                  diameter: bool | None = None):
         self.src = src
         self.m = machine if machine is not None else load_machine(None)
         self.limit = int(step_limit if step_limit is not None else self.m.step_limit)
+        self.move_limit = int(getattr(self.m, "move_limit", 500_000))
+        self.call_limit = int(getattr(self.m, "call_limit", 1_000_000))
+        self.calls = 0
+        self.mcodes: dict[int, str] = dict(getattr(self.m, "m_codes", {}))
         self.compiled: list[Any] = [None] * len(src.kind)
         self.moves: list[Move] = []
         self.warnings: list[Warning_] = []
@@ -382,7 +393,7 @@ class Interp:
                     return None
                 w[L] = f
             elif L == "N":
-                if n is not None or "." in v or v[0] in "+-":
+                if n is not None or "." in v or v[0] in "+-" or len(v) > 10:
                     return None
                 n = int(v)
                 if n > 4294967295:
@@ -607,7 +618,7 @@ class Interp:
                         pc, end = self._return(last, implicit=True)
                         continue
                     last = src.lineno[min(pc, len(kinds)) - 1] if pc > 0 else 1
-                    raise self.alarm("end of program without M02/M30", last)
+                    raise self.alarm(self._no_end(), last)
                 steps += 1
                 if steps > limit:
                     self.steps = steps
@@ -635,6 +646,8 @@ class Interp:
                 elif k == IF or k == WHILE:
                     c = comp[pc]
                     if c is None:
+                        if pc in src.bad:
+                            raise src.alarm(src.bad[pc], pc, 1)
                         c = comp[pc] = self._compile(pc)
                     if self._eval(c.expr, c.line) != 0.0:
                         if c.tail is not None:
@@ -644,10 +657,14 @@ class Interp:
                         pc = jump[pc]
                 elif k == ELSE or k == ENDW:
                     if comp[pc] is None:
+                        if pc in src.bad:
+                            raise src.alarm(src.bad[pc], pc, 1)
                         comp[pc] = self._compile(pc) or True
                     pc = jump[pc]
                 elif k == ENDIF:
                     if comp[pc] is None:
+                        if pc in src.bad:
+                            raise src.alarm(src.bad[pc], pc, 1)
                         comp[pc] = self._compile(pc) or True
                     pc += 1
                 else:  # pragma: no cover
@@ -662,6 +679,26 @@ class Interp:
         tp = Toolpath(moves=self.moves, warnings=self.warnings, blocks_executed=self.blocks,
                       file=src.file, source_lines=src.lines)
         return tp
+
+    def _no_end(self) -> str:
+        """The alarm for a main program that runs off its end, saying what the file looks
+        like when that explains it (FANUC framing: a lone ``%`` line, then ``O1234``)."""
+        src = self.src
+        a, e = src.main
+        msg = "end of program without M02/M30"
+        if a != e or not src.kind:
+            return msg
+        first = a - 1 if a > 0 and src.kind[a - 1] == P.HDR else None
+        if first is not None and src.number[first] is None and e < len(src.kind) \
+                and src.kind[e] == P.HDR:
+            return (f"{msg}: the file looks like a FANUC-framed program ('%' alone on line "
+                    f"{src.lineno[first]}, then the header {src.text[e].strip()} on line "
+                    f"{src.lineno[e]}); on the HNC-21T the first header starts the main program: "
+                    f"remove the lone '%' lines")
+        if e < len(src.kind) and src.kind[e] == P.HDR:
+            return (f"{msg}: the main program is empty (the next header, on line {src.lineno[e]}, "
+                    f"starts a subprogram)")
+        return msg
 
     def _assign(self, c: Asg) -> None:
         for target, e, col in c.items:
@@ -686,6 +723,10 @@ class Interp:
         reps = int(w.get("L", 1) or 0)
         if reps < 1:
             return pc + 1, end
+        if self.calls + reps > self.call_limit:
+            raise self.balarm(b, f"too many subprogram runs: {self.calls} so far and L{reps} more exceed "
+                                 f"the machine's limit of {self.call_limit} ([limits] calls)",
+                              "L" if reps > 1 else ("M" if 98 in b.ms else "G"))
         if self.level >= _MAX_LEVEL:
             raise self.balarm(b, f"subprogram nesting too deep (more than {_MAX_LEVEL} nested calls: "
                                  f"the manual allows {_MAX_LEVEL + 1} levels with the main program)")
@@ -693,6 +734,7 @@ class Interp:
             raise self.balarm(b, "M98/G65 inside the profile of a compound cycle")
         self._flush_comp()
         span = self.src.span_of(start)
+        self.calls += reps
         self.frames.append((pc + 1, end, reps - 1, start, span[1], w, self.cur_span))
         self._enter(w)
         self.cur_span = span
@@ -702,9 +744,8 @@ class Interp:
         self.level += 1
         loc = self.levels[self.level]
         ar = self.ars[self.level]
-        for i in range(50):
-            loc[i] = None
-            ar[i] = 0
+        loc[:] = _VACANT50
+        ar[:] = _ZERO50
         flag = 90 if self.absolute else 91
         for i in range(26):
             L = chr(65 + i)
@@ -860,16 +901,22 @@ class Interp:
         # M before
         flow = -1  # the program-flow M code of the block (M00 is 0)
         for mc in ms:
-            if mc not in M_KNOWN:
-                raise self.balarm(b, f"unknown M code M{mc:02d} (table 3.1)", "M", mc)
-            if mc == 3 or mc == 4:
-                self.sdir = mc
-            elif mc == 7:
-                self.coolant = True
-            elif mc in (0, 2, 30, 98, 99):
+            if mc in M_CNC:
                 if flow >= 0:
                     raise self.balarm(b, f"M{flow:02d} and M{mc:02d} in one block", "M")
                 flow = mc
+                continue
+            meaning = self.mcodes.get(mc)
+            if meaning is None:
+                raise self.balarm(b, f"unknown M code M{mc:02d} (table 3.1): this machine's PLC does not "
+                                     f"list it; declare it in the machine file's [m_codes] table with its "
+                                     f"meaning, e.g. M{mc:02d} = \"other\"", "M", mc)
+            if meaning == "spindle_cw":
+                self.sdir = 3
+            elif meaning == "spindle_ccw":
+                self.sdir = 4
+            elif meaning == "coolant_on":
+                self.coolant = True
         # compensation mode change (flush happens before the block's move)
         if comp_cmd and comp_cmd != self.comp:
             self._comp_command(b, comp_cmd)
@@ -907,10 +954,14 @@ class Interp:
         # the next move, which goes from the last compensated point to its programmed end
         # M after
         for mc in ms:
-            if mc == 5:
+            meaning = self.mcodes.get(mc)
+            if meaning == "spindle_stop":
                 self.sdir = 5
-            elif mc == 9:
+            elif meaning == "coolant_off":
                 self.coolant = False
+            elif meaning == "optional_stop":
+                self.warn(b.line, f"M{mc:02d} optional stop: the run continues (optional-stop switch "
+                                  f"off)", ("M01", b.line))
         if flow >= 0:
             if flow in (2, 30):
                 return 3
@@ -1050,6 +1101,9 @@ class Interp:
         col = P.word_col(self.src.text[self._stmt_of_line(line)], kind)
         if l2 < 1e-9:
             raise self.alarm(f"chamfer/round {kind}{size:g}: the next block does not move", line2)
+        if l1 < 1e-9:  # a chamfer/round of the block before took all of this segment
+            raise self.alarm(f"chamfer/round {kind}{size:g} is longer than the segment (nothing is "
+                             f"left of it after the previous chamfer/round)", line, col)
         u1 = ((gx - ax) / l1, (gz - az) / l1)
         u2 = ((x2 - gx) / l2, (z2 - gz) / l2)
         cr = cross(u1, u2)
@@ -1154,6 +1208,8 @@ class Interp:
         if self.dry is not None:
             return
         self._flush_comp()  # the dwell happens after the buffered moves
+        if len(self.moves) >= self.move_limit:
+            self._too_many_moves(b.line)
         x, z = self._comp_point()
         x, z = x + self.tdx, z + self.tdz
         self.moves.append(Move("dwell", (x, z), (x, z), b.line, None, None, None, self.tool, self.reg,
@@ -1272,6 +1328,8 @@ class Interp:
         if self.comp_mode:
             self._comp_add(Line((x0, z0), (x1, z1)), "rapid" if rapid else "feed", line, F)
             return
+        if len(self.moves) >= self.move_limit:
+            self._too_many_moves(line)
         tdx = self.tdx
         tdz = self.tdz
         if rapid:
@@ -1289,6 +1347,10 @@ class Interp:
         self.moves.append(Move("line", (x0 + tdx, z0 + tdz), (x1 + tdx, z1 + tdz), line, f, None, None,
                                self.tool, self.reg, rpm, self.sdir, self.coolant,
                                t, 0.0, 0.0, 0.0, self.op, self.comp))
+
+    def _too_many_moves(self, line: int):
+        raise self.alarm(f"too many moves: the toolpath reaches the machine's limit of {self.move_limit} "
+                         f"moves ([limits] moves): endless loop?", line)
 
     def _css_time(self, L: float, f_rev: float, x_at) -> float:
         """Seconds for a G96 + G95 feed move of length ``L`` at ``f_rev`` mm/rev whose
@@ -1335,6 +1397,8 @@ class Interp:
         if self.comp_mode:
             self._comp_add(Arc((x0, z0), (x1, z1), (cx, cz), cw), "feed", line, F)
             return
+        if len(self.moves) >= self.move_limit:
+            self._too_many_moves(line)
         r = _hypot(x0 - cx, z0 - cz)
         a0 = _atan2(x0 - cx, z0 - cz)
         a1 = _atan2(x1 - cx, z1 - cz)
@@ -1373,6 +1437,8 @@ class Interp:
         L = _hypot(x1 - x0, z1 - z0)
         if L < 1e-9:
             return
+        if len(self.moves) >= self.move_limit:
+            self._too_many_moves(line)
         rpm = self._rpm((x0 + x1) * 0.5)
         if rpm <= 0:
             self.warn(line, "thread cut with the spindle stopped: time counted as 0", ("thr", line))
@@ -1389,7 +1455,9 @@ class Interp:
             if b.axes and self.motion in (2, 3) and self.dry is None:
                 raise self.balarm(b, "tool nose compensation must be cancelled (G40) on a G00/G01 "
                                      "move, not G02/G03", "G")
-            if self.comp_mode:
+            if self.comp_mode == "start" and not self.comp_items:
+                self.comp_mode = ""  # G41/G42 never moved: nothing to cancel
+            elif self.comp_mode:
                 self.comp_mode = "cancel"
             self.comp = 40
             return
@@ -1416,6 +1484,8 @@ class Interp:
 
     def _comp_add(self, seg, kind: str, line: int, F: Optional[float]) -> None:
         from .compensation import CompItem
+        if len(self.comp_items) + len(self.moves) >= self.move_limit:
+            self._too_many_moves(line)
         mode = self.comp_mode
         if mode == "start":
             self.comp_mode = "normal"
@@ -1698,8 +1768,21 @@ class CycleCtx:
         it.x, it.z = float(x), float(z)
         it._emit_thread(x0, z0, it.x, it.z, lead, angle, thread_angle, self.line)
 
+    @property
+    def max_passes(self) -> int:
+        """The machine's limit of passes of one cycle block ([limits] cycle_passes)."""
+        return int(getattr(self._it.m, "pass_limit", 10_000))
+
+    @property
+    def moves_left(self) -> int:
+        """Moves the toolpath may still take before the machine's [limits] moves."""
+        it = self._it
+        return it.move_limit - len(it.moves) - len(it.comp_items)
+
     def dwell(self, seconds: float) -> None:
         it = self._it
+        if len(it.moves) >= it.move_limit:
+            it._too_many_moves(self.line)
         x, z = it.x + it.tdx, it.z + it.tdz
         it.moves.append(Move("dwell", (x, z), (x, z), self.line, None, None, None, it.tool, it.reg,
                              it._rpm(it.x), it.sdir, it.coolant, float(seconds), 0.0, 0.0, 0.0,
@@ -1711,23 +1794,47 @@ class CycleCtx:
 # ------------------------------------------------------------------------------------------
 
 def run(text: str, machine: Machine | None = None, *, file: str = "<program>",
-        step_limit: int | None = None, start: tuple[float, float] | str = (0.0, 0.0),
+        step_limit: int | None = None, start: tuple[float, float] | str = "reference",
         diameter: bool | None = None) -> Toolpath:
     """Interpret program ``text`` and return its toolpath; raises :class:`NCError` on an alarm.
 
-    ``step_limit`` (default: the machine's) bounds the statements executed; ``start`` is the
-    initial work position (x radius, z), or ``"reference"`` for the machine's reference point
-    (what ``hnc-cam run`` uses); ``diameter`` the power-on G36/G37 state (default:
-    the machine's ``diameter_mode`` when it has one, else G36)."""
+    ``step_limit`` (default: the machine's) bounds the statements executed; the machine's
+    ``[limits]`` bound the moves, subprogram runs, cycle passes, text size and line length.
+    ``start`` is the initial work position (x radius, z); the default ``"reference"`` is the
+    machine's reference point, as after homing (what ``hnc-cam run`` and ``simulate`` use), so
+    the API and the command give the same toolpath and cycle time; pass ``start=(0, 0)`` to
+    start on the work zero. ``diameter`` is the power-on G36/G37 state (default: the
+    machine's ``diameter_mode`` when it has one, else G36).
+
+    An alarm's message and block are one printable line: the block is an excerpt of at most
+    120 characters, control characters are written as escapes (``\\x1b``)."""
     import gc
     enabled = gc.isenabled()
     gc.disable()  # the run allocates many small objects and no cycles: GC passes only cost time
     try:
-        src = P.load(text, file)
-        return Interp(src, machine, step_limit=step_limit, start=start, diameter=diameter).run()
+        m = machine if machine is not None else load_machine(None)
+        limit = int(getattr(m, "program_bytes", 64 * 1024 * 1024))
+        if len(text) > limit:
+            raise NCError(f"program too large: {len(text)} characters (the machine's limit is {limit}, "
+                          f"[limits] program_bytes)", 1, 1, "", file)
+        src = P.load(text, file, int(getattr(m, "line_chars", 65_536)))
+        return Interp(src, m, step_limit=step_limit, start=start, diameter=diameter).run()
+    except NCError as e:
+        _tidy(e)
+        raise
+    except RecursionError:
+        raise NCError("program nested too deeply", 0, 0, "", printable(file, 4096)) from None
     finally:
         if enabled:
             gc.enable()
+
+
+def _tidy(e: NCError) -> None:
+    """Make an alarm one printable line of bounded length (message, block and file name)."""
+    e.message = printable(str(e.message), 600)
+    e.args = (e.message,)
+    e.block = printable(str(e.block).strip())
+    e.file = printable(str(e.file), 4096)
 
 
 class ProgramFileError(NCError):
@@ -1742,13 +1849,32 @@ class ProgramFileError(NCError):
 def run_file(path: str, machine: Machine | None = None, **kw) -> Toolpath:
     """:func:`run` on the file ``path`` (bytes that are not UTF-8 become U+FFFD, which then
     alarm as unexpected characters where they matter); an unreadable file raises
-    :class:`ProgramFileError`."""
-    from pathlib import Path
-    p = Path(path)
+    :class:`ProgramFileError`, and so does a file that is not a regular file (a directory,
+    a device such as ``/dev/zero``, a FIFO: never opened, so never waited on) or one larger
+    than the machine's ``[limits] program_bytes``."""
+    import os
+    import stat
+    name = printable(str(path), 4096)
+    m = machine if machine is not None else load_machine(None)
+    limit = int(getattr(m, "program_bytes", 64 * 1024 * 1024))
     try:
-        data = p.read_bytes()
+        st = os.stat(path)
+        if not stat.S_ISREG(st.st_mode):
+            what = ("a directory" if stat.S_ISDIR(st.st_mode) else "a FIFO (named pipe)"
+                    if stat.S_ISFIFO(st.st_mode) else "a device" if stat.S_ISCHR(st.st_mode)
+                    or stat.S_ISBLK(st.st_mode) else "a socket" if stat.S_ISSOCK(st.st_mode)
+                    else "not a regular file")
+            raise ProgramFileError(f"cannot read the program: {what}, not a regular file", 0, 0, "", name)
+        if st.st_size > limit:
+            raise ProgramFileError(f"cannot read the program: {st.st_size} bytes, more than the "
+                                   f"machine's limit of {limit} ([limits] program_bytes)", 0, 0, "", name)
+        with open(path, "rb") as f:
+            data = f.read(limit + 1)
     except OSError as e:
         reason = e.strerror or type(e).__name__
-        raise ProgramFileError(f"cannot read the program: {reason}", 0, 0, "", str(path)) from None
+        raise ProgramFileError(f"cannot read the program: {reason}", 0, 0, "", name) from None
+    if len(data) > limit:  # grew while we read it
+        raise ProgramFileError(f"cannot read the program: more than the machine's limit of {limit} "
+                               f"bytes ([limits] program_bytes)", 0, 0, "", name)
     text = data.decode("utf-8", errors="replace")
-    return run(text, machine, file=str(path), **kw)
+    return run(text, m, file=str(path), **kw)

@@ -33,10 +33,12 @@ KEYWORDS = frozenset({
 FUNCTIONS = frozenset({"SIN", "COS", "TAN", "ATAN", "ATAN2", "ABS", "INT", "SIGN", "SQRT", "EXP"})
 OPERATORS = frozenset("#[]=+-*/,")
 
-_TOKEN = re.compile(r"\s*(?:(\d+\.?\d*|\.\d+)|([A-Z]+)|(\S))")
+# blanks are matched possessively (``\s*+``): a long run of blanks (a blanked comment) is
+# read once, never re-scanned from each of its positions (linear time in the line length)
+_TOKEN = re.compile(r"\s*+(?:(\d+\.?\d*|\.\d+)|([A-Z]+)|(\S))")
 # one pass over a line: (letter, number, "") per word, ("", "", c) for a character that is
 # not part of a plain word (so the line is not a plain block)
-FAST_SCAN = re.compile(r"\s*([A-Z])\s*([-+]?(?:\d+\.?\d*|\.\d+))\s*|(.)", re.S)
+FAST_SCAN = re.compile(r"\s*+([A-Z])\s*+([-+]?(?:\d+\.?\d*|\.\d+))\s*+|\s*+(.)", re.S)
 
 Token = tuple  # (kind, value, col)
 
@@ -102,3 +104,19 @@ def tokenize(text: str, line: int = 0, file: str = "<program>", block: str | Non
             break
         pos = m.end()
     return toks
+
+
+#: characters of a block echoed in an alarm (the rest is cut with "…")
+EXCERPT_CHARS = 120
+
+
+def printable(text: str, limit: int = EXCERPT_CHARS) -> str:
+    """``text`` made safe for one terminal line: at most ``limit`` characters of it (then
+    "…"), every character that is not printable (control bytes, NUL, ESC, CR, line and
+    paragraph separators, ...) written as a Python escape (``\\x1b``, ``\\u2028``)."""
+    cut = len(text) > limit
+    if cut:
+        text = text[:limit]
+    if not text.isprintable():
+        text = "".join(c if c.isprintable() else ascii(c)[1:-1] for c in text)
+    return text + "…" if cut else text

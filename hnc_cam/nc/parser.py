@@ -17,8 +17,9 @@ A line is one statement:
   after an ``N`` number;
 * ``IF expr`` / ``ELSE`` / ``ENDIF`` / ``WHILE expr`` / ``ENDW`` (optionally after ``N``).
 
-IF/WHILE structure is matched per program when the file is loaded, so an unclosed IF or
-WHILE is an alarm at its line before anything runs.
+IF/WHILE structure is matched per program when the file is loaded; an unmatched statement
+(``ENDW`` without ``WHILE``, an ``IF`` never closed) alarms at its line when execution reaches
+it, so the alarm names the first line the controller stops at in execution order.
 
 Expression AST nodes (tuples): ``("num", text)``, ``("var", index_node)``,
 ``("neg", n)``, ``("not", n)``, ``("bin", op, a, b)`` with op in ``+ - * / EQ NE GT GE LT LE
@@ -26,16 +27,23 @@ AND OR``, ``("call", NAME, [args])``, ``("ar", index_node)``.
 """
 from __future__ import annotations
 
+import math
+import re
 from dataclasses import dataclass, field
 from typing import Optional
 
 from ..errors import NCError
 from .expr import Expr, constant_value
-from .lexer import FAST_SCAN, FUNCTIONS, clean, tokenize
+from .lexer import FAST_SCAN, FUNCTIONS, clean, printable, tokenize
 
 # statement kinds
 HDR, IF, ELSE, ENDIF, WHILE, ENDW, OTHER = "hdr", "if", "else", "endif", "while", "endw", "x"
 _CONTROL = {"IF": IF, "ELSE": ELSE, "ENDIF": ENDIF, "WHILE": WHILE, "ENDW": ENDW}
+#: digits of a program number after ``%``/``O`` (a longer run is not a header)
+PROGRAM_NUMBER_DIGITS = 10
+#: line ends: CR LF, a lone CR and a lone LF each end a line (as the controller and editors read
+#: a file); a lone CR is never part of a block
+_EOL = re.compile(r"\r\n|\r|\n")
 
 
 @dataclass
@@ -50,11 +58,14 @@ class Source:
     programs: dict[int, int] = field(default_factory=dict)  # program no. -> first statement
     spans: list[tuple[int, int]] = field(default_factory=list)  # program (first, end) statements
     jump: dict[int, int] = field(default_factory=dict)  # IF/ELSE/WHILE/ENDW -> target
+    bad: dict[int, str] = field(default_factory=dict)  # unmatched IF/ELSE/.../ENDW -> alarm
     main: tuple[int, int] = (0, 0)
 
     def block_text(self, line: int) -> str:
+        """The block at ``line`` as an alarm echoes it: stripped, bounded and escaped
+        (see :func:`~hnc_cam.nc.lexer.printable`)."""
         if 1 <= line <= len(self.lines):
-            return self.lines[line - 1].strip()
+            return printable(self.lines[line - 1].strip())
         return ""
 
     def alarm(self, message: str, stmt: int, col: int = 0) -> NCError:
@@ -75,16 +86,22 @@ def _header(s: str) -> tuple[bool, Optional[int]]:
     c = t[0]
     if c == "%":
         rest = t[1:].strip()
-        if rest and rest.isdigit():
+        if rest and _digits(rest):
             return (True, int(rest))
         if not rest:
             return (True, None)
         return (False, None)
     if c == "O":
         rest = t[1:].strip()
-        if rest.isdigit():
+        if _digits(rest):
             return (True, int(rest))
     return (False, None)
+
+
+def _digits(s: str) -> bool:
+    """ASCII digits only (``str.isdigit`` also accepts ``³`` and other Unicode digits), at
+    most :data:`PROGRAM_NUMBER_DIGITS` of them."""
+    return s.isascii() and s.isdigit() and len(s) <= PROGRAM_NUMBER_DIGITS
 
 
 def _control(s: str) -> Optional[str]:
@@ -104,17 +121,36 @@ def _control(s: str) -> Optional[str]:
     return _CONTROL.get(t[:j])
 
 
-def load(text: str, file: str = "<program>") -> Source:
-    """Split ``text`` into statements and programs and match IF/WHILE structure."""
-    # lines as an editor counts them (only \n ends a line; a \r before it is dropped)
-    raw = [ln[:-1] if ln.endswith("\r") else ln for ln in text.split("\n")]
+def split_lines(text: str) -> list[str]:
+    """The lines of a program text: CR LF, CR and LF each end a line (an editor's count);
+    a final line end does not start another line."""
+    raw = _EOL.split(text)
     if raw and raw[-1] == "":
         raw.pop()
+    return raw
+
+
+def load(text: str, file: str = "<program>", line_limit: Optional[int] = None) -> Source:
+    """Split ``text`` into statements and programs and match IF/WHILE structure.
+
+    Alarms here (before anything runs) are about the file as a whole, in line order: a NUL
+    character (a binary file, not program text), a line longer than ``line_limit``
+    characters. A structure error (``ENDW`` without ``WHILE``, an ``IF`` never closed, ...)
+    is recorded in :attr:`Source.bad` and alarms when execution reaches that statement, so
+    that an earlier line the controller stops at is reported first."""
+    raw = split_lines(text)
     src = Source(file=file, lines=raw)
     lineno, stext, kind, number = src.lineno, src.text, src.kind, src.number
     for i, r in enumerate(raw):
-        s = clean(r) if ("(" in r or ";" in r) else r.upper()
-        if not s or s.isspace():
+        if line_limit is not None and len(r) > line_limit:
+            raise NCError(f"line too long: {len(r)} characters (the machine's limit is {line_limit}, "
+                          f"[limits] line_chars)", i + 1, line_limit + 1, printable(r.strip()), file)
+        if "\0" in r:
+            raise NCError("NUL character: this is not program text (a binary file?)", i + 1,
+                          r.index("\0") + 1, printable(r.strip()), file)
+        # trailing blanks (a blanked comment) are cut: no scan ever walks them
+        s = (clean(r) if ("(" in r or ";" in r) else r.upper()).rstrip()
+        if not s:
             continue
         h, num = _header(s) if (s.lstrip()[:1] in ("%", "O")) else (False, None)
         lineno.append(i + 1)
@@ -141,6 +177,7 @@ def load(text: str, file: str = "<program>") -> Source:
     src.spans = spans
     src.main = spans[0] if spans else (0, 0)
     # IF / WHILE structure per program
+    bad = src.bad
     for a, b in spans:
         stack: list[tuple[str, int, Optional[int]]] = []  # (kind, stmt, else stmt)
         for i in range(a, b):
@@ -151,11 +188,13 @@ def load(text: str, file: str = "<program>") -> Source:
                 stack.append((k, i, None))
             elif k == ELSE:
                 if not stack or stack[-1][0] != IF or stack[-1][2] is not None:
-                    raise src.alarm("ELSE without IF", i, 1)
+                    bad[i] = "ELSE without IF"
+                    continue
                 stack[-1] = (IF, stack[-1][1], i)
             elif k == ENDIF:
                 if not stack or stack[-1][0] != IF:
-                    raise src.alarm("ENDIF without IF", i, 1)
+                    bad[i] = "ENDIF without IF"
+                    continue
                 _, s0, el = stack.pop()
                 if el is None:
                     src.jump[s0] = i + 1
@@ -164,14 +203,16 @@ def load(text: str, file: str = "<program>") -> Source:
                     src.jump[el] = i + 1
             elif k == ENDW:
                 if not stack or stack[-1][0] != WHILE:
-                    raise src.alarm("ENDW without WHILE", i, 1)
+                    bad[i] = "ENDW without WHILE"
+                    continue
                 _, s0, _ = stack.pop()
                 src.jump[s0] = i + 1
                 src.jump[i] = s0
-        if stack:
-            k, s0, _ = stack[-1]
-            raise src.alarm(f"{'IF' if k == IF else 'WHILE'} is never closed by "
-                            f"{'ENDIF' if k == IF else 'ENDW'} before the end of the program", s0, 1)
+        for k, s0, el in stack:
+            bad[s0] = (f"{'IF' if k == IF else 'WHILE'} is never closed by "
+                       f"{'ENDIF' if k == IF else 'ENDW'} before the end of the program")
+            if el is not None:
+                bad[el] = "ELSE of an IF that is never closed by ENDIF"
     return src
 
 
@@ -317,6 +358,7 @@ class _P:
     def primary(self):
         k, v, c = self.peek()
         if k == "num":
+            self._finite(v, c)
             self.i += 1
             return ("num", v)
         if k == "op" and v == "#":
@@ -356,10 +398,15 @@ class _P:
         found = "the end of the block" if k is None else repr(v)
         raise self.err(f"bad expression: expected a number, variable, function or '[', found {found}")
 
+    def _finite(self, text: str, col: int) -> None:
+        if not math.isfinite(float(text)):
+            raise self.err(f"value out of range: a number of {len(text)} characters is too large", col)
+
     def var_index(self):
         """What follows ``#``: a number, a bracketed expression or another variable."""
         k, v, c = self.peek()
         if k == "num":
+            self._finite(v, c)
             self.i += 1
             return ("num", v)
         if k == "op" and v == "[":
@@ -438,7 +485,8 @@ def _parse_statement(text: str, line: int, file: str, block: str | None) -> Pars
     k, v, c = p.peek()
     if k == "addr" and v == "N" and p.i + 1 < len(toks) and toks[p.i + 1][0] == "num":
         p.i += 1
-        nv = float(p.take()[1])
+        nt = p.take()[1]
+        nv = float(nt) if len(nt) <= 20 else float("inf")
         if not nv.is_integer() or nv > 4294967295:
             raise p.err("value out of range: N must be an integer 0-4294967295", c)
         n = int(nv)
