@@ -1,0 +1,137 @@
+"""Every command keeps its contract on broken input: one line with a place on stderr, exit 2,
+no traceback, no partial or temporary file, no process left behind; user files are checked
+key by key."""
+from __future__ import annotations
+
+import os
+import re
+import signal
+import stat
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from hnc_cam.errors import HncError, ToolError
+from hnc_cam.schema import Key, check_table, key_line, parse_toml
+from hnc_cam.tooling import load_tools
+
+REPO = Path(__file__).resolve().parents[1]
+TOOLS = (REPO / "hnc_cam" / "data" / "tools.toml").read_text("utf-8")
+
+
+def _lib(tmp_path: Path, old: str, new: str, name: str = "tools.toml") -> Path:
+    assert old in TOOLS
+    p = tmp_path / name
+    p.write_text(TOOLS.replace(old, new, 1))
+    return p
+
+
+def _line_of(path: Path, needle: str) -> int:
+    for n, line in enumerate(path.read_text().splitlines(), 1):
+        if needle in line:
+            return n
+    raise AssertionError(needle)
+
+
+# --------------------------------------------------------------------------------------------
+# the tool library, key by key
+# --------------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("old,new,needle,expect", [
+    ("feed_finish = 0.15", "feed_finsh = 0.05", "feed_finsh",
+     "unknown key 'feed_finsh' (did you mean 'feed_finish'?)"),
+    ("feed_rough = 0.25", "feed_rough = 25", "feed_rough = 25",
+     "feed_rough = 25 is out of range (0.01-2 mm/rev)"),
+    ("feed_rough = 0.25", "feed_rough = -0.25", "feed_rough = -0.25",
+     "feed_rough = -0.25 is out of range (0.01-2 mm/rev)"),
+    ("vc_rough = 180.0", "vc_rough = 18000", "vc_rough = 18000",
+     "vc_rough = 18000 is out of range (1-2000 m/min)"),
+    ('kind = "turn"', 'kind = "tunr"', "tunr",
+     'kind = "tunr" is not one of: turn, bore, thread, groove'),
+    ('uses = ["rough", "face"]', 'uses = ["rough","fase"]', "fase",
+     '"fase" in uses is not one of: rough, finish, face, profile, thread, thread_id, groove'),
+    ("tip = 3", "tip = 12", "tip = 12", "tip = 12 is out of range (0-9)"),
+    ("depth = 1.5", 'depth = "deep"', "deep", 'depth = "deep" must be a number'),
+    ("feed_rough = 0.25", "feed_rough = nan", "nan", "feed_rough = nan must be a finite number"),
+])
+def test_tool_library_key_errors_name_file_line_and_range(tmp_path, old, new, needle, expect):
+    p = _lib(tmp_path, old, new)
+    with pytest.raises(ToolError) as ei:
+        load_tools(p)
+    msg = str(ei.value)
+    assert msg.startswith(f"{p}:{_line_of(p, needle)}: ")
+    assert expect in msg
+
+
+def test_tool_library_error_lines_point_into_the_right_entry(tmp_path):
+    # the third [[tool]] gets the bad key; the line is the one in that entry, not the first
+    text = TOOLS.split("[[tool]]")
+    text[3] = text[3].replace("depth = 0.8", "depht = 0.8")
+    p = tmp_path / "t.toml"
+    p.write_text("[[tool]]".join(text))
+    with pytest.raises(ToolError, match=rf"^{re.escape(str(p))}:{_line_of(p, 'depht')}: "
+                                        r"tool\[2\]: unknown key 'depht' \(did you mean 'depth'\?\)"):
+        load_tools(p)
+
+
+def test_tool_library_missing_required_key_and_stray_table(tmp_path):
+    p = _lib(tmp_path, 'insert = "GROOVE3.0"\n', "")
+    with pytest.raises(ToolError, match=r"tool\[6\]: insert missing"):
+        load_tools(p)
+    p = tmp_path / "stray.toml"
+    p.write_text(TOOLS + "\n[tol]\nx = 1\n")
+    with pytest.raises(ToolError, match=rf"{re.escape(str(p))}:{_line_of(p, '[tol]')}: unknown "):
+        load_tools(p)
+
+
+@pytest.mark.parametrize("raw,expect", [
+    (b"\xff\xfe[\x00[\x00t\x00", "UTF-16 text"),
+    (b"[[tool]]\nname = \"\xe9t\xe9\"\n", ":2:9: not UTF-8 text (byte 0xe9)"),
+    (b"[[tool]]\nnumber = 1\x00\n", ":2:11: NUL byte"),
+    (b"[[tool]]\nnumber = \n", ":2:10: not valid TOML"),
+    (bytes(range(256)) * 4, "not UTF-8"),
+])
+def test_tool_library_bad_bytes_are_one_line(tmp_path, raw, expect):
+    p = tmp_path / "bin.toml"
+    p.write_bytes(raw)
+    with pytest.raises(ToolError) as ei:
+        load_tools(p)
+    assert str(ei.value).startswith(str(p))
+    assert expect in str(ei.value)
+    assert "\n" not in str(ei.value)
+
+
+def test_tool_library_not_a_file(tmp_path):
+    with pytest.raises(ToolError, match="is a directory"):
+        load_tools(tmp_path)
+    with pytest.raises(ToolError, match="cannot read"):
+        load_tools(tmp_path / "absent.toml")
+    fifo = tmp_path / "fifo.toml"
+    os.mkfifo(fifo)
+    with pytest.raises(ToolError, match="not a regular file"):
+        load_tools(fifo)
+
+
+def test_bundled_library_passes_its_own_schema():
+    lib = load_tools(None)
+    assert [t.number for t in lib.tools] == [1, 2, 3, 4, 5, 6, 7]
+    assert lib.by_number(1).feed_finish == 0.15
+
+
+def test_schema_reports_line_and_range():
+    schema = {"a": Key("int", 1, 5), "b": Key("float", 0, 1, "mm", lo_open=True),
+              "c": Key("str", choices=("x", "y"), fold=True), "d": Key("bool")}
+    text = "# c\n[s]\na = 2\nb = 0\nc = \"X\"\nd = true\n"
+    data = parse_toml(text, "f.toml")
+    with pytest.raises(HncError, match=r"^f.toml:4: b = 0 is out of range \(above 0-1 mm\)$"):
+        check_table(data["s"], schema, "f.toml", text=text, table="s")
+    good = dict(data["s"], b=0.5)
+    check_table(good, schema, "f.toml", text=text, table="s")  # "X" matches "x" folded
+    with pytest.raises(HncError, match=r"^f.toml:6: d = 1 must be true or false$"):
+        check_table(dict(good, d=1), schema, "f.toml", text=text, table="s")
+    assert key_line(text, "s", "c") == 5
+    assert key_line(text, "t", "c") is None
+    assert key_line(text, "s", "zz") == 2  # the header, when the key is not written
