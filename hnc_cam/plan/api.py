@@ -10,6 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Mapping
+from ..units import fmt_cycle_time
 
 from ..errors import HncError, NCError, PlanError, StockError
 from ..geometry import TurnedProfile
@@ -50,7 +51,7 @@ class Program:
         t = self.cycle_time_s
         s = (f"O{self.plan.program_number:04d} {self.plan.name}: "
              f"{', '.join(self.operations)}; {self.text.count(chr(10))} lines; "
-             f"cycle time {t:.1f} s ({int(t // 60)}:{t % 60:04.1f})")
+             f"cycle time {fmt_cycle_time(t)}")
         if self.report is not None:
             s += "; verified: " + _report_line(self.report)
         else:
@@ -78,9 +79,15 @@ def _load_part(part: Any, params: Mapping[str, str] | None):
         from ..cad import load_part
         loaded = load_part(str(part), {k: str(v) for k, v in (params or {}).items()})
     else:
-        loaded = part
+        from ..cad.loader import LoadedPart
         if params:
-            raise PlanError("parameters given for an already loaded part")
+            raise PlanError("parameters given for an already loaded part or solid "
+                            "(they apply to part files only)")
+        if not isinstance(loaded := part, LoadedPart):
+            # a build123d/CadQuery/OCP solid: profiled about its Z axis, right face zero
+            from ..cad import profile
+            prof = profile(part)
+            return prof, None, prof.name or "part", dict(prof.params)
     prof = loaded.profile
     threads = list(getattr(loaded, "threads", None) or [])
     if threads and not prof.threads:
@@ -169,8 +176,8 @@ def generate(part: Any, stock: str | Stock | None = None, *, params: Mapping[str
     """Plan, render, interpret (and verify) a program for ``part``.
 
     ``part``: a part file path (``parts/*.py``, ``.step``/``.stp``), a loaded part
-    (``hnc_cam.cad.load_part``) or a :class:`TurnedProfile` (the model itself, in which case
-    the profile's right face is program zero). ``stock``: a spec string or :class:`Stock`;
+    (``hnc_cam.cad.load_part``), a build123d/CadQuery/OCP solid (profiled about its Z axis)
+    or a :class:`TurnedProfile` (the model itself); the right face is program zero. ``stock``: a spec string or :class:`Stock`;
     default: the part file's ``STOCK``. ``tools``/``machine``: files or loaded tables
     (defaults: the bundled library, whose registers also fill the default machine).
     """

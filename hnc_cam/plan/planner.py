@@ -181,7 +181,8 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
 
     # ---------------- threads ----------------
     for th in prof.threads:
-        ops.append(_plan_thread(th, od, bore_chain, stock, tools, machine, opts, r_stock))
+        ops.append(_plan_thread(th, od, bore_chain, stock, tools, machine, opts, r_stock,
+                                params=dict(params or {})))
 
     for op in ops:
         plan.notes.extend(op.notes)
@@ -553,7 +554,8 @@ def _radius_at(chain: Sequence[Segment], z: float, inner: bool) -> float | None:
 
 
 def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stock: Stock,
-                 lib: ToolLibrary, machine: Machine, opts: Options, r_stock: float) -> Operation:
+                 lib: ToolLibrary, machine: Machine, opts: Options, r_stock: float,
+                 params: dict[str, Any] | None = None) -> Operation:
     label = (f"{'internal' if th.internal else 'external'} thread M{_fmt(th.diameter)}x"
              f"{_fmt(th.pitch)}" + (f" {th.starts}-start" if th.starts > 1 else "")
              + f" from Z{_fmt(th.z_start)} to Z{_fmt(th.z_end)}")
@@ -592,8 +594,27 @@ def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stoc
         if r is not None and sgn * (r - r_crest) > 0.01:
             raise PlanError(f"{label}: the part is at diameter {_fmt(2 * r)} at Z{_fmt(z)}, "
                             f"beyond the thread's diameter {_fmt(2 * r_crest)}")
-    # relief after the thread end
+    # full form: the thread needs at least two leads where the part stands at the crest
+    # diameter (a chamfer at its start is below it); shorter, no turn reaches full depth
     lead = th.lead
+    m = max(200, int((z_hi - z_lo) / 0.01))
+    full = 0.0
+    for i in range(m):
+        z = z_hi - (z_hi - z_lo) * (i + 0.5) / m
+        r = _radius_at(chain, z, th.internal)
+        if r is not None and sgn * (r - r_crest) >= -0.02:
+            full += (z_hi - z_lo) / m
+    if full < 2 * lead - 1e-6:
+        length = z_hi - z_lo
+        need = length - full + 2 * lead
+        named = [k for k, v in sorted((params or {}).items())
+                 if isinstance(v, (int, float)) and abs(float(v) - length) < 1e-6]
+        raise PlanError(f"{label} is too short to reach full depth: {_fmt(full)} mm of it is at "
+                        f"the {'minor' if th.internal else 'major'} diameter, a thread needs two "
+                        f"leads ({_fmt(2 * lead)} mm) there; the thread must be at least "
+                        f"{_fmt(math.ceil(need * 10 - 1e-6) / 10)} mm long"
+                        + (f" ({named[0]}={_fmt(length)})" if len(named) == 1 else ""))
+    # relief after the thread end
     need = 0.5 * lead + 0.2
     z_wall = None
     step = min(0.05, lead / 20)
