@@ -135,3 +135,24 @@ def test_schema_reports_line_and_range():
     assert key_line(text, "s", "c") == 5
     assert key_line(text, "t", "c") is None
     assert key_line(text, "s", "zz") == 2  # the header, when the key is not written
+
+
+# --------------------------------------------------------------------------------------------
+# one cycle-time format
+# --------------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("t,expect", [
+    (300.0, "300.0 s (5:00.0)"), (299.97, "300.0 s (5:00.0)"), (59.97, "60.0 s (1:00.0)"),
+    (59.94, "59.9 s (0:59.9)"), (0.0, "0.0 s (0:00.0)"), (3725.5, "3725.5 s (1:02:05.5)"),
+])
+def test_cycle_time_never_shows_60_seconds(t, expect):
+    from hnc_cam.units import fmt_cycle_time
+    assert fmt_cycle_time(t) == expect
+
+
+def test_cycle_time_in_summaries_rolls_over():
+    from hnc_cam.nc.interp import run
+    from hnc_cam.tooling import Machine
+    # G04 dwells (P in seconds): 299.97 s
+    tp = run("%1\nG04 P299.97\nM30\n", Machine(), start=(0, 0))
+    assert "(5:00.0)" in tp.summary() and ":60.0" not in tp.summary()

@@ -19,6 +19,7 @@ import json
 import math
 from dataclasses import dataclass, field
 from typing import Any, Iterable, Optional
+from ..units import fmt_cycle_time
 
 from ..geometry import Arc, Line, Point, Segment
 
@@ -151,7 +152,7 @@ class Toolpath:
         t = self.cycle_time_s
         return (f"{self.file}: {self.blocks_executed} blocks executed, {len(self.moves)} moves, "
                 f"feed {self.feed_length:.3f} mm, rapid {self.rapid_length:.3f} mm, "
-                f"cycle time {t:.1f} s ({int(t // 60)}:{t % 60:04.1f}), "
+                f"cycle time {fmt_cycle_time(t)}, "
                 f"X {2 * x0:.3f}..{2 * x1:.3f} (dia), Z {z0:.3f}..{z1:.3f}"
                 + (f", {len(self.warnings)} warning(s)" if self.warnings else ""))
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from pathlib import Path
 from typing import Any
+from ..units import fmt_cycle_time
 
 from shapely.geometry.base import BaseGeometry
 
@@ -197,7 +198,7 @@ def figure(machined: Machined, report: Any = None, model: Any = None, title: str
                             xytext=(6, -12), color="#d62728", fontsize=8)
     t = machined.cycle_time_s
     lines += [f"collisions/checks: {len(issues)}",
-              f"cycle time {t:.1f} s ({int(t // 60)}:{t % 60:04.1f})",
+              f"cycle time {fmt_cycle_time(t)}",
               f"removed {machined.removed_volume_mm3:.0f} mm³",
               f"air cut {100 * machined.air_cut_fraction:.1f} % of feed time"]
     # key figures under the plot, three to a row (the legend has the right-hand side)

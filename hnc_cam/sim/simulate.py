@@ -49,6 +49,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from typing import Any, Iterable
+from ..units import fmt_cycle_time
 
 import numpy as np
 import shapely
@@ -187,8 +188,8 @@ class Machined:
         t = self.cycle_time_s
         z0, x0, z1, x1 = self.material.bounds if not self.material.is_empty else (0, 0, 0, 0)
         lines = [f"{self.toolpath.file}: {len(self.toolpath.moves)} moves simulated, "
-                 f"removed {self.removed_volume_mm3:.1f} mm^3, cycle time {t:.1f} s "
-                 f"({int(t // 60)}:{t % 60:04.1f}), air cut {100 * self.air_cut_fraction:.1f} % "
+                 f"removed {self.removed_volume_mm3:.1f} mm^3, cycle time "
+                 f"{fmt_cycle_time(t)}, air cut {100 * self.air_cut_fraction:.1f} % "
                  f"of feed time",
                  f"remaining material: X {2 * x0:.3f}..{2 * x1:.3f} (dia), Z {z0:.3f}..{z1:.3f}"
                  + (f", {len(self.fallen)} piece(s) fell off" if self.fallen else "")]

@@ -42,6 +42,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from typing import Any, Sequence
+from ..units import fmt_cycle_time
 
 import numpy as np
 import shapely
@@ -141,7 +142,7 @@ class Report:
                  f"max overcut  {self.max_overcut_mm:.4f} mm{at(self.overcut_at)}",
                  f"max undercut {self.max_undercut_mm:.4f} mm{at(self.undercut_at)} "
                  f"(leftover the tools can reach)",
-                 f"cycle time {t:.1f} s ({int(t // 60)}:{t % 60:04.1f}), removed "
+                 f"cycle time {fmt_cycle_time(t)}, removed "
                  f"{self.removed_volume_mm3:.1f} mm^3, air cut {100 * self.air_cut_fraction:.1f} % "
                  f"of feed time"]
         if self.unreachable:
