@@ -156,3 +156,103 @@ def test_cycle_time_in_summaries_rolls_over():
     # G04 dwells (P in seconds): 299.97 s
     tp = run("%1\nG04 P299.97\nM30\n", Machine(), start=(0, 0))
     assert "(5:00.0)" in tp.summary() and ":60.0" not in tp.summary()
+
+
+# --------------------------------------------------------------------------------------------
+# outputs: whole or absent; never replace what is not a regular file
+# --------------------------------------------------------------------------------------------
+
+def test_write_atomic_follows_a_symlink(tmp_path):
+    from hnc_cam.io import write_atomic
+    target = tmp_path / "real.nc"
+    target.write_text("old\n")
+    link = tmp_path / "link.nc"
+    link.symlink_to(target)
+    write_atomic(link, "new\n")
+    assert link.is_symlink() and target.read_text() == "new\n"
+    dangling = tmp_path / "dangling.nc"
+    dangling.symlink_to(tmp_path / "made.nc")
+    write_atomic(dangling, "x\n")
+    assert dangling.is_symlink() and (tmp_path / "made.nc").read_text() == "x\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["dangling.nc", "link.nc", "made.nc",
+                                                           "real.nc"]
+
+
+def test_write_atomic_writes_a_fifo_in_place(tmp_path):
+    import threading
+
+    from hnc_cam.io import write_atomic
+    fifo = tmp_path / "out.fifo"
+    os.mkfifo(fifo)
+    got = []
+    fd = os.open(fifo, os.O_RDONLY | os.O_NONBLOCK)  # a reader is there
+    try:
+        t = threading.Thread(target=write_atomic, args=(fifo, "G00 X1\n"))
+        t.start()
+        t.join(10)
+        os.set_blocking(fd, True)
+        got.append(os.read(fd, 100))
+    finally:
+        os.close(fd)
+    assert got == [b"G00 X1\n"]
+    assert stat.S_ISFIFO(os.lstat(fifo).st_mode)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out.fifo"]
+
+
+def test_write_atomic_fifo_without_reader_is_an_error_not_a_hang(tmp_path):
+    from hnc_cam.io import write_atomic
+    fifo = tmp_path / "out.fifo"
+    os.mkfifo(fifo)
+    with pytest.raises(HncError, match="no process reads it"):
+        write_atomic(fifo, "x")
+    assert stat.S_ISFIFO(os.lstat(fifo).st_mode)
+
+
+@pytest.mark.skipif(os.geteuid() != 0, reason="making a device node needs root")
+def test_write_atomic_keeps_a_character_device(tmp_path):
+    from hnc_cam.io import write_atomic
+    dev = tmp_path / "null"
+    os.mknod(dev, 0o666 | stat.S_IFCHR, os.makedev(1, 3))  # the null device
+    write_atomic(dev, "x" * 100_000)
+    assert stat.S_ISCHR(os.lstat(dev).st_mode)
+    r = subprocess.run([sys.executable, "-m", "hnc_cam.cli", "run", str(_good(tmp_path)),
+                        "--json", str(dev)], capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    assert stat.S_ISCHR(os.lstat(dev).st_mode)
+
+
+def test_stale_temporaries_of_dead_writers_are_removed(tmp_path):
+    from hnc_cam.io import write_atomic
+    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"],
+                          capture_output=True, text=True).stdout.strip()
+    stale = tmp_path / f".O0001.nc.{dead}.abc123.tmp"
+    stale.write_text("half")
+    live = tmp_path / f".O0002.nc.{os.getpid()}.abc123.tmp"  # a writer still running
+    live.write_text("half")
+    other = tmp_path / ".notes.tmp"
+    other.write_text("mine")
+    write_atomic(tmp_path / "O0003.nc", "%3\n")
+    assert sorted(p.name for p in tmp_path.iterdir()) == [
+        live.name, ".notes.tmp", "O0003.nc"]
+
+
+def test_killed_writer_leaves_no_temporary_behind_after_the_next_run(tmp_path):
+    # a writer killed mid-write: its temporary is there; the next write cleans it
+    code = ("import sys, os, signal; from hnc_cam.io import write_atomic\n"
+            "class Big(bytes):\n    pass\n"
+            "import hnc_cam.io as io; real = os.fdopen\n"
+            "def slow(fd, mode):\n    os.kill(os.getpid(), signal.SIGKILL)\n"
+            "io.os.fdopen = slow\n"
+            f"write_atomic({str(tmp_path / 'p.nc')!r}, 'x')\n")
+    r = subprocess.run([sys.executable, "-c", code], timeout=60)
+    assert r.returncode == -signal.SIGKILL
+    assert any(p.name.endswith(".tmp") for p in tmp_path.iterdir())
+    from hnc_cam.io import write_atomic
+    write_atomic(tmp_path / "q.nc", "y")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["q.nc"]
+
+
+def _good(tmp_path: Path) -> Path:
+    p = tmp_path / "good.nc"
+    p.write_text("%1\nT0101\nM03 S800\nG00 X42 Z2\nG01 Z-30 F200\nX44\nG00 X80 Z80\nM30\n")
+    return p
