@@ -315,3 +315,12 @@ def test_api_and_cli_start_at_the_reference_point(tmp_path):
     r = cli("run", str(p))
     assert r.returncode == 0
     assert tp.summary() in r.stdout
+
+
+def test_css_per_rev_feed_without_f_and_spindle_stopped():
+    # G95 G96 and no F yet: the machine's default feed (mm/min, with a warning); the spindle is
+    # stopped, so there is no speed to integrate over (was a ZeroDivisionError)
+    tp = run("%1\nG95 G97\nG96 G1 X0 Z9\nM30\n", start=(0, 0))
+    assert [(m.kind, m.end) for m in tp.moves] == [("line", (0.0, 9.0))]
+    assert tp.moves[0].duration == pytest.approx(9 / 100 * 60)
+    assert any("default feed" in w.message for w in tp.warnings)

@@ -1340,7 +1340,7 @@ class Interp:
         f = self._feed(rpm, line, F) if (F is not None or self.F is None or self.per_rev) else self.F
         if f <= 0 and not self.per_rev:
             raise self.alarm("feed rate F is 0: a feed move needs a positive F", line)
-        if f > 0 and self.css and self.per_rev:
+        if f > 0 and rpm > 0 and self.css and self.per_rev and (F is not None or self.F is not None):
             t = self._css_time(L, f / rpm, lambda u: x0 + (x1 - x0) * u)
         else:
             t = L / f * 60.0 if f > 0 else 0.0
@@ -1421,7 +1421,7 @@ class Interp:
         f = self._feed(rpm, line, F) if (F is not None or self.F is None or self.per_rev) else self.F
         if f <= 0 and not self.per_rev:
             raise self.alarm("feed rate F is 0: a feed move needs a positive F", line)
-        if f > 0 and self.css and self.per_rev:
+        if f > 0 and rpm > 0 and self.css and self.per_rev and (F is not None or self.F is not None):
             t = self._css_time(L, f / rpm, lambda u: cx + r * math.sin(a0 + s * u))
         else:
             t = L / f * 60.0 if f > 0 else 0.0

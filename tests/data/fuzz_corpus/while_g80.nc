@@ -1,0 +1,5 @@
+%1
+WHILE 1
+G80
+ENDW
+M30

@@ -1,0 +1,7 @@
+%1
+G1F100
+WHILE 1
+U1
+U-1
+ENDW
+M30
