@@ -116,4 +116,7 @@ def verify_command(args: argparse.Namespace) -> int:
         _write_json(args.json, rep.to_json())
     if args.plot:
         _plot(m, args.plot, report=rep, model=loaded.profile, title=f"{tp.file} vs {loaded.name}")
+    if getattr(args, "report", None) or getattr(args, "junit", None):
+        from .report import verify_outputs
+        verify_outputs(args, m, rep, loaded)
     return 0 if rep.passed else 1

@@ -36,6 +36,13 @@ def _add_gen_options(p: argparse.ArgumentParser) -> None:
                    help="facing with G81 cycles or with G01 passes")
 
 
+def _add_report(p: argparse.ArgumentParser, junit: bool) -> None:
+    p.add_argument("--report", metavar="FILE.html", help="write the HTML report (backplot, "
+                   "program, step-through, setup sheet)")
+    if junit:
+        p.add_argument("--junit", metavar="FILE.xml", help="write JUnit XML test results")
+
+
 def build_parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser(prog="hnc-cam", description="HNC-21/22T lathe programs: "
                                  "generate from CAD, run, simulate, verify")
@@ -72,6 +79,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--tools", metavar="FILE")
     p.add_argument("--json", metavar="OUT")
     p.add_argument("--plot", metavar="OUT")
+    _add_report(p, junit=True)
     p.set_defaults(func=("hnc_cam.check", "verify_command"))
 
     p = sub.add_parser("generate", help="plan and write an HNC-21T program for a part")
@@ -79,6 +87,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_set(p)
     _add_gen_options(p)
     p.add_argument("-o", "--output", metavar="OUT", help="program file (default: stdout)")
+    _add_report(p, junit=False)
     p.set_defaults(func=("hnc_cam.plan.command", "generate_command"))
 
     p = sub.add_parser("family", help="one program per row of a CSV table")
@@ -88,7 +97,15 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--jobs", type=int, default=0, metavar="N", help="worker processes (0 = all cores)")
     _add_set(p)
     _add_gen_options(p)
+    _add_report(p, junit=True)
     p.set_defaults(func=("hnc_cam.plan.command", "family_command"))
+
+    p = sub.add_parser("tools", help="tool libraries: import from other CAM systems")
+    tsub = p.add_subparsers(dest="tools_command", required=True, metavar="ACTION")
+    t = tsub.add_parser("import", help="convert a Fusion 360 tool library (JSON) to our TOML")
+    t.add_argument("file", metavar="FILE")
+    t.add_argument("-o", "--output", metavar="OUT", help="TOML file (default: stdout)")
+    t.set_defaults(func=("hnc_cam.tools_import", "import_command"))
     return ap
 
 

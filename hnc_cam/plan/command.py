@@ -48,6 +48,9 @@ def generate_command(args: argparse.Namespace) -> int:
     else:
         sys.stdout.write(prog.text)
         sys.stdout.flush()
+    if getattr(args, "report", None):
+        from ..report import program_report
+        program_report(args.report, prog, tol=getattr(args, "tol", 0.01))
     print(prog.summary(), file=sys.stderr)
     for w in prog.warnings:
         print(f"warning: {w}", file=sys.stderr)
@@ -199,6 +202,9 @@ def family_command(args: argparse.Namespace) -> int:
                   file=sys.stderr)
         w.writerow({k: r.get(k, "") for k in fields})
     write_atomic(out_dir / "summary.csv", buf.getvalue())
+    if getattr(args, "report", None) or getattr(args, "junit", None):
+        from ..report import family_outputs
+        family_outputs(args, jobs, results)
     print(f"{ok} of {len(results)} program(s) written to {out_dir}"
           + (f", {len(results) - ok} failed" if ok < len(results) else ""), file=sys.stderr)
     return worst
