@@ -227,3 +227,17 @@ def test_verify_report_marks_deviations_with_values(shaft, tmp_path):
     assert "undercut" in kinds or "overcut" in kinds
     assert all(m["size"] > 0.01 for m in d["findings"]["marks"] if m["kind"] != "unreachable")
     assert 'class="badge fail"' in text
+
+
+@pytest.mark.cad
+def test_generate_refused_by_verification_still_writes_its_report(tmp_path):
+    """0.1 um is below the simulator's own chord error: the program is refused (exit 1, not
+    written) and the page shows why, with the overcut marked at its value."""
+    nc, page = tmp_path / "F.nc", tmp_path / "F.html"
+    rc = main(["generate", str(REPO / "parts/stepped_shaft.py"), "-o", str(nc),
+               "--report", str(page), "--tol", "0.0001"])
+    assert rc == 1 and not nc.exists() and page.exists()
+    text = page.read_text()
+    assert 'class="badge fail"' in text and "FAIL at tolerance 0.0001 mm" in text
+    marks = page_json(text)["findings"]["marks"]
+    assert any(m["kind"] == "overcut" and m["size"] > 0.0001 for m in marks)

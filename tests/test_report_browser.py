@@ -122,3 +122,24 @@ def test_hovering_a_move_highlights_its_block(browser, tmp_path):
     assert browser.eval("window.hncReport.hoverLine()") == m.toolpath.moves[k].line == 7
     assert browser.eval("document.querySelector('.pl.hov').getAttribute('data-line')") == "7"
     assert browser.errors() == []
+
+
+def test_a_long_program_draws_every_move_and_keeps_few_lines_in_the_page(browser, tmp_path):
+    lines = ["%1", "T0101", "M03 S1000", "G00 X42 Z1"]
+    z = 1.0
+    for k in range(3000):
+        z -= 0.01
+        lines.append(f"G01 X{39.9 if k % 2 else 39.8} Z{z:.3f} F200")
+    lines += ["G00 X60", "M30"]
+    page, m = _page(tmp_path, "\n".join(lines) + "\n", "40x40+1", "long.nc")
+    browser.events.clear()
+    browser.open(page)
+    n = len(m.toolpath.moves)
+    assert n > 3000
+    assert browser.eval("window.hncReport.drawnMoves()") == n
+    # the program pane is a virtual list: only the visible lines are elements
+    assert browser.eval("document.querySelectorAll('#prog-inner .pl').length") < 200
+    # the block of the last feed move is rendered when scrolled to
+    k = max(i for i, mv in enumerate(m.toolpath.moves) if mv.kind == "line")
+    assert browser.eval(f"window.hncReport.lineElement({m.toolpath.moves[k].line}) !== null")
+    assert browser.errors() == []

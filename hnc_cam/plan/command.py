@@ -41,8 +41,10 @@ def generate_command(args: argparse.Namespace) -> int:
     from .api import generate
 
     params = parse_set(args.params or [])
-    prog = generate(args.part, args.stock, params=params, program_number=args.program_number,
-                    file=args.output or "<stdout>", **_options(args))
+    from ..report import failure_report
+    with failure_report(args):  # --report: the page of a program refused by verification
+        prog = generate(args.part, args.stock, params=params, program_number=args.program_number,
+                        file=args.output or "<stdout>", **_options(args))
     if args.output:
         write_atomic(args.output, prog.text)
     else:

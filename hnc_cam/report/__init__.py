@@ -135,3 +135,22 @@ def _row_page(path: Path, job, index_name: str):
     except HncError:
         return None
     return program_report(path, prog, tol=tol, index_href=index_name)
+
+
+class failure_report:
+    """``with failure_report(args): prog = generate(...)``: when ``generate --report`` refuses a
+    program that fails verification, the page of that program is still written (the
+    reviewer's most useful case), then the refusal goes on (exit 1)."""
+
+    def __init__(self, args) -> None:
+        self.path = getattr(args, "report", None)
+        self.tol = getattr(args, "tol", 0.01)
+
+    def __enter__(self) -> "failure_report":
+        return self
+
+    def __exit__(self, typ, exc, tb) -> bool:
+        prog = getattr(exc, "program", None)
+        if self.path and prog is not None and getattr(exc, "exit_code", 2) == 1:
+            program_report(self.path, prog, tol=self.tol)
+        return False
