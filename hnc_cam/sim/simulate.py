@@ -53,6 +53,7 @@ from ..units import fmt_cycle_time
 
 import numpy as np
 import shapely
+import shapely.errors
 from shapely.geometry import Polygon
 from shapely.geometry.base import BaseGeometry
 
@@ -71,6 +72,9 @@ TOUCH_THICK = 5e-4
 RAPID_DEPTH = 0.1
 #: consecutive moves united and removed together
 BATCH = 48
+
+_lib_difference = shapely.lib.difference
+_lib_area = shapely.lib.area
 
 
 #: the checks, by ``Issue.kind``: each finding's message starts with its name and a colon
@@ -269,29 +273,136 @@ class _Sweeper:
 
         Every straight piece (a line, a chord of a sampled arc) sweeps the exact hull of the
         outline at its two ends (:func:`hnc_cam.sim.tool.sweep_hulls`, vectorised per tool)."""
-        paths: list[np.ndarray] = []
-        groups: dict[tuple, tuple[ToolShape, list, list, list]] = {}
+        run = self.run(moves)
+        return list(run.sweeps), [run.path(k) for k in range(len(moves))]
+
+    def run(self, moves: list[Move]) -> "_Run":
+        """The swept regions of a run of moves and the quads swept by their leading
+        non-cutting sides, built with one vectorised call per tool shape."""
+        n = len(moves)
+        sweeps = np.full(n, None, dtype=object)
+        groups: dict[tuple, tuple[ToolShape, list[int], list[int]]] = {}  # lines, arcs
+        memo: dict[tuple, ToolShape] = {}
         for k, m in enumerate(moves):
-            if m.kind == "dwell":
-                paths.append(np.zeros((0, 2)))
+            kind = m.kind
+            if kind == "dwell":
                 continue
-            shape = self.shape(m)
-            pts = self.path_points(m)
-            paths.append(pts)
-            g = groups.setdefault(shape.key, (shape, [], [], []))
-            g[1].append(pts[:-1])
-            g[2].append(pts[1:])
-            g[3].append(np.full(len(pts) - 1, k))
-        out: list[BaseGeometry | None] = [None] * len(moves)
-        for shape, starts, ends, owners in groups.values():
-            owner_a = np.concatenate(owners)
-            hulls = sweep_hulls(shape.outline, np.concatenate(starts), np.concatenate(ends))
-            # group pieces per move (arcs have several)
-            first = np.flatnonzero(np.r_[True, owner_a[1:] != owner_a[:-1]])
-            last = np.r_[first[1:], len(owner_a)]
-            for s, e in zip(first, last):
-                out[int(owner_a[s])] = hulls[s] if e - s == 1 else shapely.union_all(hulls[s:e])
-        return out, paths
+            mk = (m.register, kind == "thread", m.thread_angle)
+            shape = memo.get(mk)
+            if shape is None:
+                shape = memo[mk] = self.shape(m)
+            g = groups.get(shape.key)
+            if g is None:
+                g = groups[shape.key] = (shape, [], [])
+            (g[2] if kind == "arc" else g[1]).append(k)
+        quads, quad_owner = [], []
+        for shape, lines, arcs in groups.values():
+            P = np.array([(moves[k].start[1], moves[k].start[0]) for k in lines],
+                         dtype=float).reshape(-1, 2)
+            Q = np.array([(moves[k].end[1], moves[k].end[0]) for k in lines],
+                         dtype=float).reshape(-1, 2)
+            own = np.array(lines, dtype=np.int64)
+            if arcs:
+                paths = [self.path_points(moves[k]) for k in arcs]
+                P = np.concatenate([P, *(p[:-1] for p in paths)])
+                Q = np.concatenate([Q, *(p[1:] for p in paths)])
+                own = np.concatenate([own, *(np.full(len(p) - 1, k) for k, p in zip(arcs, paths))])
+            hulls = sweep_hulls(shape.outline, P, Q)
+            nl = len(lines)
+            if nl:
+                sweeps[own[:nl]] = hulls[:nl]
+            s0 = nl
+            for k, p in zip(arcs, paths if arcs else ()):
+                e = s0 + len(p) - 1
+                sweeps[k] = hulls[s0] if e - s0 == 1 else union_of(hulls[s0:e])
+                s0 = e
+            if shape.non_cutting:
+                feed = np.array([moves[k].kind in FEED_KINDS for k in own], dtype=bool)
+                a, b, nrm = _sides(shape)
+                Pf, Qf, Of = P[feed], Q[feed], own[feed]
+                mv = Qf - Pf
+                lead = (mv @ nrm.T) > 1e-12 * (np.hypot(mv[:, 0], mv[:, 1])[:, None] + 1e-12)
+                pi, si = np.nonzero(lead)
+                if len(pi):
+                    quads.append(np.stack([a[si] + Pf[pi], b[si] + Pf[pi], b[si] + Qf[pi],
+                                           a[si] + Qf[pi]], axis=1))
+                    quad_owner.append(Of[pi])
+        if quads:
+            qo = np.concatenate(quad_owner)
+            order = np.argsort(qo, kind="stable")
+            qp = shapely.polygons(np.concatenate(quads)[order])
+            qo = qo[order]
+        else:
+            qp, qo = np.zeros(0, dtype=object), np.zeros(0, dtype=np.int64)
+        return _Run(moves, sweeps, qp, qo)
+
+
+class _Run:
+    """Sweeps of a run of consecutive moves (index k in the run) and the parallelograms
+    ``quads`` swept by leading non-cutting sides, sorted by their move ``quad_owner``."""
+
+    def __init__(self, moves: list[Move], sweeps: np.ndarray, quads: np.ndarray,
+                 quad_owner: np.ndarray):
+        self.moves, self.sweeps, self.quads, self.quad_owner = moves, sweeps, quads, quad_owner
+
+    def path(self, k: int) -> np.ndarray:
+        m = self.moves[k]
+        return np.zeros((0, 2)) if m.kind == "dwell" else _Sweeper.path_points(m)
+
+    def non_cutting_candidates(self, local: BaseGeometry, k0: int, k1: int) -> set[int]:
+        """Moves k0 <= k < k1 whose leading non-cutting sides pass through ``local`` (prepared;
+        the material at the start of their batch, a superset of what each move meets): only
+        these need the exact check."""
+        lo, hi = np.searchsorted(self.quad_owner, [k0, k1])
+        if hi <= lo:
+            return set()
+        hit = shapely.intersects(local, self.quads[lo:hi])
+        return set(self.quad_owner[lo:hi][hit].tolist())
+
+
+#: moves whose sweeps are built together (bounds the memory held for sweeps)
+CHUNK = 4096
+
+
+def _difference(a: BaseGeometry, b: BaseGeometry) -> BaseGeometry:
+    """``a - b`` for polygonal a and b (the result is polygonal), retried on the snap grid
+    when GEOS meets a robustness failure."""
+    try:
+        return _lib_difference(a, b)
+    except shapely.errors.GEOSException:
+        return diff(a, b)
+
+
+#: pieces and holes of material smaller than this (mm^2) are rounding specks, not material
+SPECK = 1e-9
+
+
+def _drop_specks(g: BaseGeometry) -> BaseGeometry:
+    """``g`` without the polygons and holes of area below :data:`SPECK`: where what a batch
+    removed meets the material its boundary vertices are rounded intersection points, and the
+    overlay can leave slivers some 1e-15 mm wide there."""
+    parts = polygons(g)
+    if not parts:
+        return g
+    arr = np.array(parts, dtype=object)
+    small = shapely.area(arr) < SPECK
+    holes = shapely.get_num_interior_rings(arr) > 0
+    if not small.any() and not holes.any():
+        return g
+    keep = []
+    for p, sm, ho in zip(parts, small, holes):
+        if sm:
+            continue
+        if ho:
+            inner = [r for r in p.interiors if Polygon(r).area >= SPECK]
+            if len(inner) < len(p.interiors):
+                p = Polygon(p.exterior, inner)
+        keep.append(p)
+    if len(keep) == len(parts) and all(a is b for a, b in zip(keep, parts)):
+        return g
+    if not keep:
+        return Polygon()
+    return keep[0] if len(keep) == 1 else shapely.MultiPolygon(keep)
 
 
 def simulate(toolpath: Toolpath, stock: Stock | BaseGeometry, machine: Machine | None = None,
@@ -321,55 +432,77 @@ def simulate(toolpath: Toolpath, stock: Stock | BaseGeometry, machine: Machine |
             issues.append(Issue(m.line, toolpath.block(m.line),
                                 "thread move while the spindle is not turning", "thread-spindle"))
 
-    for b0 in range(0, n, batch):
-        bm = moves[b0:b0 + batch]
-        sw, paths = sweeper.sweeps(bm)
-        idx = [k for k, s in enumerate(sw) if s is not None and not s.is_empty]
-        if not idx:
-            continue
-        geoms = np.array([sw[k] for k in idx], dtype=object)
-        boxes[[b0 + k for k in idx]] = shapely.bounds(geoms)
-        if material.is_empty:
-            continue
-        union = union_of(geoms)
-        z0, x0, z1, x1 = union.bounds
-        local = clean(shapely.clip_by_rect(material, z0, x0, z1, x1))
-        if local.is_empty:
-            continue
-        shapely.prepare(local)
-        # the local material only shrinks: a sweep that misses it now misses it later too
-        hit = shapely.intersects(local, geoms)
-        nc_hit = _non_cutting_candidates(local, [bm[k] for k in idx],
-                                         [sweeper.shape(bm[k]) for k in idx], [paths[k] for k in idx])
-        shapely.destroy_prepared(local)
-        local_area = local.area
-        for j, k in enumerate(idx):
-            if not hit[j]:
+    for c0 in range(0, n, CHUNK):
+        cm = moves[c0:c0 + CHUNK]
+        run = sweeper.run(cm)
+        has = np.flatnonzero(shapely.is_empty(run.sweeps) == False)  # noqa: E712 (None -> False)
+        has = has[run.sweeps[has] != None]  # noqa: E711
+        if len(has):
+            boxes[c0 + has] = shapely.bounds(run.sweeps[has])
+        for b0 in range(0, len(cm), batch):
+            if material.is_empty:
+                break
+            b1 = min(b0 + batch, len(cm))
+            idx = has[(has >= b0) & (has < b1)]
+            if not len(idx):
                 continue
-            after = diff(local, geoms[j])
-            after_area = after.area
-            a = local_area - after_area
-            if a > 1e-12:
-                removed_area[b0 + k] = a
-                if a > TOUCH_AREA:
-                    _check_move(bm[k], local, geoms[j], sweeper.shape(bm[k]), paths[k],
-                                toolpath, issues, notes, j in nc_hit)
-            local, local_area = after, after_area
-        material = diff(material, union)
-        # pieces cut loose from the chucked end fall off
-        parts = polygons(material)
-        if len(parts) > 1 and chuck is not None:
-            keep = [p for p in parts if p.intersects(chuck)]
-            lost = [p for p in parts if not p.intersects(chuck)]
-            if lost:
-                fallen.extend(lost)
-                material = clean(shapely.union_all(keep)) if keep else Polygon()
+            geoms = run.sweeps[idx]
+            bb = boxes[c0 + idx]
+            local0 = clean(shapely.clip_by_rect(material, bb[:, 0].min(), bb[:, 1].min(),
+                                                bb[:, 2].max(), bb[:, 3].max()))
+            if local0.is_empty:
+                continue
+            # the material the batch can meet: inside the convex hull of its sweeps
+            hull = shapely.convex_hull(shapely.multipoints(shapely.get_coordinates(geoms)))
+            local0 = inter(local0, hull)
+            if local0.is_empty:
+                continue
+            shapely.prepare(local0)
+            # the local material only shrinks: a sweep that misses it now misses it later too
+            hit = shapely.intersects(local0, geoms)
+            nc_hit = run.non_cutting_candidates(local0, b0, b1)
+            shapely.destroy_prepared(local0)
+            local = local0
+            local_area = _lib_area(local)
+            for j in np.flatnonzero(hit):
+                k = int(idx[j])
+                after = _difference(local, geoms[j])
+                after_area = _lib_area(after)
+                a = local_area - after_area
+                if a > 1e-12:
+                    removed_area[c0 + k] = a
+                    if a > TOUCH_AREA:
+                        m = cm[k]
+                        nc = k in nc_hit
+                        if nc or _checked(m):
+                            _check_move(m, local, geoms[j], sweeper.shape(m), run.path(k),
+                                        toolpath, issues, notes, nc)
+                    local, local_area = after, after_area
+            if local is local0:
+                continue
+            # what the batch removed; the material outside the hull is untouched
+            material = _drop_specks(diff(material, diff(local0, local)))
+            # pieces cut loose from the chucked end fall off
+            parts = polygons(material)
+            if len(parts) > 1 and chuck is not None:
+                keep = [p for p in parts if p.intersects(chuck)]
+                lost = [p for p in parts if not p.intersects(chuck)]
+                if lost:
+                    fallen.extend(lost)
+                    material = clean(shapely.union_all(keep)) if keep else Polygon()
 
     issues.sort(key=lambda i: i.line)
     return Machined(material=material, stock=start_region, toolpath=toolpath, issues=issues,
                     removed_area=removed_area, sweep_bounds=boxes, shapes=dict(sweeper.shapes),
                     thread_spans=_thread_spans(moves, machine), fallen=fallen, machine=machine,
                     notes=notes)
+
+
+def _checked(m: Move) -> bool:
+    """Whether :func:`_check_move` can find anything for ``m`` other than a non-cutting side
+    (those are found by their candidates): a rapid, or a move with the spindle stopped or at
+    zero feed."""
+    return (m.kind not in FEED_KINDS or m.spindle <= 0 or m.feed is None or m.feed <= 0)
 
 
 def _where(rem: BaseGeometry) -> str:
@@ -438,35 +571,6 @@ def _leading_quads(shape: ToolShape, path: np.ndarray) -> np.ndarray:
     lead = (mv @ nrm.T) > 1e-12 * (np.hypot(mv[:, 0], mv[:, 1])[:, None] + 1e-12)
     pi, si = np.nonzero(lead)
     return np.stack([a[si] + p[pi], b[si] + p[pi], b[si] + q[pi], a[si] + q[pi]], axis=1)
-
-
-def _non_cutting_candidates(local: BaseGeometry, moves: list[Move], shapes: list[ToolShape],
-                            paths: list[np.ndarray]) -> set[int]:
-    """Indices of the feed moves whose leading non-cutting sides pass through ``local`` (the
-    material at the start of the batch, a superset of what each move meets): only these need
-    the exact check. Vectorised per tool shape."""
-    groups: dict[tuple, tuple[ToolShape, list, list, list]] = {}
-    for j, (m, s, pth) in enumerate(zip(moves, shapes, paths)):
-        if m.kind in FEED_KINDS and s.non_cutting and len(pth) >= 2:
-            g = groups.setdefault(s.key, (s, [], [], []))
-            g[1].append(pth[:-1])
-            g[2].append(pth[1:])
-            g[3].append(np.full(len(pth) - 1, j))
-    quads, owner = [], []
-    for s, ps, qs, js in groups.values():
-        a, b, nrm = _sides(s)
-        P, Q, J = np.concatenate(ps), np.concatenate(qs), np.concatenate(js)
-        mv = Q - P
-        lead = (mv @ nrm.T) > 1e-12 * (np.hypot(mv[:, 0], mv[:, 1])[:, None] + 1e-12)
-        pi, si = np.nonzero(lead)
-        if len(pi):
-            quads.append(np.stack([a[si] + P[pi], b[si] + P[pi], b[si] + Q[pi], a[si] + Q[pi]], axis=1))
-            owner.append(J[pi])
-    if not quads:
-        return set()
-    polys = shapely.polygons(np.concatenate(quads))
-    hit = shapely.intersects(local, polys)
-    return set(np.concatenate(owner)[hit].tolist())
 
 
 def _non_cutting_hit(shape: ToolShape, path: np.ndarray, rem: BaseGeometry) -> BaseGeometry | None:
