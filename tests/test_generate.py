@@ -83,7 +83,9 @@ def test_cli_formatting_and_cycle_options(tmp_path, capsys):
     lines = text.splitlines()
     assert "G82 " in text and "G76 " not in text and "G81 " not in text
     assert "G00 G40 Z80.0" in lines and "G00 X100.0" in lines
-    assert [ln.split()[0] for ln in lines if ln.startswith("N")] == ["N1", "N2"]
+    refs = sorted({int(w[1:]) for ln in lines if ln.startswith(("G71", "G72", "G73"))
+                   for w in ln.split() if w[0] in "PQ"})
+    assert [int(ln.split()[0][1:]) for ln in lines if ln.startswith("N")] == refs
     assert any(ln.startswith("G71 ") and " P1 Q2 " in ln for ln in lines)
     g82 = [ln for ln in lines if ln.startswith("G82 ")]
     assert len(g82) >= 4 and g82[-1] == g82[-2]  # passes to depth, the last one repeated

@@ -39,12 +39,14 @@ def test_monotonic_shaft_is_g71_type_1_with_facing():
 def test_undercut_is_g71_type_2_with_a_tool_that_reaches_it():
     p = plan(undercut(), "40x70")
     rough = [op for op in p.operations if op.name == "rough"][0]
-    assert rough.cycle == "G71E"
-    # the 45 deg wall is beyond the DNMG (30 deg): the VNMG (50 deg) roughs and finishes
-    assert rough.tool.insert.code.startswith("VNMG")
+    zone = [op for op in p.operations if op.name == "rough_zone"][0]
+    # the 80 deg rougher takes the envelope (type I); the 45 deg wall is beyond the DNMG
+    # (30 deg): the VNMG (50 deg) rest-roughs the zone (type II) and finishes
+    assert rough.cycle == "G71" and rough.tool.number == 1
+    assert zone.cycle == "G71E" and zone.tool.insert.code.startswith("VNMG")
     fin = [op for op in p.operations if op.name == "finish"][0]
-    assert fin.tool.number == rough.tool.number and not fin.new_tool
-    assert "45 deg" in rough.reason
+    assert fin.tool.number == zone.tool.number and not fin.new_tool
+    assert "45 deg" in zone.reason
 
 
 def test_flange_is_g72_by_the_stated_rule():

@@ -139,6 +139,38 @@ def tip_path(contour: Sequence[Segment], radius: float, tip: int, bore: bool) ->
     return list(res.segments)
 
 
+def allowance_path(contour: Sequence[Segment], radius: float, tip: int, allowance: float,
+                   bore: bool = False) -> list[Segment]:
+    """The imaginary-tip path of a tool with nose ``radius`` that leaves ``allowance`` mm
+    normal to the part everywhere: the nose centre rolls at ``radius + allowance`` from the
+    contour (the kernel's exact offset), the controlled point is ``radius`` from the centre in
+    the tip direction."""
+    from ..geometry.tip import tip_vector
+    path = tip_path(contour, radius + allowance, tip, bore)
+    vx, vz = tip_vector(tip, allowance)
+    if bore:
+        vx = -vx
+    return [s.translated(-vx, -vz) for s in path]
+
+
+def drop_face(chain: Sequence[Segment], z_face: float = 0.0, keep: float = 2.5) -> list[Segment]:
+    """The chain without its leading segments on the face plane ``z_face`` (already faced)
+    but the last ``keep`` mm of them: a roughing or finishing contour then starts near the
+    face's edge, where stock is, and still enters the edge along the face."""
+    segs = list(chain)
+    k = 0
+    while k < len(segs) - 1 and abs(segs[k].start[1] - z_face) < 1e-6 \
+            and abs(segs[k].end[1] - z_face) < 1e-6:
+        k += 1
+    if k == 0:
+        return segs
+    edge = segs[k - 1].end
+    x0 = max(segs[0].start[0], edge[0] - keep)
+    if edge[0] - x0 < 1e-6:
+        return segs[k:]
+    return [Line((x0, z_face), edge)] + segs[k:]
+
+
 def _r(v: float) -> float:
     return round(v, DEC)
 

@@ -67,6 +67,15 @@ class Operation:
     contour: list[Segment] = field(default_factory=list)  # program geometry of the blocks
     retract: list[Point] = field(default_factory=list)  # after the operation, G00 in order
     notes: list[str] = field(default_factory=list)  # what the operation leaves undone, why
+    #: G00 moves to the start point, (x, z) with None for an axis that does not move; empty:
+    #: one move to ``start``
+    approach: list[tuple[float | None, float | None]] = field(default_factory=list)
+    #: the axis moved first to the tool-change point before this operation's tool change
+    leave_first: str = "z"
+
+    @property
+    def approach_moves(self) -> list[tuple[float | None, float | None]]:
+        return self.approach or [self.start]
 
     @property
     def tool_word(self) -> str:
@@ -87,6 +96,7 @@ class Plan:
     tool_change: Point = (100.0, 80.0)
     profile: Any = None  # the TurnedProfile planned (program zero on the right face)
     shift: float = 0.0  # Z shift applied to the model to put its right face at Z0
+    leave_first: str = "z"  # the axis moved first to the tool-change point at the end
 
     @property
     def tools(self) -> list[Tool]:

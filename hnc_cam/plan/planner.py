@@ -161,7 +161,8 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
     z_a = z_face + opts.z_clear
 
     # ---------------- OD ----------------
-    od_ops, grooves = _plan_od(od, prof, stock, tools, opts, name, x_a, z_a, r_stock, length)
+    *od_ops, grooves = _plan_od(od, prof, stock, tools, opts, name, x_a, z_a, r_stock, length,
+                                faced=face_stock > 1e-6 and stock.kind != "offset")
 
     # ---------------- bore ----------------
     bore_ops: list[Operation] = []
@@ -169,9 +170,8 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
         bore_ops = _plan_bore(bore_chain, stock, tools, opts, name, z_a)
 
     rough_od, finish_od = od_ops
-    ops.append(rough_od)
-    if finish_od.tool.number == rough_od.tool.number:
-        finish_od.new_tool = False
+    ops.extend(rough_od)
+    if finish_od.tool.number == rough_od[-1].tool.number:
         ops.append(finish_od)
         ops.extend(bore_ops)
     else:
@@ -186,6 +186,25 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
 
     for op in ops:
         plan.notes.extend(op.notes)
+        # a start behind the stock's face, outside it: X first, then Z (a combined rapid's
+        # dog-leg could run through the stock on the way from the tool-change point)
+        if op.start[1] < z_face - 1e-9 and op.start[0] >= r_stock:
+            op.approach = [(op.start[0], None), (None, op.start[1])]
+        elif op.start[1] < z_face - 1e-9 and op.name == "rough_zone":
+            # into an undercut zone: above the stock, along Z, then down to the zone's start
+            op.approach = [(x_a, None), (None, op.start[1]), (op.start[0], None)]
+    # leaving for a tool change (and at the end): a boring bar leaves the bore along Z
+    # first; an outside tool moves X first when the tool-change point is outside the stock,
+    # else Z first (every operation ends above what is left of the part)
+    prev = None
+    for op in ops + [None]:
+        kind = prev.tool.kind if prev is not None else "turn"
+        first = "z" if kind == "bore" or machine.tool_change[0] < r_stock + opts.clearance else "x"
+        if op is None:
+            plan.leave_first = first
+        else:
+            op.leave_first = first
+        prev = op
     prev = None
     for op in ops:
         if prev is not None and prev.tool.number == op.tool.number:
@@ -209,7 +228,8 @@ def _pocket_text(p: an.Pocket, bore: bool = False) -> str:
 
 def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibrary,
              opts: Options, name: str, x_a: float, z_a: float, r_stock: float,
-             length: float) -> tuple[tuple[Operation, Operation], list[Operation]]:
+             length: float, faced: bool = False
+             ) -> tuple[list[Operation], Operation, list[Operation]]:
     profilers = [t for t in lib.tools if t.kind == "turn" and
                  ("profile" in t.uses or "finish" in t.uses)]
     end_ops: list[Operation] = []
@@ -264,51 +284,54 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
         bridged.add(id(p))
         groove_ops.append(_groove_op(t, z_l, z_r, x_b, p.level, x_a))
     contour = an.assemble(items, bridge=lambda p: id(p) in bridged)
+    if faced:
+        contour = ct.drop_face(contour, 0.0)
     groove_ops = end_ops + groove_ops
-    monotonic = an.is_monotonic(contour)
+    kept = [p for p in pockets if id(p) not in bridged]
     reach_needed = an.max_descent(contour)
     fin = [t for t in finishers if back_reach(t) >= reach_needed - 1e-9]
     if not fin:
         raise PlanError(f"part {name}: no finishing tool reaches walls descending at "
                         f"{reach_needed:.0f} deg")
     finisher = fin[0]
-    if monotonic:
+    zoned = bool(kept) and stock.kind != "offset"
+    if not kept:
         rougher = roughers[0]
-    elif "rough" in finisher.uses:
-        rougher = finisher
-    else:
-        rr = [t for t in roughers if back_reach(t) >= reach_needed - 1e-9]
+    elif stock.kind == "offset":
+        rr = _by_rigidity([t for t in lib.tools if t.kind == "turn" and "rough" in t.uses
+                           and can_square_shoulder(t) and back_reach(t) >= reach_needed - 1e-9])
         if not rr:
             raise PlanError(f"part {name}: no roughing tool reaches walls descending at "
                             f"{reach_needed:.0f} deg")
         rougher = rr[0]
+    else:
+        rougher = roughers[0]
 
+    envelope = contour if not zoned else an.assemble(
+        [it for it in items], bridge=lambda p: True)
+    if zoned and faced:
+        envelope = ct.drop_face(envelope, 0.0)
     xs = [s.bbox()[0] for s in contour]
     radial_extent = r_stock - min(xs)
-    x0 = contour[0].start[0]
     if stock.kind == "offset":
         cycle, tmpl = "G73", "g73.j2"
         reason = (f"near-net blank (stock {stock.spec}): G73 repeats the contour "
                   f"offset by the blank allowance")
         base_dir = (1.0, 0.0)
-    elif monotonic and radial_extent > length:
+    elif radial_extent > length and not zoned:
         cycle, tmpl = "G72", "g72.j2"
         reason = (f"face-dominated: radial extent {_fmt(radial_extent)} mm > length "
                   f"{_fmt(length)} mm, so G72 passes parallel to X")
         base_dir = (opts.allowance_x, opts.allowance_z)
-    elif monotonic:
+    else:
         cycle, tmpl = "G71", "g71.j2"
-        reason = "outside contour monotonic in X: G71 type I"
+        reason = ("outside contour monotonic in X: G71 type I" if not zoned else
+                  f"G71 type I on the outside envelope ({len(kept)} undercut zone"
+                  f"{'s' if len(kept) > 1 else ''} bridged, roughed after), then one "
+                  f"semi-finishing pass along the envelope leaving the finishing allowance")
         if bridged:
             reason += f" (with {len(bridged)} groove(s) bridged, plunged later)"
         base_dir = (opts.allowance_x, opts.allowance_z)
-    else:
-        cycle, tmpl = "G71E", "g71_type2.j2"
-        kept = [p for p in pockets if id(p) not in bridged]
-        reason = ("undercuts the tool reaches: G71 type II (E); "
-                  + "; ".join(_pocket_text(p) for p in kept)
-                  + f"; {describe(rougher)} reaches {back_reach(rougher):.0f} deg")
-        base_dir = (1.0, 0.0)
 
     base = ct.with_leads(contour, z_a, x_a, past_centre=2 * finisher.nose_radius + 0.1,
                          overrun=OVERRUN)
@@ -318,8 +341,8 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
     else:
         prog = base
         delta = rougher.nose_radius
-    ax, az = _allowance(contour, delta, base_dir, opts, what=f"part {name} outside")
-    ns, nf = "od_ns", "od_nf"
+    # the finishing contour is the roughing cycle's ns..nf unless the roughing runs its own
+    ns, nf = ("", "") if zoned else ("od_ns", "od_nf")
     if cycle == "G72":
         prog_run = [s.reversed() for s in reversed(prog)]
         first_axis, comp = "z", 41
@@ -329,19 +352,35 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
                           start=(x_a, z_a))
     if opts.comp == "cam":
         comp = 40
-    words: dict[str, Any] = {"U": rougher.depth, "R": opts.retract, "X": ax, "Z": az,
-                             "E": ax, "W": rougher.depth}
-    if cycle == "G73":
-        a = stock.allowance
-        # the face was faced first: the passes step in X only (W0), so no pass climbs the
-        # face with the insert's back
-        words.update(U=a, W=0.0, R=max(1, math.ceil(a / rougher.depth - 1e-9)))
-    if cycle == "G72":
-        words.update(W=rougher.depth)
     start = (x_a, z_a)
-    rough = Operation(name="rough", cycle=cycle, template=tmpl, tool=rougher, reason=reason,
-                      start=start, speed=rougher.vc_rough, feed=rougher.feed_rough, words=words,
-                      ns=ns, nf=nf)
+    rough_ops: list[Operation] = []
+    if not zoned:
+        ax, az = _allowance(contour, delta, base_dir, opts, what=f"part {name} outside")
+        words: dict[str, Any] = {"U": rougher.depth, "R": opts.retract, "X": ax, "Z": az,
+                                 "E": ax, "W": rougher.depth}
+        if cycle == "G73":
+            a = stock.allowance
+            # the face was faced first: the passes step in X only (W0), so no pass climbs the
+            # face with the insert's back
+            words.update(U=a, W=0.0, R=max(1, math.ceil(a / rougher.depth - 1e-9)))
+        if cycle == "G72":
+            words.update(W=rougher.depth)
+        rough_ops.append(Operation(name="rough", cycle=cycle, template=tmpl, tool=rougher,
+                                   reason=reason, start=start, speed=rougher.vc_rough,
+                                   feed=rougher.feed_rough, words=words, ns=ns, nf=nf))
+    else:
+        rough_ops.append(_semi_op("rough", "G71", rougher, envelope, opts, start, reason,
+                                  x_a, z_a, "env"))
+        for i, p in enumerate(kept):
+            tools = _by_rigidity([t for t in lib.tools if t.kind == "turn"
+                                  and ("rough" in t.uses or "profile" in t.uses)
+                                  and can_square_shoulder(t)
+                                  and back_reach(t) >= p.max_descent - 1e-9])
+            if not tools:
+                raise PlanError(f"part {name}: {_pocket_text(p)}: no roughing tool in the library "
+                                f"reaches it; it needs a turning tool whose trailing edge clears "
+                                f"{p.max_descent + 2:.0f} deg")
+            rough_ops.append(_zone_op(p, tools[0], opts, r_stock, f"z{i + 1}", name))
     last = prog_run[-1].end
     if cycle == "G72":
         retract = [(x_a, z_a)]
@@ -354,7 +393,89 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
                        start=start, speed=finisher.vc_finish, feed=finisher.feed_finish,
                        blocks=blocks, ns=ns, nf=nf, comp=comp, contour=prog_run,
                        retract=_retract(retract, blocks))
-    return (rough, finish), groove_ops
+    return rough_ops, finish, groove_ops
+
+
+#: semi-finishing stock the roughing cycle leaves above the finishing allowance, radial and
+#: axial mm: the cycle's offset is a translation, the semi-finishing pass that follows
+#: leaves the finishing allowance normal to the part everywhere
+SEMI_X = 0.3
+SEMI_Z = 0.1
+
+
+def _by_rigidity(tools: list[Tool]) -> list[Tool]:
+    """Strongest insert first: the larger included angle, then a tool meant for roughing."""
+    return sorted(tools, key=lambda t: (-t.insert.nose_angle, "rough" not in t.uses))
+
+
+def _semi_op(name: str, cycle: str, t: Tool, chain: list[Segment], opts: Options,
+             start: Point, reason: str, x_a: float, z_a: float, tag: str) -> Operation:
+    """G71 type I over ``chain`` (monotone) with the tool's own semi-finishing contour as
+    ns..nf: the cycle leaves the finishing allowance plus (SEMI_X, SEMI_Z), the ns..nf blocks
+    that follow it take that off, leaving the finishing allowance normal to the part."""
+    base = ct.with_leads(chain, z_a, x_a, past_centre=2 * t.nose_radius + 0.1, overrun=OVERRUN)
+    path = ct.allowance_path(base, t.nose_radius, t.tip, opts.allowance_x)
+    ns, nf = f"{tag}_ns", f"{tag}_nf"
+    blocks = ct.to_blocks(path, "x", t.feed_rough, ns, nf, start=start)
+    last = path[-1].end
+    words = {"U": t.depth, "R": opts.retract, "X": SEMI_X, "Z": SEMI_Z, "E": SEMI_X,
+             "W": t.depth}
+    return Operation(name=name, cycle=cycle, template="g71.j2", tool=t, reason=reason,
+                     start=start, speed=t.vc_rough, feed=t.feed_rough, words=words, ns=ns,
+                     nf=nf, blocks=blocks, contour=path,
+                     retract=_retract([(x_a, last[1]), (x_a, z_a)], blocks))
+
+
+def _zone_op(p: an.Pocket, t: Tool, opts: Options, r_stock: float, tag: str,
+             name: str) -> Operation:
+    """Rest-roughing of one undercut zone by a tool that reaches it: G71 type II over the
+    zone alone, from the material the envelope's semi-finishing pass left (its level plus
+    the finishing allowance), then the zone's semi-finishing pass."""
+    a = opts.allowance_x
+    z_in = p.entry[1] + max(1.0, 2 * t.nose_radius + a)
+    exit_ = p.exit if p.exit is not None else (p.level, p.segments[-1].end[1])
+    chain = [Line((p.level, z_in), p.entry)] + list(p.segments)
+    if p.exit is None:
+        chain.append(Line(p.segments[-1].end, exit_))
+    # the rising wall past the exit, so that the offset reaches the level plus the allowance
+    up = chain[-1]
+    tx, tz = up.tangent_at_end()
+    if tx > 0.05:
+        k = (a + t.nose_radius + 0.5) / tx
+        chain.append(Line(up.end, (up.end[0] + k * tx, up.end[1] + k * tz)))
+    path = ct.allowance_path(chain, t.nose_radius, t.tip, a)
+    top = p.level + a
+    path = _clip_above(path, top)
+    x_start = top + opts.retract + 0.5
+    start = (x_start, path[0].start[1])
+    ns, nf = f"{tag}_ns", f"{tag}_nf"
+    blocks = ct.to_blocks(path, "x", t.feed_rough, ns, nf, start=start)
+    words = {"U": t.depth, "R": opts.retract, "E": SEMI_X}
+    last = path[-1].end
+    reason = (f"rest-rough {_pocket_text(p)} with {describe(t)} (reaches "
+              f"{back_reach(t):.0f} deg): G71 type II over this zone, then its semi-finishing "
+              f"pass")
+    return Operation(name="rough_zone", cycle="G71E", template="g71_type2.j2", tool=t,
+                     reason=reason, start=start, speed=t.vc_rough, feed=t.feed_rough,
+                     words=words, ns=ns, nf=nf, blocks=blocks, contour=path,
+                     retract=_retract([(x_start, last[1]), (x_start, start[1])], blocks))
+
+
+def _clip_above(path: list[Segment], top: float) -> list[Segment]:
+    """The zone path up to where, after dipping below ``top``, it first rises back to
+    ``top`` (cut there: beyond, the envelope's semi-finishing pass has already been)."""
+    out: list[Segment] = []
+    down = False
+    for s in path:
+        if down and s.end[0] > top + 1e-9:
+            if s.start[0] < top - 1e-9:
+                parts = an._split_at_x(s, top)
+                out.append(parts[0] if parts else s)
+            break
+        out.append(s)
+        if s.bbox()[0] < top - 1e-6:
+            down = True
+    return out
 
 
 def _retract(points: list[Point], blocks) -> list[Point]:
