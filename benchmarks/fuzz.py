@@ -21,7 +21,8 @@ and the innermost project frame (file:line). Cases over 5 s are reported as well
 The runs use small limits (``--steps``, moves and calls scaled from it) so that endless
 programs end in milliseconds; ``--default-limits`` runs with the machine's defaults instead.
 
-Run: ``python benchmarks/fuzz.py --cases N --seed S [--save DIR] [--default-limits]``.
+Run: ``python benchmarks/fuzz.py --cases N --seed S [--save DIR] [--default-limits]
+[--case-timeout S] [--seconds S]``.
 Prints the count, the rate (cases/s), every distinct failure with a reproducer, the cases
 over 5 s, the longest case and the peak memory (max RSS) of the process.
 """
@@ -347,7 +348,7 @@ def check(text: str, machine) -> str | None:
             return f"AlarmTooLong: {len(line)} characters"
         return None
     except BaseException as e:  # noqa: BLE001 - everything else is what we look for
-        if isinstance(e, KeyboardInterrupt):
+        if isinstance(e, (KeyboardInterrupt, CaseTimeout)):
             raise
         return f"{type(e).__name__} at {_where(e)}: {str(e)[:100]}"
     for m in tp.moves:
@@ -355,6 +356,14 @@ def check(text: str, machine) -> str | None:
             return f"NonFiniteMove at line {m.line}"
     tp.summary()
     return None
+
+
+class CaseTimeout(BaseException):
+    """Raised by the per-case timer (``--case-timeout``): the case is recorded as slow."""
+
+
+def _on_timer(signum, frame):
+    raise CaseTimeout()
 
 
 def _where(e: BaseException) -> str:
@@ -399,8 +408,14 @@ def minimise(text: str, key: str, machine, budget: float = 10.0) -> str:
 
 
 def fuzz(cases: int, seed: int, steps: int | None = 2000, save: str | None = None,
-         progress: bool = False, minimise_budget: float = 10.0) -> dict:
-    """Run ``cases`` cases from ``seed``; returns the figures (also used by the tests)."""
+         progress: bool = False, minimise_budget: float = 10.0, case_timeout: float = 0.0,
+         seconds: float = 0.0) -> dict:
+    """Run ``cases`` cases from ``seed``; returns the figures (also used by the tests).
+    ``case_timeout`` > 0 stops a case after that many seconds (it counts as slow, with that
+    time as a lower bound); ``seconds`` > 0 stops the run early (the count says how many ran)."""
+    import signal
+    if case_timeout > 0:
+        signal.signal(signal.SIGALRM, _on_timer)
     r = random.Random(seed)
     seeds = seed_programs()
     machine = fuzz_machine(steps)
@@ -410,16 +425,33 @@ def fuzz(cases: int, seed: int, steps: int | None = 2000, save: str | None = Non
     kinds = {"grammar": 0, "mutation": 0}
     alarms = 0
     t0 = time.perf_counter()
+    done = 0
     for i in range(cases):
+        if seconds > 0 and time.perf_counter() - t0 > seconds:
+            break
+        done += 1
         kind, text = make_case(r, seeds)
         kinds[kind] += 1
         t = time.perf_counter()
-        f = check(text, machine)
+        if case_timeout > 0:
+            signal.setitimer(signal.ITIMER_REAL, case_timeout)
+        try:
+            f = check(text, machine)
+        except CaseTimeout:
+            f = None
+        finally:
+            if case_timeout > 0:
+                signal.setitimer(signal.ITIMER_REAL, 0)
         dt = time.perf_counter() - t
         if dt > longest[0]:
             longest = (dt, i)
         if dt > SLOW_S:
             slow.append((dt, i, text))
+            if progress:
+                print(f"  slow case {i}: {dt:.1f} s {text[:300]!r}", flush=True)
+            if save:
+                Path(save).mkdir(parents=True, exist_ok=True)
+                (Path(save) / f"slow_{seed}_{i}.nc").write_text(text, "utf-8", newline="")
         if f is not None:
             k = _key(f)
             c, first, prog = failures.get(k, (0, f, text))
@@ -430,7 +462,7 @@ def fuzz(cases: int, seed: int, steps: int | None = 2000, save: str | None = Non
                   f"longest {longest[0]:.2f} s", flush=True)
         del text
     elapsed = time.perf_counter() - t0
-    out = {"cases": cases, "seed": seed, "elapsed_s": elapsed, "rate": cases / elapsed if elapsed else 0.0,
+    out = {"cases": done, "seed": seed, "elapsed_s": elapsed, "rate": done / elapsed if elapsed else 0.0,
            "kinds": kinds, "failures": failures, "slow": slow, "longest_s": longest[0],
            "longest_case": longest[1], "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
            "alarms": alarms}
@@ -451,6 +483,9 @@ def main(argv: list[str] | None = None) -> int:
                     "scaled from it); ignored with --default-limits")
     ap.add_argument("--default-limits", action="store_true", help="the default machine's limits")
     ap.add_argument("--save", help="write a minimised reproducer of each failure class here")
+    ap.add_argument("--case-timeout", type=float, default=30.0, help="stop a case after this many "
+                    "seconds (counted as slow); 0 = no timer")
+    ap.add_argument("--seconds", type=float, default=0.0, help="stop the run after this many seconds")
     ap.add_argument("--memory-mb", type=int, default=3072, help="address-space cap of this process "
                     "(a case that needs more fails with MemoryError)")
     a = ap.parse_args(argv)
@@ -458,7 +493,8 @@ def main(argv: list[str] | None = None) -> int:
         lim = a.memory_mb * 1024 * 1024
         resource.setrlimit(resource.RLIMIT_AS, (lim, lim))
     os.environ.setdefault("PYTHONHASHSEED", "0")
-    res = fuzz(a.cases, a.seed, None if a.default_limits else a.steps, a.save, progress=True)
+    res = fuzz(a.cases, a.seed, None if a.default_limits else a.steps, a.save, progress=True,
+               case_timeout=a.case_timeout, seconds=a.seconds)
     print(f"cases: {res['cases']} (grammar {res['kinds']['grammar']}, mutation {res['kinds']['mutation']}), "
           f"seed {res['seed']}")
     print(f"time: {res['elapsed_s']:.1f} s, rate {res['rate']:.0f} cases/s")

@@ -9,9 +9,15 @@ Execution model
   plain blocks (letters and numbers only) take a regex-only path; blocks with expressions
   keep compiled closures for their words (:mod:`hnc_cam.nc.expr`).
 * Order inside a block (manual §3.1, §3.2.3, §3.3.5): G codes of the modal groups, then F,
-  S, T (the T word acts before motion), then the before-motion M codes (M03 M04 M07 M06),
+  S, T (the T word acts before motion), then the before-motion M codes (spindle on, coolant
+  on: the machine's ``[m_codes]`` meanings),
   then G04 (the dwell comes first in its block), then the non-modal G code or the motion /
-  cycle, then the after-motion M codes (M05 M09 M00 M02 M30) and M98/M99.
+  cycle, then the after-motion M codes (spindle stop, coolant off, optional stop, M00 M02
+  M30) and M98/M99. Only M00 M02 M30 M98 M99 are the CNC's own; any other M code must be in
+  the machine's ``[m_codes]`` table, else it alarms.
+* Limits (machine ``[limits]`` and ``step_limit``): moves in the toolpath (also the
+  compensation buffer), subprogram runs (a call's L counted at once), passes per cycle block;
+  each exceeded limit alarms at the line that exceeds it.
 * A block with M98 or G65 is a call: all its words are arguments (``#0``–``#25``), it does
   not move.
 
@@ -19,8 +25,9 @@ Coordinates and offsets (choices where the manual is silent, also in the README)
 ------------------------------------------------------------------------------------
 * Internally X is a radius; X/U words are diameters in G36 (the default; a machine with
   ``diameter_mode = false`` or ``run(..., diameter=False)`` starts in G37), I K R always radii.
-* The API's tool starts at work X0 Z0 of G54 unless ``start=`` is given (``"reference"``:
-  the machine reference point, which ``hnc-cam run`` uses); programs usually set it with G92.
+* The tool starts at the machine's reference point (``start="reference"``, the API's default
+  as ``hnc-cam run``'s: after homing), or where ``start=(x, z)`` says (work coordinates of
+  G54); programs usually set their frame with G92.
 * Work position = machine position - (G54..G59 origin + G92 shift + G52 local shift).
   Moves are reported in the work system active when they run (what the control displays);
   a program that switches G54..G59 or G52 between moves shows that jump between moves.
@@ -1350,7 +1357,8 @@ class Interp:
 
     def _too_many_moves(self, line: int):
         raise self.alarm(f"too many moves: the toolpath reaches the machine's limit of {self.move_limit} "
-                         f"moves ([limits] moves): endless loop?", line)
+                         f"moves ([limits] moves): an endless loop? (raise the limit in the machine "
+                         f"file for a program this long)", line)
 
     def _css_time(self, L: float, f_rev: float, x_at) -> float:
         """Seconds for a G96 + G95 feed move of length ``L`` at ``f_rev`` mm/rev whose

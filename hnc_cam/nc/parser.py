@@ -150,6 +150,8 @@ def load(text: str, file: str = "<program>", line_limit: Optional[int] = None) -
                           r.index("\0") + 1, printable(r.strip()), file)
         # trailing blanks (a blanked comment) are cut: no scan ever walks them
         s = (clean(r) if ("(" in r or ";" in r) else r.upper()).rstrip()
+        if s == r:
+            s = r  # one string for the raw and the cleaned line (memory of long programs)
         if not s:
             continue
         h, num = _header(s) if (s.lstrip()[:1] in ("%", "O")) else (False, None)
