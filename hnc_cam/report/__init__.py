@@ -91,6 +91,13 @@ def family_outputs(args, jobs, results) -> None:
     by_row = {j[0]: j for j in jobs}
     rows: list[dict[str, Any]] = []
     index_dir = Path(report_path).parent if report_path else None
+    pages: dict[int, dict[str, Any] | None] = {}
+    if report_path:
+        todo = [(str(index_dir / f"O{int(r['program_number']):04d}.html"), by_row[r["row"]],
+                 Path(report_path).name) for r in results
+                if r.get("status") in ("ok", "failed") and r["row"] in by_row
+                and str(r.get("program_number")).isdigit()]
+        pages = _pages(todo, getattr(args, "jobs", 0) or 0)
     for r in sorted(results, key=lambda r: r["row"]):
         job = by_row.get(r["row"])
         number = r.get("program_number")
@@ -103,14 +110,9 @@ def family_outputs(args, jobs, results) -> None:
                "max_overcut_mm": r.get("max_overcut_mm", ""),
                "max_undercut_mm": r.get("max_undercut_mm", ""),
                "message": r.get("message", ""), "summary": ""}
-        if report_path and job is not None and row["status"] in ("ok", "failed"):
-            page = f"{name}.html"
-            rep = _row_page(index_dir / page, job, Path(report_path).name)
-            if rep is not None:
-                row["href"] = page
-                row["summary"] = rep.summary()
-                row["max_overcut_mm"] = round(rep.max_overcut_mm, 4)
-                row["max_undercut_mm"] = round(rep.max_undercut_mm, 4)
+        got = pages.get(r["row"])
+        if got is not None:
+            row.update(got)
         rows.append(row)
     if report_path:
         write_text(report_path, render_index(f"{Path(args.part).name}: {Path(args.table).name}",
@@ -118,6 +120,30 @@ def family_outputs(args, jobs, results) -> None:
     if junit_path:
         from .junit import family_junit
         family_junit(junit_path, args, rows)
+
+
+def _pages(todo: list[tuple[str, tuple, str]], jobs: int) -> dict[int, dict[str, Any] | None]:
+    """The rows' pages, in worker processes like the family itself (``--jobs``, 0 = all
+    cores): row -> its index fields, or None when the row could not be rebuilt."""
+    import os
+    n = min(jobs or os.cpu_count() or 1, len(todo))
+    if n <= 1:
+        return {job[0]: _page_job((path, job, name)) for path, job, name in todo}
+    from concurrent.futures import ProcessPoolExecutor
+    with ProcessPoolExecutor(max_workers=n) as ex:
+        return dict(zip((job[0] for _p, job, _n in todo), ex.map(_page_job, todo)))
+
+
+def _page_job(item: tuple[str, tuple, str]) -> dict[str, Any] | None:
+    """Write one row's page (in a worker); the fields the index shows for it. A page that
+    cannot be written is an error of the whole command (one line, exit 2)."""
+    path, job, index_name = item
+    rep = _row_page(Path(path), job, index_name)
+    if rep is None:
+        return None
+    return {"href": Path(path).name, "summary": rep.summary(),
+            "max_overcut_mm": round(rep.max_overcut_mm, 4),
+            "max_undercut_mm": round(rep.max_undercut_mm, 4)}
 
 
 def _row_page(path: Path, job, index_name: str):

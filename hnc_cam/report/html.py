@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import html
 import json
+import math
 from functools import lru_cache
 from importlib import resources
 from pathlib import Path
@@ -33,8 +34,21 @@ def _template():
 
 def _json_for_script(obj: Any) -> str:
     """JSON safe inside a <script> element (no "</", no U+2028/2029 surprises)."""
-    s = json.dumps(obj, separators=(",", ":"), allow_nan=False)
+    try:
+        s = json.dumps(obj, separators=(",", ":"), allow_nan=False)
+    except ValueError:  # a non-finite number somewhere: null in the page, not a broken script
+        s = json.dumps(_finite(obj), separators=(",", ":"), allow_nan=False)
     return s.replace("<", "\\u003c").replace("\u2028", "\\u2028").replace("\u2029", "\\u2029")
+
+
+def _finite(obj: Any) -> Any:
+    if isinstance(obj, float):
+        return obj if math.isfinite(obj) else None
+    if isinstance(obj, dict):
+        return {k: _finite(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_finite(v) for v in obj]
+    return obj
 
 
 def _view(machined, model) -> list[float]:
