@@ -105,3 +105,33 @@ def test_cad_package_import_is_lazy():
             "print(any(m == 'OCP' or m.startswith(('OCP.', 'build123d', 'cadquery')) for m in sys.modules))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
+
+
+@pytest.mark.parametrize("tol", [0.001, 0.000995, 0.0001])
+def test_fit_keeps_the_curve_end_tangents_and_the_axis_centre(tol):
+    """A nose ellipse (semi-axes 6 along Z, 10 radial) from the cylinder (10, -6) to the axis
+    at (0, 0): it leaves the cylinder along Z and meets the axis perpendicular to it. The fit
+    keeps both: the last arc's centre lies on the axis (at the curve end's own radius, 6e-16
+    here), so it never rises above the face Z0, and the first piece leaves along +Z."""
+    def fn(t):  # t from 0 at (10, -6) to pi/2 at (0, 0)
+        return (10 * math.cos(t), -6 + 6 * math.sin(t)), (-10 * math.sin(t), 6 * math.cos(t))
+    segs = fit_curve(fn, 0.0, math.pi / 2, tol)
+    first, last = segs[0], segs[-1]
+    assert first.start == pytest.approx((10.0, -6.0), abs=1e-12)
+    assert first.tangent_at_start() == (0.0, 1.0)  # along +Z exactly, as the curve
+    assert isinstance(last, Arc) and last.center[0] == pytest.approx(0.0, abs=1e-12)
+    assert last.tangent_at_end() == pytest.approx((-1.0, 0.0), abs=1e-12)
+    assert max(s.bbox()[3] for s in segs) <= 1e-12  # nothing above Z0
+    for a, b in zip(segs, segs[1:]):  # G1 everywhere the curve is
+        assert a.tangent_at_end() == pytest.approx(b.tangent_at_start(), abs=2e-3)
+
+
+def test_fit_end_piece_is_a_line_only_along_the_end_tangent():
+    # a parabola r = t, z = -0.001 t^2 from the axis: within 0.01 of its chord, but it leaves
+    # the axis perpendicular; the first piece must too
+    segs = fit_curve(lambda t: ((t, -0.001 * t * t), (1.0, -0.002 * t)), 0.0, 2.0, 0.01)
+    assert segs[0].tangent_at_start() == (1.0, 0.0)
+    assert segs[0].start == (0.0, 0.0)
+    assert all(s.bbox()[3] <= 1e-12 for s in segs)
+    if isinstance(segs[0], Arc):
+        assert segs[0].center[0] == 0.0

@@ -10,6 +10,15 @@ Choices made here:
   exceeds the tolerance is split at its parameter mid-point and fitted again. Pieces that are
   straight (chord deviation within the tolerance) become one ``Line``; pieces that one arc
   fits within the tolerance become one ``Arc``.
+* **The curve's ends keep what the curve has there.** The piece at each end of the curve is
+  tangent to the curve at that end whatever its kind: a Line only when it runs along the
+  curve's end tangent, a single Arc only as the arc leaving the end along its tangent (and, at
+  a piece that is the whole curve, arriving along the other end's tangent too), else a biarc.
+  So an end perpendicular to the axis stays perpendicular, and an arc that leaves the axis
+  perpendicular to it has its centre exactly on the axis (a nose never rises above the face
+  it meets). End tangents within 1e-9 of the axis directions are taken as exactly along them.
+  Interior pieces may also be one arc through their ends and middle (tangent within the
+  fitting tolerance, not exactly).
 * Nothing here samples to a polyline for output: the result is always Line/Arc.
 * Merging joins consecutive collinear lines and consecutive co-circular arcs of the same
   direction (pieces split by seams, face splits or STEP exporters): that is
@@ -35,7 +44,19 @@ def _unit(v: Point) -> Point:
     n = math.hypot(v[0], v[1])
     if n < EPS:
         raise ValueError("zero tangent")
-    return (v[0] / n, v[1] / n)
+    u = (v[0] / n, v[1] / n)
+    # a tangent along an axis direction up to evaluation noise is exactly along it
+    if abs(u[0]) < 1e-9:
+        return (0.0, math.copysign(1.0, u[1]))
+    if abs(u[1]) < 1e-9:
+        return (math.copysign(1.0, u[0]), 0.0)
+    return u
+
+
+def _along(d: Point, t: Point) -> bool:
+    """Whether the chord ``d`` runs along the unit tangent ``t`` (angle within 1e-9 rad)."""
+    n = math.hypot(d[0], d[1])
+    return n > 0 and abs(cross(d, t)) <= 1e-9 * n and d[0] * t[0] + d[1] * t[1] > 0
 
 
 def arc_from_tangent(p: Point, t: Point, q: Point) -> Segment:
@@ -120,23 +141,39 @@ def fit_curve(fn: CurveFn, t0: float, t1: float, tol: float) -> list[Segment]:
         pts = [fn(t)[0] for t in ts]
         if dist(pa, pb) < EPS:
             return
+        first, last = a == t0, b == t1  # pieces at the curve's ends keep its end tangents
+        try:
+            ua, ub = _unit(da), _unit(db)
+        except ValueError:
+            ua = ub = None
+        chord = (pb[0] - pa[0], pb[1] - pa[1])
         # straight?
         line = Line(pa, pb)
-        if _deviation([line], pts) <= tol:
+        if _deviation([line], pts) <= tol and (
+                not (first or last) or (ua is not None and (not first or _along(chord, ua))
+                                        and (not last or _along(chord, ub)))):
             out.append(line)
             return
-        # one arc through the ends and the middle?
-        mid = fn((a + b) / 2)[0]
-        circ = circle3(pa, mid, pb)
-        if circ is not None:
-            c, _r = circ
-            ccw = cross((mid[0] - pa[0], mid[1] - pa[1]), (pb[0] - mid[0], pb[1] - mid[1])) > 0
-            arc = Arc(pa, pb, c, cw=not ccw)
-            if _deviation([arc], pts) <= tol:
-                out.append(arc)
-                return
+        # one arc: through the ends and the middle, or at an end of the curve leaving it
+        # along the curve's tangent
+        arc: Segment | None = None
+        if not (first or last):
+            mid = fn((a + b) / 2)[0]
+            circ = circle3(pa, mid, pb)
+            if circ is not None:
+                c, _r = circ
+                ccw = cross((mid[0] - pa[0], mid[1] - pa[1]), (pb[0] - mid[0], pb[1] - mid[1])) > 0
+                arc = Arc(pa, pb, c, cw=not ccw)
+        elif ua is not None:
+            arc = arc_from_tangent(pa, ua, pb) if first else \
+                arc_from_tangent(pb, (-ub[0], -ub[1]), pa).reversed()
+            if first and last and not _along(arc.tangent_at_end(), ub):
+                arc = None
+        if arc is not None and _deviation([arc], pts) <= tol and _covers([arc], pts, pa, pb):
+            out.append(arc)
+            return
         try:
-            segs = biarc(pa, _unit(da), pb, _unit(db))
+            segs = biarc(pa, ua, pb, ub) if ua is not None else []
         except ValueError:
             segs = []
         if segs and _deviation(segs, pts) <= tol and _covers(segs, pts, pa, pb):
