@@ -5,7 +5,7 @@ the stock (light grey), the remaining material (light blue) and its outline, the
 (black), the toolpath of the controlled point (rapids dashed, feed moves coloured by operation:
 tool and cycle, see :func:`operation`), deviations beyond the tolerance (overcut red, reachable undercut
 orange, unreachable leftover purple hatched, each with its deepest point marked), collisions
-(red crosses), a legend and the key figures. PNG or SVG by the file's suffix.
+(red crosses where the move first touched material), a legend and the key figures. PNG or SVG by the file's suffix.
 """
 from __future__ import annotations
 
@@ -184,16 +184,20 @@ def figure(machined: Machined, report: Any = None, model: Any = None, title: str
         lines += [str(t) for t in report.threads]
     issues = machined.issues
     if issues:
-        xs, zs = [], []
+        # each finding where the move first touched material; a finding without that place
+        # (a thread move with the spindle stopped) at the end of its line's first move
+        xs, zs, marked = [], [], []
         for iss in issues:
-            for m in machined.toolpath.moves:
-                if m.line == iss.line:
-                    xs.append(m.end[0])
-                    zs.append(m.end[1])
-                    break
+            at = getattr(iss, "at", None)
+            if at is None:
+                at = next((m.end for m in machined.toolpath.moves if m.line == iss.line), None)
+            if at is not None:
+                xs.append(at[0])
+                zs.append(at[1])
+                marked.append(iss)
         if zs:
             ax.plot(zs, xs, "x", color="#d62728", ms=10, mew=2.5, label="collision / check")
-            for z, x, iss in zip(zs, xs, issues):
+            for z, x, iss in zip(zs, xs, marked):
                 ax.annotate(f"line {iss.line}", (z, x), textcoords="offset points",
                             xytext=(6, -12), color="#d62728", fontsize=8)
     t = machined.cycle_time_s

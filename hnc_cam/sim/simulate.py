@@ -32,7 +32,8 @@ the check's name (:data:`CHECKS`), e.g. ``"collision: rapid move cuts material .
 * ``collision``: a rapid that removes material;
 * ``spindle``: a feed move that touches material with the spindle stopped; ``thread-spindle``: a
   thread move with the spindle stopped (whatever it touches);
-* ``feed``: a move at zero feed that touches material;
+* ``feed``: a move at zero feed that touches material with the spindle turning (with the
+  spindle stopped, as under G95, the move is one ``spindle`` finding);
 * ``non-cutting``: a feed move that removes material with a side of the tool that is not a
   cutting edge (the back of a rhombic insert, the top of a grooving blade).
 
@@ -96,6 +97,8 @@ class Issue:
     block: str
     message: str
     kind: str = "collision"
+    #: (x radius, z) where the move first touched material (:func:`first_contact`), if known
+    at: tuple[float, float] | None = None
 
     def __post_init__(self) -> None:
         label = CHECKS.get(self.kind, self.kind)
@@ -103,7 +106,10 @@ class Issue:
             self.message = f"{label}: {self.message}"
 
     def to_json(self) -> dict[str, Any]:
-        return {"line": self.line, "block": self.block, "message": self.message}
+        d: dict[str, Any] = {"line": self.line, "block": self.block, "message": self.message}
+        if self.at is not None:
+            d["at"] = [_r(2 * self.at[0]), _r(self.at[1])]
+        return d
 
     def __str__(self) -> str:
         return f"line {self.line}: {self.message}  [{self.block}]"
@@ -510,12 +516,47 @@ def _where(rem: BaseGeometry) -> str:
     return f"Z {z0:.3f}..{z1:.3f}, X {2 * x0:.3f}..{2 * x1:.3f} (dia)"
 
 
+def _touches(rem: BaseGeometry) -> bool:
+    return rem.area > TOUCH_AREA and _thickness(rem) > TOUCH_THICK
+
+
+def first_contact(local: BaseGeometry, shape: ToolShape, path: np.ndarray) -> tuple[float, float] | None:
+    """(x radius, z) where the tool moving along ``path`` ((z, x) points of the controlled
+    point) first touches ``local`` (the material before the move), as :func:`_check_move`
+    counts touching: the first straight piece whose sweep touches it, then the shortest
+    stretch of that piece that does (bisection to 1e-6 of the piece), and the centre of what
+    that stretch removes (a sliver about as deep as the touch thresholds allow: some 0.002 mm
+    under a nose radius of 0.8 mm, so the point lies that close to the first contact)."""
+    if len(path) < 2:
+        return None
+    hulls = sweep_hulls(shape.outline, path[:-1], path[1:])
+    for k, h in enumerate(hulls):
+        if not _touches(inter(local, h)):
+            continue
+        p, q = path[k], path[k + 1]
+        lo, hi = 0.0, 1.0
+        for _ in range(20):
+            mid = (lo + hi) / 2
+            if _touches(inter(local, sweep_hulls(shape.outline, p, p + mid * (q - p))[0])):
+                hi = mid
+            else:
+                lo = mid
+        rem = inter(local, sweep_hulls(shape.outline, p, p + hi * (q - p))[0])
+        if rem.is_empty:
+            return None
+        a = rem.centroid
+        if not rem.contains(a):
+            a = rem.point_on_surface()
+        return (float(a.y), float(a.x))
+    return None
+
+
 def _check_move(m: Move, local: BaseGeometry, sweep: BaseGeometry, shape: ToolShape,
                 path: np.ndarray, tp: Toolpath, issues: list[Issue], notes: list[Issue],
                 maybe_non_cutting: bool = True) -> None:
     """The checks for a move that removed more than TOUCH_AREA from ``local`` (the material
     around it just before the move) with its swept region ``sweep``."""
-    stopped = m.kind in ("line", "arc") and m.spindle <= 0
+    stopped = m.kind in FEED_KINDS and m.spindle <= 0  # thread moves: found before the cut
     no_feed = m.kind in FEED_KINDS and (m.feed is None or m.feed <= 0)
     if m.kind == "rapid" or stopped or no_feed:
         rem = inter(local, sweep)
@@ -526,17 +567,21 @@ def _check_move(m: Move, local: BaseGeometry, sweep: BaseGeometry, shape: ToolSh
             depth = 2 * shapely.maximum_inscribed_circle(rem, 1e-3).length
             if depth >= RAPID_DEPTH:
                 issues.append(Issue(m.line, block, f"rapid move cuts material ({rem.area:.3f} mm^2, "
-                                    f"{depth:.3f} mm deep at {_where(rem)})", "collision"))
+                                    f"{depth:.3f} mm deep at {_where(rem)})", "collision",
+                                    first_contact(local, shape, path)))
             else:
                 notes.append(Issue(m.line, block, f"rapid move shaves a sliver {depth:.3f} mm thick "
                                    f"({rem.area:.4f} mm^2 at {_where(rem)})", "rapid-sliver"))
             return
         if stopped:
-            issues.append(Issue(m.line, block, f"feed move cuts material while the spindle is not turning "
-                                f"({rem.area:.3f} mm^2 at {_where(rem)})", "spindle"))
-        if no_feed:
+            if m.kind != "thread":
+                issues.append(Issue(m.line, block, f"feed move cuts material while the spindle is not turning "
+                                    f"({rem.area:.3f} mm^2 at {_where(rem)})", "spindle",
+                                    first_contact(local, shape, path)))
+        elif no_feed:  # a stopped spindle is one finding (under G95 its feed is 0 as well)
             issues.append(Issue(m.line, block, f"move at feed 0 cuts material "
-                                f"({rem.area:.3f} mm^2 at {_where(rem)})", "feed"))
+                                f"({rem.area:.3f} mm^2 at {_where(rem)})", "feed",
+                                first_contact(local, shape, path)))
     if maybe_non_cutting and m.kind in FEED_KINDS and shape.non_cutting and len(path) >= 2:
         hit = _non_cutting_hit(shape, path, local)
         if hit is not None:
