@@ -262,7 +262,11 @@ def test_reachable_sliver_over_an_unreachable_corner_counts_by_its_own_thickness
     assert r.max_undercut_mm == pytest.approx(0.005, abs=0.001), r.summary()
     assert r.passed
     (u,) = r.unreachable
-    assert u.size_mm == pytest.approx(0.8 * (1 - math.sqrt(0.5)), abs=0.002)
+    # the fillet of the nose whose centre is 0.005 above the ideal corner placement: the part
+    # beyond the ideal fillet (a 0.005 crescent) is its tail; deepest where the distances to
+    # both faces are equal: 0.805 - 0.8 sin(t) = 0.8 - 0.8 cos(t)
+    t = math.pi / 4 + math.asin(0.005 / 0.8 / math.sqrt(2))
+    assert u.size_mm == pytest.approx(0.805 - 0.8 * math.sin(t), abs=0.0005)
     assert abs(u.z + 30) < 0.5 and abs(u.x - 15) < 0.5
     # the same band 0.02 mm thick fails, located on the band, not in the corner
     _, r2 = run_verify(prog(*ROUGH, "X30.04", "G01 Z-30", "X42", "G00 X60 Z50"), STEP,

@@ -11,12 +11,16 @@ Choices (the issue leaves them open):
   on an interior grid (a part that was cut off entirely has its deepest point inside).
 * **Undercut** = remaining material minus model, its size at a point the distance to the model;
   the maximum lies on the region's boundary. Components deeper than ``NOISE`` are split into what
-  the tools can reach and what they cannot: the region a tool outline K can sweep without
-  entering the model (nor its mirror image below the axis) is the morphological opening of the
-  free space by K, computed with exact Minkowski sums of the sampled polygons with the convex
-  outline (each edge swept by K as an exact hull, :func:`hnc_cam.sim.tool.sweep_hulls`), locally:
-  placements within K's extent of the leftover, obstacles within twice that, and only the swept
-  edges that meet the placement window or the leftover are united (:func:`reachable`). The
+  the tools can reach and what they cannot. A tool reaches where its insert K can be while the
+  insert and its holder (the insert swept away from the work past the part: radially outward
+  for outside tools, along +Z out of the bore for boring bars and other inside tools, by the
+  register's tip code, :func:`holder_direction`) stay out of the model (and its mirror image
+  below the axis): so an outside tool reaches only from outside, a boring bar only from the
+  bore's open end, and neither through the part. That region is computed with exact Minkowski
+  sums of the sampled polygons with the convex outlines (each edge swept as an exact hull,
+  :func:`hnc_cam.sim.tool.sweep_hulls`), locally: placements within K's extent of the leftover,
+  obstacles within that plus the holder's extent, and only the swept edges that meet the
+  placement window or the leftover are united (:func:`reachable`). The
   stock beyond the part's left end (the chucking allowance, where the part is cut off later) is
   an obstacle too, so the nose fillet a pass leaves exactly at the cut-off line is not a defect.
   Leftover outside the union of the openings of every cutting tool the program used (in inner
@@ -28,6 +32,14 @@ Choices (the issue leaves them open):
   near, that is the distance to the model; a pass that stops 0.005 mm above a face running into
   a square shoulder leaves a 0.005 mm band, not a band as deep as the nose fillet in the corner
   under it. Components no deeper than ``NOISE`` are not classified and count as reachable.
+* **Tails**: leftover the tools could reach that lies within the tolerance of unreachable
+  leftover in the same connected piece of leftover (the same side of the model) is the tail of
+  that unreachable feature and unreachable too, as the planner leaves a feature no tool
+  reaches (a chamfer facing the chuck inside a bore) whole, with a NOTE, for another
+  operation.
+* **Stock**: a stock that does not hold the model (some of the model more than ``NOISE``
+  outside it) is bad input (:class:`hnc_cam.errors.StockError`, naming both sizes), not a
+  verification failure.
 * **Threads**: thread zones (the model's declared threads, or the span of the program's thread
   moves) are excluded from the overcut/undercut comparison between the thread's root and its
   nominal diameter. Instead the achieved root diameter (external: the smallest diameter of the
@@ -51,6 +63,7 @@ from shapely.geometry import Polygon, box
 from shapely.geometry.base import BaseGeometry
 
 from ..geometry import Line, Segment, Thread, TurnedProfile
+from ..geometry.tip import tip_direction
 from .measure import distances
 from .region import clean, diff, inter, polygons, profile_polygon
 from .simulate import Issue, Machined
@@ -312,18 +325,41 @@ def _minkowski_parts(region: BaseGeometry, outline: np.ndarray,
     return [*hulls, *moved]
 
 
+def holder_direction(tip: int) -> tuple[float, float]:
+    """Unit (z, x) direction in which a tool's holder runs from its insert, by the tip code: a
+    tool whose tip points away from the axis (codes 1, 2, 6: boring bars, inside grooving and
+    threading tools) or straight at the chuck (7) is held on a bar along the spindle axis
+    that enters from the right (+Z); every other tool (outside turning, grooving and threading,
+    codes 0, 3, 4, 5, 8, 9) on a shank that runs radially outward (+X)."""
+    sx, sz = tip_direction(tip if tip in range(10) else 3)
+    return (1.0, 0.0) if sx > 0 or (sx == 0 and sz < 0) else (0.0, 1.0)
+
+
+def tool_body(shape: ToolShape, length: float) -> np.ndarray:
+    """The convex outline (ccw, relative to the controlled point) of the insert together with
+    its holder: the insert swept ``length`` mm along :func:`holder_direction`, a body as wide as
+    the insert across that direction (a real shank is at least that wide)."""
+    dz, dx = holder_direction(shape.tip)
+    pts = np.vstack([shape.outline, shape.outline + np.array([dz * length, dx * length])])
+    hull = shapely.convex_hull(shapely.multipoints(pts))
+    c = shapely.get_coordinates(shapely.normalize(hull).exterior)[:-1]
+    z, x = c[:, 0], c[:, 1]
+    return c if float(np.sum(z * np.roll(x, -1) - np.roll(z, -1) * x)) >= 0 else c[::-1].copy()
+
+
 def reachable(model_poly: BaseGeometry, shapes: Sequence[ToolShape], where: BaseGeometry,
               keep: BaseGeometry | None = None) -> BaseGeometry:
-    """The part of ``where`` that some tool outline can cover without entering the model (or its
-    mirror image below the axis) or ``keep`` (the chucking allowance beyond the part's left
-    end): ``where`` intersected with the union of the openings of the free space by each
-    outline.
+    """The part of ``where`` that some tool's insert K can cover while the insert and its
+    holder B (:func:`tool_body`, reaching past the part) stay out of the model (and its mirror
+    image below the axis) and ``keep`` (the chucking allowance beyond the part's left end).
+    The holder fixes where a tool comes from: an outside tool from outside the part, radially,
+    a boring bar from the right along the bore; neither through the part.
 
     Computed locally: a point q is covered by a placement P of the controlled point with q in
-    P + K, so P lies within K's extent of q and P + K within twice that: the placements are
-    looked for in the boxes of ``where``'s components grown by the outline's extent, and only
-    the obstacles within twice that matter. Of the swept edges only those that meet the
-    placement window (first sum) or the leftover still unclassified (second sum) are united.
+    P + K, so P lies within K's extent of q: the placements are looked for in the boxes of
+    ``where``'s components grown by the insert's extent, and only the obstacles within those
+    boxes plus B's extent matter. Of the swept edges only those that meet the placement window
+    (first sum, with B) or the leftover still unclassified (second sum, with K) are united.
     """
     comps = [p for p in polygons(where) if not p.is_empty]
     if not comps or not shapes:
@@ -334,19 +370,22 @@ def reachable(model_poly: BaseGeometry, shapes: Sequence[ToolShape], where: Base
         solids += [keep, shapely.affinity.scale(keep, xfact=1.0, yfact=-1.0, origin=(0, 0))]
     solid = shapely.union_all(solids)
     bounds = shapely.bounds(np.array(comps, dtype=object))
+    sb = solid.bounds
     left = clean(where)
     for s in shapes:
         if left.is_empty:
             break
         ext = float(np.ptp(s.outline, axis=0).max()) + 1.0
+        body = tool_body(s, 2 * max(sb[2] - sb[0], sb[3] - sb[1]) + 2 * ext)
+        b0, b1 = body.min(axis=0), body.max(axis=0)
         window = clean(shapely.union_all(shapely.box(bounds[:, 0] - ext, bounds[:, 1] - ext,
                                                      bounds[:, 2] + ext, bounds[:, 3] + ext)))
         reach_zone = clean(shapely.union_all(shapely.box(
-            bounds[:, 0] - 2 * ext, bounds[:, 1] - 2 * ext,
-            bounds[:, 2] + 2 * ext, bounds[:, 3] + 2 * ext)))
+            bounds[:, 0] - ext + b0[0], bounds[:, 1] - ext + b0[1],
+            bounds[:, 2] + ext + b1[0], bounds[:, 3] + ext + b1[1])))
         obst = inter(solid, reach_zone)
-        # placements P of the controlled point with P + K inside the free space
-        blocked = _minkowski_parts(obst, -s.outline, near=window)
+        # placements P of the controlled point with P + B inside the free space
+        blocked = _minkowski_parts(obst, -body, near=window)
         place = diff(window, shapely.union_all(blocked)) if blocked else window
         if place.is_empty:
             continue
@@ -489,6 +528,27 @@ def blame(machined: Machined, at: Deviation, removed: bool) -> None:
         at.block = machined.toolpath.block(best.line)
 
 
+def _with_tails(region: BaseGeometry, reach: BaseGeometry, unreach: BaseGeometry,
+                tol: float) -> tuple[BaseGeometry, BaseGeometry]:
+    """Move the tails of the unreachable leftover to it: in each connected piece of leftover
+    that holds some unreachable leftover, the reachable part within ``tol`` of it. Returns the
+    new (reachable, unreachable)."""
+    if unreach.is_empty or reach.is_empty:
+        return reach, unreach
+    tails = []
+    for p in polygons(region):
+        u = inter(p, unreach)
+        if u.is_empty:
+            continue
+        t = inter(inter(p, reach), u.buffer(tol, quad_segs=8))
+        if not t.is_empty:
+            tails.append(t)
+    if not tails:
+        return reach, unreach
+    tail = clean(shapely.union_all(tails))
+    return diff(reach, tail), clean(shapely.union_all([unreach, tail]))
+
+
 def _cutting_shapes(m: Machined) -> list[ToolShape]:
     keys = []
     for i, mv in enumerate(m.toolpath.moves):
@@ -502,13 +562,38 @@ def _cutting_shapes(m: Machined) -> list[ToolShape]:
     return shapes
 
 
+def _size(g: BaseGeometry) -> str:
+    """Diameter(s), length and Z range of a region, as the message of a stock that is too
+    small names them."""
+    z0, x0, z1, x1 = g.bounds
+    bore = f" bore {2 * x0:.3f}" if x0 > 1e-6 else ""
+    return f"diameter {2 * x1:.3f}{bore}, {z1 - z0:.3f} long, Z {z0:.3f}..{z1:.3f}"
+
+
+def check_stock_fits(stock: BaseGeometry, model_poly: BaseGeometry) -> None:
+    """Refuse (``StockError``, bad input) a stock that does not hold the model: some of the
+    model lies more than ``NOISE`` outside the raw material, so no program could make it."""
+    from ..errors import StockError
+    out = diff(model_poly, stock)
+    if out.is_empty or out.area <= 1e-9:
+        return
+    pts = _boundary_points(out)
+    depth = float(shapely.distance(shapely.points(pts), stock).max()) if len(pts) else 0.0
+    if depth > NOISE:
+        raise StockError(f"the stock ({_size(stock)}) is smaller than the model "
+                         f"({_size(model_poly)}): the model stands up to {depth:.3f} mm "
+                         f"out of it")
+
+
 def verify(machined: Machined, model: TurnedProfile, tol: float = 0.01,
            threads: Sequence[Thread] | None = None, strict: bool = False) -> Report:
     """Compare ``machined`` with ``model`` (see the module doc); ``threads`` overrides the
-    model's declared threads; ``strict`` counts unreachable leftover as a failure."""
+    model's declared threads; ``strict`` counts unreachable leftover as a failure. A stock that
+    does not hold the model is bad input (:func:`check_stock_fits`)."""
     if not tol > 0:
         raise ValueError("tolerance must be positive")
     model_poly = profile_polygon(model)
+    check_stock_fits(machined.stock, model_poly)
     segs = model_segments(model)
     boxes = _seg_boxes(segs)
     material = machined.material
@@ -542,6 +627,7 @@ def verify(machined: Machined, model: TurnedProfile, tol: float = 0.01,
         chuck_side = clean(machined.stock.intersection(box(-BIG, -1.0, model.z_min, BIG)))
         reach_part = reachable(model_poly, _cutting_shapes(machined), region, chuck_side)
         unreach_region = diff(region, reach_part)
+        reach_part, unreach_region = _with_tails(region, reach_part, unreach_region, tol)
         # reachable leftover: its depth beyond what the tools could at best leave (the model,
         # and the unreachable leftover next to it), so a sliver the pass left on top of an
         # unreachable corner counts by its own thickness, not by the corner's depth
