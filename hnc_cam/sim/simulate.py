@@ -15,12 +15,13 @@ Model (the choices made where the issue leaves room):
   the convex hull of the outline at its start and its end (exact for a translated convex
   polygon). An arc is sampled with chord error <= 0.0005 mm and swept as the union of the hulls
   of consecutive placements.
-* Union in an efficient order: moves are taken in batches of consecutive moves (a batch is
-  local, a few passes at most); each batch's sweeps are united with ``union_all`` and taken out
-  of the whole material once. Per move (what it removed, for the checks and the air-cut time)
-  the sweep is taken out of the material clipped to the batch's bounding box, in program
-  order, so each move costs in proportion to the detail near it, not to the whole part: the
-  cost grows about linearly with the number of moves for a given detail of the part.
+* Cost linear in the number of moves: the sweeps are built per run of moves (one vectorised
+  call per tool shape), then taken in batches of consecutive moves (a batch is local, a few
+  passes at most). A batch meets only the material in its zone (the convex hull of its sweeps
+  grown by ``SEAM``); each move's sweep is taken out of that local material in program order
+  (what it removed, for the checks and the air-cut time, is exact and as sequential as one
+  move after another), and the zone's material is put back into the part. Each move costs one
+  overlay with the material near it, each batch a few overlays with the part.
 * Material that is no longer connected to the chucked end (the minimum-Z end of the stock)
   falls off and counts as removed, checked after every batch.
 
@@ -366,6 +367,8 @@ class _Run:
         return set(self.quad_owner[lo:hi][hit].tolist())
 
 
+#: margin (mm) of a batch's zone round the convex hull of its sweeps
+SEAM = 0.01
 #: moves whose sweeps are built together (bounds the memory held for sweeps)
 CHUNK = 4096
 
@@ -454,13 +457,14 @@ def simulate(toolpath: Toolpath, stock: Stock | BaseGeometry, machine: Machine |
                 continue
             geoms = run.sweeps[idx]
             bb = boxes[c0 + idx]
-            local0 = clean(shapely.clip_by_rect(material, bb[:, 0].min(), bb[:, 1].min(),
-                                                bb[:, 2].max(), bb[:, 3].max()))
-            if local0.is_empty:
+            if not _boxes_meet(material, bb):
                 continue
-            # the material the batch can meet: inside the convex hull of its sweeps
+            # the material the batch can meet: inside the convex hull of its sweeps, grown by
+            # SEAM so that the zone's boundary lies off every sweep (an overlay, not GEOS's
+            # rectangle clip, which can return a wrong region for a valid polygon)
             hull = shapely.convex_hull(shapely.multipoints(shapely.get_coordinates(geoms)))
-            local0 = inter(local0, hull)
+            zone = shapely.buffer(hull, SEAM, join_style="mitre")
+            local0 = inter(material, zone)
             if local0.is_empty:
                 continue
             shapely.prepare(local0)
@@ -486,8 +490,9 @@ def simulate(toolpath: Toolpath, stock: Stock | BaseGeometry, machine: Machine |
                     local, local_area = after, after_area
             if local is local0:
                 continue
-            # what the batch removed; the material outside the hull is untouched
-            material = _drop_specks(diff(material, diff(local0, local)))
+            # the material outside the zone is untouched; both pieces meet on the zone's boundary
+            # at the same nodes (one noding of the material with the zone for both overlays)
+            material = _drop_specks(union_of([diff(material, zone), local]))
             # pieces cut loose from the chucked end fall off
             parts = polygons(material)
             if len(parts) > 1 and chuck is not None:
@@ -502,6 +507,13 @@ def simulate(toolpath: Toolpath, stock: Stock | BaseGeometry, machine: Machine |
                     removed_area=removed_area, sweep_bounds=boxes, shapes=dict(sweeper.shapes),
                     thread_spans=_thread_spans(moves, machine), fallen=fallen, machine=machine,
                     notes=notes)
+
+
+def _boxes_meet(g: BaseGeometry, bb: np.ndarray) -> bool:
+    """Whether the bounds of ``g`` meet the box round the bounds ``bb`` (rows z0, x0, z1, x1)."""
+    z0, x0, z1, x1 = g.bounds
+    return not (bb[:, 0].min() > z1 or bb[:, 2].max() < z0 or bb[:, 1].min() > x1
+                or bb[:, 3].max() < x0)
 
 
 def _checked(m: Move) -> bool:
