@@ -1,23 +1,29 @@
-"""Benchmark: simulate + verify time and peak memory for programs of about 1,000, 10,000 and
-100,000 moves.
+"""Benchmark: interpreter, simulate and verify time and peak memory for programs of about 1,000,
+10,000, 100,000 and 1,000,000 moves.
 
 The program is macro-generated (WHILE loops): K passes along a fine wavy profile of 1,000 G01
 segments over 50 mm (X = 30 + 0.2 sin(Z/2) diameter plus the pass's allowance), stepping in from a
-40 mm bar, so every pass removes material; K = 1, 10, 100 gives the three sizes. The model is
-the final profile (1,000 exact lines). Each size runs in its own process so that the peak
-resident memory (ru_maxrss, which includes GEOS) is its own.
+40 mm bar, so every pass removes material; K = 1, 10, 100, 1000 gives the four sizes. The model
+is the final profile (1,000 exact lines). Each size runs in its own process so that the peak
+resident memory (ru_maxrss, which includes GEOS and the interpreter's toolpath) is its own.
 
 Two verifications per size: with a sharp tool (the program lands on the model: the report
 passes) and with the default library's 0.8 mm nose on the same tip path (uncompensated: the
 report fails, and the leftover is classified reachable/unreachable, the expensive branch).
 
-    python benchmarks/verify.py            # all three sizes
-    python benchmarks/verify.py 1 10       # chosen pass counts
-    python benchmarks/verify.py --shaft    # only the per-part figure for parts/stepped_shaft.py
+    python benchmarks/verify.py                    # all four sizes
+    python benchmarks/verify.py 1 10               # chosen pass counts
+    python benchmarks/verify.py --repeat 5         # best of 5 (default 3; 1 for 1,000 passes)
+    python benchmarks/verify.py --baseline REV     # also the code of git revision REV, same run
+    python benchmarks/verify.py --shaft            # only the per-part figure for parts/stepped_shaft.py
 
-Prints per size: moves, interpreter time, simulate time, verify time, peak memory, and the
-growth factor of simulate+verify time per 10x moves; then (all sizes run) the per-part
-simulate and verify time of generated programs for parts/stepped_shaft.py.
+Prints per size, best of N with the load average beside it: moves, interpreter time, simulate
+time, verify time, peak memory (of the process, and the part of it that simulate and verify
+added above the interpreter's), and the growth factor of simulate+verify time per 10x moves;
+with ``--baseline REV`` the same figures for the code of REV (exported with ``git archive``
+into a temporary directory and imported from there) and the ratio REV/current per size; then
+(the default sizes) the per-part simulate and verify time of generated programs for
+parts/stepped_shaft.py.
 """
 from __future__ import annotations
 
@@ -67,29 +73,43 @@ def model():
     return TurnedProfile(outside=segs)
 
 
-def one(passes: int) -> dict:
+def _best(f, repeat: int):
+    """(best wall time, last result) of ``repeat`` calls of f()."""
+    best, out = math.inf, None
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        out = f()
+        best = min(best, time.perf_counter() - t0)
+    return best, out
+
+
+def _rss_mb() -> float:
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+
+
+def one(passes: int, repeat: int = 1, r08: bool = True) -> dict:
     from hnc_cam.nc.interp import run
     from hnc_cam.sim import simulate, verify
-    from hnc_cam.tooling import Machine, Stock
+    from hnc_cam.tooling import Machine, Stock, load_machine
     machine = Machine()  # sharp tool: the final pass lands on the profile
-    t0 = time.perf_counter()
-    tp = run(program(passes), machine, file=f"bench{passes}.nc", start=(50.0, 80.0))
-    t1 = time.perf_counter()
-    m = simulate(tp, Stock.parse("40x60"), machine)
-    t2 = time.perf_counter()
-    rep = verify(m, model(), tol=0.01)
-    t3 = time.perf_counter()
-    from hnc_cam.tooling import load_machine
-    lib = load_machine()  # T0101: CNMG120408, r 0.8, tip 3
-    m2 = simulate(tp, Stock.parse("40x60"), lib)
-    t4 = time.perf_counter()
-    rep2 = verify(m2, model(), tol=0.01)
-    t5 = time.perf_counter()
-    peak_kb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
-    return {"passes": passes, "moves": len(tp.moves), "interp_s": t1 - t0, "simulate_s": t2 - t1,
-            "verify_s": t3 - t2, "peak_mb": peak_kb / 1024, "pass": rep.passed,
-            "max_overcut": rep.max_overcut_mm, "max_undercut": rep.max_undercut_mm,
-            "simulate_r08_s": t4 - t3, "verify_r08_s": t5 - t4, "pass_r08": rep2.passed}
+    text, prof, stock = program(passes), model(), Stock.parse("40x60")
+    t_int, tp = _best(lambda: run(text, machine, file=f"bench{passes}.nc", start=(50.0, 80.0)),
+                      repeat)
+    interp_mb = _rss_mb()
+    t_sim, m = _best(lambda: simulate(tp, stock, machine), repeat)
+    t_ver, rep = _best(lambda: verify(m, prof, tol=0.01), repeat)
+    out = {"passes": passes, "moves": len(tp.moves), "interp_s": t_int, "simulate_s": t_sim,
+           "verify_s": t_ver, "pass": rep.passed, "max_overcut": rep.max_overcut_mm,
+           "max_undercut": rep.max_undercut_mm, "repeat": repeat}
+    del m, rep
+    if r08:
+        lib = load_machine()  # T0101: CNMG120408, r 0.8, tip 3
+        t_sim2, m2 = _best(lambda: simulate(tp, stock, lib), repeat)
+        t_ver2, rep2 = _best(lambda: verify(m2, prof, tol=0.01), repeat)
+        out.update(simulate_r08_s=t_sim2, verify_r08_s=t_ver2, pass_r08=rep2.passed)
+    out["peak_mb"] = _rss_mb()
+    out["sim_mb"] = out["peak_mb"] - interp_mb
+    return out
 
 
 def shaft() -> dict:
@@ -127,34 +147,100 @@ def shaft() -> dict:
             "pass": ok, "moves": len(cases[0][0].moves)}
 
 
+def _measure(passes: int, repeat: int, r08: bool, code: str | None = None) -> dict:
+    """One size in a fresh process; ``code``: a directory holding another hnc_cam to import."""
+    import os
+    env = dict(os.environ)
+    if code is not None:
+        env["PYTHONPATH"] = code + os.pathsep + env.get("PYTHONPATH", "")
+    load = os.getloadavg()[0]
+    out = subprocess.run([sys.executable, __file__, "--one", str(passes), str(repeat),
+                          "1" if r08 else "0"], capture_output=True, text=True, env=env,
+                         cwd=code or None)
+    if out.returncode != 0:
+        raise SystemExit(f"error: benchmark of {passes} passes failed:\n{out.stderr}")
+    r = json.loads(out.stdout.strip().splitlines()[-1])
+    r["load"] = (load + os.getloadavg()[0]) / 2
+    r["total"] = r["simulate_s"] + r["verify_s"]
+    return r
+
+
+def _table(title: str, rows: list[dict]) -> None:
+    print(title)
+    print(f"{'moves':>9} {'best of':>7} {'load':>5} {'interp s':>9} {'simulate s':>11} "
+          f"{'verify s':>9} {'sim+ver s':>10} {'peak MB':>8} {'sim MB':>7}  {'sim r0.8 s':>10} "
+          f"{'ver r0.8 s':>10}  result (sharp; r0.8)")
+    for r in rows:
+        r08 = "simulate_r08_s" in r
+        print(f"{r['moves']:>9} {r['repeat']:>7} {r['load']:>5.2f} {r['interp_s']:>9.2f} "
+              f"{r['simulate_s']:>11.2f} {r['verify_s']:>9.2f} {r['total']:>10.2f} "
+              f"{r['peak_mb']:>8.0f} {r['sim_mb']:>7.0f}  "
+              + (f"{r['simulate_r08_s']:>10.2f} {r['verify_r08_s']:>10.2f}  " if r08
+                 else f"{'-':>10} {'-':>10}  ")
+              + f"{'PASS' if r['pass'] else 'FAIL'} (over {r['max_overcut']:.4f}, under "
+              f"{r['max_undercut']:.4f})" + (f"; {'PASS' if r['pass_r08'] else 'FAIL'}" if r08 else ""),
+              flush=True)
+    for a, b in zip(rows, rows[1:]):
+        f = (b["total"] / a["total"]) / (b["moves"] / a["moves"]) * 10
+        print(f"  growth {a['moves']} -> {b['moves']} moves: simulate+verify x{b['total'] / a['total']:.1f} "
+              f"(x{f:.1f} per 10x moves)")
+
+
+def _export(rev: str) -> str:
+    """The hnc_cam package of git revision ``rev`` in a temporary directory."""
+    import tempfile
+    from pathlib import Path
+    root = Path(__file__).resolve().parents[1]
+    d = tempfile.mkdtemp(prefix="hnc_cam_baseline_")
+    arch = subprocess.run(["git", "-C", str(root), "archive", "--format=tar", rev, "hnc_cam",
+                           "templates"], capture_output=True)
+    if arch.returncode != 0:
+        raise SystemExit(f"error: git archive {rev}: {arch.stderr.decode().strip()}")
+    subprocess.run(["tar", "-x", "-C", d], input=arch.stdout, check=True)
+    tpl = Path(d) / "templates"
+    if tpl.is_dir() and not (Path(d) / "hnc_cam" / "_templates").exists():
+        tpl.rename(Path(d) / "hnc_cam" / "_templates")
+    return d
+
+
 def main(argv: list[str]) -> int:
     if argv and argv[0] == "--one":
-        print(json.dumps(one(int(argv[1]))))
+        print(json.dumps(one(int(argv[1]), int(argv[2]) if len(argv) > 2 else 1,
+                             argv[3] != "0" if len(argv) > 3 else True)))
         return 0
     if argv and argv[0] == "--shaft":
         print(json.dumps(shaft()))
         return 0
-    sizes = [int(a) for a in argv] or [1, 10, 100]
-    rows = []
-    print(f"{'moves':>8} {'interp s':>9} {'simulate s':>11} {'verify s':>9} {'sim+ver s':>10} "
-          f"{'peak MB':>8}  {'sim r0.8 s':>10} {'ver r0.8 s':>10}  result (sharp; r0.8)")
-    for k in sizes:
-        out = subprocess.run([sys.executable, __file__, "--one", str(k)], capture_output=True,
-                             text=True, check=True)
-        r = json.loads(out.stdout.strip().splitlines()[-1])
-        r["total"] = r["simulate_s"] + r["verify_s"]
-        rows.append(r)
-        print(f"{r['moves']:>8} {r['interp_s']:>9.2f} {r['simulate_s']:>11.2f} "
-              f"{r['verify_s']:>9.2f} {r['total']:>10.2f} {r['peak_mb']:>8.0f}  "
-              f"{r['simulate_r08_s']:>10.2f} {r['verify_r08_s']:>10.2f}  "
-              f"{'PASS' if r['pass'] else 'FAIL'} (over {r['max_overcut']:.4f}, "
-              f"under {r['max_undercut']:.4f}); {'PASS' if r['pass_r08'] else 'FAIL'}",
-              flush=True)
-    for a, b in zip(rows, rows[1:]):
-        f = (b["total"] / a["total"]) / (b["moves"] / a["moves"]) * 10
-        print(f"growth {a['moves']} -> {b['moves']} moves: simulate+verify x{b['total'] / a['total']:.1f} "
-              f"(x{f:.1f} per 10x moves)")
-    if not argv:
+    import argparse
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("passes", nargs="*", type=int, help="pass counts (default 1 10 100 1000)")
+    ap.add_argument("--repeat", type=int, default=3, help="best of N (1,000 passes: once)")
+    ap.add_argument("--baseline", metavar="REV", help="also measure the code of git revision REV")
+    ap.add_argument("--no-r08", action="store_true", help="skip the 0.8 mm nose verification")
+    args = ap.parse_args(argv)
+    sizes = args.passes or [1, 10, 100, 1000]
+
+    def rep(k: int) -> int:
+        return 1 if k >= 1000 else max(1, args.repeat)
+
+    rows = [_measure(k, rep(k), not args.no_r08) for k in sizes]
+    _table("current code:", rows)
+    if args.baseline:
+        import shutil
+        d = _export(args.baseline)
+        try:
+            base = [_measure(k, rep(k), not args.no_r08, code=d) for k in sizes]
+        finally:
+            shutil.rmtree(d, ignore_errors=True)
+        _table(f"baseline {args.baseline}:", base)
+        print(f"ratio baseline {args.baseline} / current (time: simulate+verify sharp"
+              + ("" if args.no_r08 else ", simulate+verify r0.8") + "; peak memory):")
+        for a, b in zip(base, rows):
+            line = f"  {b['moves']:>9} moves: x{a['total'] / b['total']:.2f}"
+            if not args.no_r08:
+                line += (f", x{(a['simulate_r08_s'] + a['verify_r08_s']) / (b['simulate_r08_s'] + b['verify_r08_s']):.2f}")
+            print(line + f"; memory x{a['peak_mb'] / b['peak_mb']:.2f}")
+    if not args.passes:
         out = subprocess.run([sys.executable, __file__, "--shaft"], capture_output=True,
                              text=True, check=True)
         r = json.loads(out.stdout.strip().splitlines()[-1])
