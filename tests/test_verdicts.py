@@ -150,6 +150,30 @@ def test_elliptical_nose_solid_generates_and_verifies():
         assert rep.passed
 
 
+@pytest.mark.cad
+def test_spline_nose_meeting_the_axis_square_generates_and_verifies():
+    from build123d import (BuildLine, BuildPart, BuildSketch, Line as BLine, Plane, Spline,
+                           make_face, revolve, Axis)
+    from hnc_cam.cad import profile
+    from hnc_cam.testing import assert_roundtrip
+    with BuildPart() as bp:
+        with BuildSketch(Plane.XZ):
+            with BuildLine():
+                # a B-spline from the 24 mm cylinder to the axis, square to it there
+                Spline((12, -8), (7, -2.5), (0, 0), tangents=[(0, 1), (-1, 0)])
+                BLine((0, 0), (0, -40))
+                BLine((0, -40), (12, -40))
+                BLine((12, -40), (12, -8))
+            make_face()
+        revolve(axis=Axis.Z)
+    prof = profile(bp.part)
+    assert prof.outside[0].start == (0.0, 0.0) and prof.outside[0].center[0] == 0.0
+    assert max(s.bbox()[3] for s in prof.outside) <= 0.0
+    for comp in ("cam", "control"):
+        prog, rep = assert_roundtrip(prof, stock="30x50+1", tol=0.01, comp=comp)
+        assert rep.passed and rep.max_overcut_mm <= 0.01
+
+
 # --- 4. the collision marker is where the tool met the stock -------------------------------
 
 CRASH = "%1\nT0101\nM03 S800 G95\nG00 X60 Z-20\nG00 X30\nG00 X80\nG00 Z50\nM30\n"
