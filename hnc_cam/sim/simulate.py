@@ -452,9 +452,10 @@ def simulate(toolpath: Toolpath, stock: Stock | BaseGeometry, machine: Machine |
             if material.is_empty:
                 break
             b1 = min(b0 + batch, len(cm))
-            idx = has[(has >= b0) & (has < b1)]
-            if not len(idx):
+            lo, hi = np.searchsorted(has, [b0, b1])
+            if hi <= lo:
                 continue
+            idx = has[lo:hi]
             geoms = run.sweeps[idx]
             bb = boxes[c0 + idx]
             if not _boxes_meet(material, bb):
@@ -462,7 +463,7 @@ def simulate(toolpath: Toolpath, stock: Stock | BaseGeometry, machine: Machine |
             # the material the batch can meet: inside the convex hull of its sweeps, grown by
             # SEAM so that the zone's boundary lies off every sweep (an overlay, not GEOS's
             # rectangle clip, which can return a wrong region for a valid polygon)
-            hull = shapely.convex_hull(shapely.multipoints(shapely.get_coordinates(geoms)))
+            hull = shapely.convex_hull(shapely.multipolygons(geoms))
             zone = shapely.buffer(hull, SEAM, join_style="mitre")
             local0 = inter(material, zone)
             if local0.is_empty:
@@ -474,9 +475,8 @@ def simulate(toolpath: Toolpath, stock: Stock | BaseGeometry, machine: Machine |
             shapely.destroy_prepared(local0)
             local = local0
             local_area = _lib_area(local)
-            for j in np.flatnonzero(hit):
-                k = int(idx[j])
-                after = _difference(local, geoms[j])
+            for k, g in zip(idx[hit].tolist(), geoms[hit].tolist()):
+                after = _difference(local, g)
                 after_area = _lib_area(after)
                 a = local_area - after_area
                 if a > 1e-12:
@@ -485,7 +485,7 @@ def simulate(toolpath: Toolpath, stock: Stock | BaseGeometry, machine: Machine |
                         m = cm[k]
                         nc = k in nc_hit
                         if nc or _checked(m):
-                            _check_move(m, local, geoms[j], sweeper.shape(m), run.path(k),
+                            _check_move(m, local, g, sweeper.shape(m), run.path(k),
                                         toolpath, issues, notes, nc)
                     local, local_area = after, after_area
             if local is local0:
