@@ -83,9 +83,21 @@ def test_square_groove_is_plunged_with_the_grooving_tool():
     p = plan(grooved(width=4.0), "30x70")
     g = [op for op in p.operations if op.name == "groove"][0]
     assert g.tool.kind == "groove"
-    assert g.passes[0] == pytest.approx(-20 - 3.0)  # insert's right side on the right wall
-    assert g.passes[-1] == pytest.approx(-24.0)  # left corner on the left wall
-    assert g.words["x_bottom"] == pytest.approx(8.0)
+    # plunges leave 0.1 mm on the walls and the bottom; the finishing pass takes it
+    assert g.passes[0] == pytest.approx(-20 - 3.0 - 0.1)
+    assert g.passes[-1] == pytest.approx(-24.0 + 0.1)
+    assert g.words["x_bottom"] == pytest.approx(8.1)
+    f = g.words["finish"]
+    assert (f["z_right"], f["z_left"], f["x_bottom"]) == pytest.approx((-23.0, -24.0, 8.0))
+    prog = generate(grooved(width=4.0), stock="30x70", verify=False)
+    moves = [m for m in prog.toolpath.moves if m.tool == 7]
+    # the groove tool's feed moves: down to the bottom, a dwell there, and never a rapid
+    # below 0.5 mm above the groove's top (diameter 20)
+    assert any(m.kind == "dwell" for m in moves)
+    assert min(2 * m.end[0] for m in moves if m.kind == "rapid") >= 21.0 - 1e-6
+    bottom = [m for m in moves if m.kind == "line" and abs(m.start[0] - 8.0) < 1e-6
+              and abs(m.end[0] - 8.0) < 1e-6]
+    assert bottom and min(m.end[1] for m in bottom) == pytest.approx(-24.0)
     rough = [op for op in p.operations if op.name == "rough"][0]
     assert rough.cycle == "G71" and "bridged" in rough.reason
 

@@ -73,3 +73,19 @@ def test_generate_accepts_build123d_and_cadquery_solids():
         assert max(xs) >= 20.0
     with pytest.raises(PlanError, match="parameters given"):
         generate(solid, stock="22x45+1", params={"length": "3"})
+
+
+# ---------------------------------------------------------------- threads run out
+
+@pytest.mark.parametrize("cycle", ["g76", "g82"])
+def test_thread_runs_into_the_relief_and_starts_three_leads_before(cycle):
+    prog = generate(PARTS + "threaded_stud.py", thread_cycle=cycle)
+    assert prog.report.passed
+    th = [m for m in prog.toolpath.moves if m.kind == "thread"]
+    z_lo, pitch = -22.0, 1.5  # the stud's M20x1.5 ends at Z-22, its relief begins there
+    assert min(min(m.start[1], m.end[1]) for m in th) <= z_lo - pitch + 1e-6
+    # the relief's far wall (the collar) is at Z-28.578: the insert's flank stays clear
+    assert min(min(m.start[1], m.end[1]) for m in th) >= -28.578 + 0.5 * pitch + 0.2
+    assert max(max(m.start[1], m.end[1]) for m in th) >= 0.0 + 3 * pitch - 1e-6
+    # the spindle runs G97 within the machine's limit and the 1200/lead - 80 threading rule
+    assert all(0 < m.spindle <= min(3000, 1200 / pitch - 80) + 1e-6 for m in th)

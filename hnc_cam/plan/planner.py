@@ -162,7 +162,7 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
 
     # ---------------- OD ----------------
     *od_ops, grooves = _plan_od(od, prof, stock, tools, opts, name, x_a, z_a, r_stock, length,
-                                faced=face_stock > 1e-6 and stock.kind != "offset")
+                                faced=face_stock > 1e-6, max_rpm=machine.max_rpm)
 
     # ---------------- bore ----------------
     bore_ops: list[Operation] = []
@@ -228,11 +228,12 @@ def _pocket_text(p: an.Pocket, bore: bool = False) -> str:
 
 def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibrary,
              opts: Options, name: str, x_a: float, z_a: float, r_stock: float,
-             length: float, faced: bool = False
+             length: float, faced: bool = False, max_rpm: float = 3000.0
              ) -> tuple[list[Operation], Operation, list[Operation]]:
     profilers = [t for t in lib.tools if t.kind == "turn" and
                  ("profile" in t.uses or "finish" in t.uses)]
     end_ops: list[Operation] = []
+    overrun = OVERRUN
     # a descending run at the very end (the chamfer of the left edge): bridged in the main
     # contour and made afterwards in one pass by a tool that reaches it, when it is shallow
     od = an.split_x_extremes(od)
@@ -246,6 +247,12 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
         if pt:
             end_ops.append(_end_pocket_op(tp, pt[0], opts, x_a, name))
             od = od[:k] + [Line(tail[0].start, (tail[0].start[0], tail[-1].end[1]))]
+            # the roughing and finishing run on past the left end at the part's diameter, so
+            # that the chamfer's passes dip into turned stock, not into the bar's wall
+            relief = tp.depth + pt[0].nose_radius + 0.3 + 1.5
+            if stock.kind != "offset" and r_stock - tail[0].start[0] > 3.0:
+                room = tail[-1].end[1] - stock.z_left - 2.0
+                overrun = max(OVERRUN, min(relief, room))
     items = an.pocket_items(od)
     pockets = [it for it in items if isinstance(it, an.Pocket)]
     finishers = [t for t in turning_tools(lib, "finish") if can_square_shoulder(t)]
@@ -282,10 +289,12 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
                             f"insert at most {_fmt(width)} mm wide (grooving tools in the library: {have})")
         t = max(fits, key=lambda t: t.insert.width)
         bridged.add(id(p))
-        groove_ops.append(_groove_op(t, z_l, z_r, x_b, p.level, x_a))
+        groove_ops.append(_groove_op(t, z_l, z_r, x_b, p.level, x_a, max_rpm))
     contour = an.assemble(items, bridge=lambda p: id(p) in bridged)
     if faced:
-        contour = ct.drop_face(contour, 0.0)
+        # enough of the face for the finishing nose to enter the edge along it
+        keep = 2 * (max(t.nose_radius for t in finishers) + opts.allowance_x) + 0.2
+        contour = ct.drop_face(contour, 0.0, keep)
     groove_ops = end_ops + groove_ops
     kept = [p for p in pockets if id(p) not in bridged]
     reach_needed = an.max_descent(contour)
@@ -334,7 +343,7 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
         base_dir = (opts.allowance_x, opts.allowance_z)
 
     base = ct.with_leads(contour, z_a, x_a, past_centre=2 * finisher.nose_radius + 0.1,
-                         overrun=OVERRUN)
+                         overrun=overrun)
     if opts.comp == "cam":
         prog = ct.tip_path(base, finisher.nose_radius, finisher.tip, bore=False)
         delta = rougher.nose_radius - finisher.nose_radius
@@ -353,6 +362,14 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
     if opts.comp == "cam":
         comp = 40
     start = (x_a, z_a)
+    # the cycle starts on the stock: G71 at the stock's diameter (its first level one full
+    # depth in), G72 on the stock's face (no pass in front of it)
+    if cycle == "G71":
+        rough_start = (r_stock, z_a)
+    elif cycle == "G72":
+        rough_start = (x_a, z_a - opts.z_clear)
+    else:
+        rough_start = start
     rough_ops: list[Operation] = []
     if not zoned:
         ax, az = _allowance(contour, delta, base_dir, opts, what=f"part {name} outside")
@@ -366,11 +383,11 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
         if cycle == "G72":
             words.update(W=rougher.depth)
         rough_ops.append(Operation(name="rough", cycle=cycle, template=tmpl, tool=rougher,
-                                   reason=reason, start=start, speed=rougher.vc_rough,
+                                   reason=reason, start=rough_start, speed=rougher.vc_rough,
                                    feed=rougher.feed_rough, words=words, ns=ns, nf=nf))
     else:
-        rough_ops.append(_semi_op("rough", "G71", rougher, envelope, opts, start, reason,
-                                  x_a, z_a, "env"))
+        rough_ops.append(_semi_op("rough", "G71", rougher, envelope, opts, rough_start, reason,
+                                  x_a, z_a, "env", overrun))
         for i, p in enumerate(kept):
             tools = _by_rigidity([t for t in lib.tools if t.kind == "turn"
                                   and ("rough" in t.uses or "profile" in t.uses)
@@ -409,11 +426,12 @@ def _by_rigidity(tools: list[Tool]) -> list[Tool]:
 
 
 def _semi_op(name: str, cycle: str, t: Tool, chain: list[Segment], opts: Options,
-             start: Point, reason: str, x_a: float, z_a: float, tag: str) -> Operation:
+             start: Point, reason: str, x_a: float, z_a: float, tag: str,
+             overrun: float = OVERRUN) -> Operation:
     """G71 type I over ``chain`` (monotone) with the tool's own semi-finishing contour as
     ns..nf: the cycle leaves the finishing allowance plus (SEMI_X, SEMI_Z), the ns..nf blocks
     that follow it take that off, leaving the finishing allowance normal to the part."""
-    base = ct.with_leads(chain, z_a, x_a, past_centre=2 * t.nose_radius + 0.1, overrun=OVERRUN)
+    base = ct.with_leads(chain, z_a, x_a, past_centre=2 * t.nose_radius + 0.1, overrun=overrun)
     path = ct.allowance_path(base, t.nose_radius, t.tip, opts.allowance_x)
     ns, nf = f"{tag}_ns", f"{tag}_nf"
     blocks = ct.to_blocks(path, "x", t.feed_rough, ns, nf, start=start)
@@ -553,20 +571,39 @@ def _allowance(chain: Sequence[Segment], delta: float, base: Point, opts: Option
     return bx * scale, bz * scale
 
 
+#: dwell at a groove's bottom, spindle revolutions (the bottom is cleaned round)
+GROOVE_DWELL_REVS = 2.0
+#: stock left on a wide groove's walls and bottom by the plunges, for the finishing pass, mm
+GROOVE_FINISH = 0.1
+
+
 def _groove_op(t: Tool, z_l: float, z_r: float, x_b: float, level: float,
-               x_a: float) -> Operation:
+               x_a: float, max_rpm: float = 3000.0) -> Operation:
+    """Plunges with the grooving insert (controlled point: its left corner), each back out
+    only to 0.6 mm above the groove's top; a dwell of :data:`GROOVE_DWELL_REVS` at the
+    bottom. A groove wider than the insert is plunged leaving :data:`GROOVE_FINISH` on the
+    walls and the bottom, then finished in one pass: down the right wall, along the bottom,
+    up the left wall."""
     w = t.insert.width
-    first, last = z_r - w, z_l
+    wide = z_r - z_l - w > 1e-6
+    fa = GROOVE_FINISH if wide and z_r - z_l - w > 2 * GROOVE_FINISH + 1e-6 else 0.0
+    first, last = z_r - w - fa, z_l + fa
     step = max(0.1 * w, w - 2 * t.nose_radius - 0.05)
     n = max(1, math.ceil((first - last) / step - 1e-9) + 1) if first - last > 1e-9 else 1
     pos = [first - (first - last) * i / (n - 1) for i in range(n)] if n > 1 else [last]
+    rpm = min(max_rpm, t.vc_finish * 1000.0 / (2 * math.pi * max(x_b, 0.5)))
+    dwell = round(GROOVE_DWELL_REVS * 60.0 / rpm, 2)
+    words = {"x_bottom": x_b + fa, "x_clear": level + 0.6, "dwell": max(dwell, 0.05)}
+    if fa > 0:
+        words["finish"] = {"z_right": z_r - w, "z_left": z_l, "x_bottom": x_b}
     return Operation(
         name="groove", cycle="G01", template="groove.j2", tool=t,
         reason=(f"square groove Z{_fmt(z_r)}..Z{_fmt(z_l)} to diameter {_fmt(2 * x_b)}: walls "
                 f"steeper than any turning insert reaches, plunged with {describe(t)} in "
-                f"{len(pos)} plunge{'s' if len(pos) > 1 else ''}"),
+                f"{len(pos)} plunge{'s' if len(pos) > 1 else ''}"
+                + (", then one finishing pass on the walls and bottom" if fa > 0 else "")),
         start=(x_a, pos[0]), speed=t.vc_finish, feed=t.feed_finish, passes=pos,
-        words={"x_bottom": x_b, "x_clear": level + 0.5})
+        words=words)
 
 
 # ------------------------------------------------------------------------------------------
@@ -637,12 +674,13 @@ def _plan_bore(chain: list[Segment], stock: Stock, lib: ToolLibrary, opts: Optio
     blocks = ct.to_blocks(prog, "x", fin_t.feed_finish, ns, nf, start=(x_a, z_a))
     cycle = "G71" if monotonic else "G71E"
     start = (x_a, z_a)
+    rough_start = (rb, z_a)  # on the stock's hole: the first level one full depth in
     rough = Operation(
         name="bore_rough", cycle=cycle, template="bore.j2", tool=rough_t,
         reason=(f"tube stock {stock.spec}: bore roughed with {describe(rough_t)}, "
                 + ("G71 type I with a negative X allowance" if monotonic
                    else "G71 type II with a negative E (bore undercuts)")),
-        start=start, speed=rough_t.vc_rough, feed=rough_t.feed_rough, ns=ns, nf=nf,
+        start=rough_start, speed=rough_t.vc_rough, feed=rough_t.feed_rough, ns=ns, nf=nf,
         words={"U": rough_t.depth, "R": opts.retract, "X": -ax, "Z": az, "E": -ax},
         notes=notes)
     last = prog[-1].end
@@ -735,33 +773,47 @@ def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stoc
                         f"leads ({_fmt(2 * lead)} mm) there; the thread must be at least "
                         f"{_fmt(math.ceil(need * 10 - 1e-6) / 10)} mm long"
                         + (f" ({named[0]}={_fmt(length)})" if len(named) == 1 else ""))
-    # relief after the thread end
+    # relief after the thread end: the thread runs on past its end by one lead where the
+    # relief leaves room (so that the last turn is whole), else as far as it does
     need = 0.5 * lead + 0.2
-    z_wall = None
     step = min(0.05, lead / 20)
-    z = z_lo
     z_stop = stock.z_left if stock.kind != "offset" else z_lo - 10 * lead
     part_left = min(s.bbox()[1] for s in chain)
-    while z > z_lo - need - step:
-        z -= step
-        if z < part_left - 1e-9:
-            # beyond the part: the remaining stock (bar) is a wall at the part's left end
-            if stock.kind != "offset" and z > z_stop:
-                z_wall = part_left
+
+    def wall_after(z_end: float) -> float | None:
+        z = z_end
+        while z > z_end - need - step:
+            z -= step
+            if z < part_left - 1e-9:
+                # beyond the part: the remaining stock (bar) is a wall at the part's left end
+                if stock.kind != "offset" and z > z_stop:
+                    return part_left
+                return None
+            r = _radius_at(chain, z, th.internal)
+            # the insert's leading flank rises from the root at the thread end at the
+            # profile's half angle; within half a pitch of the end the flank may cut the
+            # run-out (the thread's own run-out zone); the part must stay below the flank
+            # and the crest
+            beyond = z_end - z
+            limit = r_crest + 0.005
+            if beyond > 0.5 * th.pitch:
+                limit = min(limit, r_root + beyond / math.tan(math.radians(th.angle / 2)))
+            if r is not None and sgn * (r - (limit if not th.internal else r_root)) > 0.005 \
+                    if not th.internal else (r is not None and r - r_root < -0.005):
+                return z
+        return None
+
+    z_end = z_lo
+    z_wall = wall_after(z_lo)
+    for frac in (1.0, 0.75, 0.5, 0.25):
+        ze = z_lo - frac * lead
+        if ze < part_left + 1e-9 and stock.kind == "offset":
+            continue
+        zw = wall_after(ze)
+        if zw is None or ze - zw >= need - 1e-9:
+            z_end, z_wall = ze, zw
             break
-        r = _radius_at(chain, z, th.internal)
-        # the insert's leading flank rises from the root at the thread end at the profile's
-        # half angle; within half a pitch of the end the flank may cut the run-out (that is
-        # the thread's own run-out zone); the part must stay below the flank and the crest
-        beyond = z_lo - z
-        limit = r_crest + 0.005
-        if beyond > 0.5 * th.pitch:
-            limit = min(limit, r_root + beyond / math.tan(math.radians(th.angle / 2)))
-        if r is not None and sgn * (r - (limit if not th.internal else r_root)) > 0.005 \
-                if not th.internal else (r is not None and r - r_root < -0.005):
-            z_wall = z
-            break
-    if z_wall is not None and z_lo - z_wall < need - 1e-9:
+    if z_wall is not None and z_end - z_wall < need - 1e-9:
         raise PlanError(f"{label} is longer than the relief allows: it ends "
                         f"{_fmt(max(0.0, z_lo - z_wall))} mm before the wall at Z{_fmt(z_wall)}, and "
                         f"the threading insert needs {_fmt(need)} mm (half the lead plus 0.2 mm) "
@@ -774,11 +826,15 @@ def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stoc
         x_a = max(0.0, x_a)
     else:
         x_a = max([r_crest] + xs) + opts.clearance
-    z_a = max(z_hi, 0.0) + max(3.0, 2 * lead)
-    rpm = min(t.rpm or 500.0, machine.max_rpm)
+    # three leads before the thread for the axis to reach the spindle's speed
+    # (plus G76's infeed along the flank, which moves the start toward the thread)
+    z_a = max(z_hi, 0.0) + max(3.0, 3 * lead) + depth * math.tan(math.radians(th.angle / 2))
+    # G97: the insert's speed, the machine's limit and the shop rule for threading on the
+    # HNC-21T's encoder-following spindle, n <= 1200 / lead - 80
+    rpm = min(t.rpm or 500.0, machine.max_rpm, max(50.0, 1200.0 / lead - 80.0))
     q = round(min(0.5, max(0.1, depth * 0.4)), 3)
     words: dict[str, Any] = {
-        "C": 1, "R": 0.0, "E": 0.0, "A": th.angle, "X": r_root, "Z": z_lo, "K": depth,
+        "C": 1, "R": 0.0, "E": 0.0, "A": th.angle, "X": r_root, "Z": z_end, "K": depth,
         "U": 0.05, "V": 0.05, "Q": q, "F": lead, "starts": th.starts,
         "angles": [360.0 * i / th.starts for i in range(th.starts)],
     }

@@ -19,7 +19,7 @@ N7 G00 X44 Z4
 N8 G81 X14 Z1 F0.25
 N9 G81 X14 Z0 F0.25
 (ROUGH: outside contour monotonic in X: G71 type I)
-N10 G00 X44 Z2
+N10 G00 X42 Z2
 N11 G71 U1.5 R0.5 P32 Q37 X0.4 Z0.1 F0.25
 (TOOL Boring bar 80 deg CCMT09T304)
 N12 G00 X100
@@ -28,7 +28,7 @@ N14 T0303
 N15 M07
 (BORE: tube stock 42/16x45+2: bore roughed with T03 Boring bar 80 deg CCMT09T304 R0.4 tip 2, G71 type I with a negative X allowance)
 N16 G96 S150 M03
-N17 G00 X14 Z2
+N17 G00 X16 Z2
 N18 G71 U0.8 R0.5 P21 Q24 X-0.4 Z0.1 F0.15
 (FINISH: finish the bore with T03 Boring bar 80 deg CCMT09T304 R0.4 tip 2 [G41 from register 3])
 N19 G96 S180 M03
@@ -46,8 +46,8 @@ N29 M07
 (FINISH: finish the outside contour with T02 OD finishing 55 deg DNMG150404 R0.4 tip 3 [G42 from register 2])
 N30 G96 S240 M03
 N31 G00 G42 X44 Z2
-N32 G00 X33
-N33 G01 X33 Z0 F0.08
+N32 G00 X35.2
+N33 G01 X35.2 Z0 F0.08
 N34 G01 X38 Z0
 N35 G01 X40 Z-1
 N36 G01 X40 Z-40.05

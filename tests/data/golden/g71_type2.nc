@@ -14,7 +14,7 @@ N4 T0101
 N5 M07
 (ROUGH: G71 type I on the outside envelope [1 undercut zone bridged, roughed after], then one semi-finishing pass along the envelope leaving the finishing allowance)
 N6 G96 S180 M03
-N7 G00 X42 Z2
+N7 G00 X40 Z2
 N8 G71 U1.5 R0.5 P9 Q22 X0.6 Z0.1 F0.25
 N9 G00 X-3
 N10 G01 X-3 Z0.2 F0.25

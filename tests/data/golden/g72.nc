@@ -17,8 +17,8 @@ N6 G96 S180 M03
 N7 G00 X106 Z4
 N8 G81 X-1.6 Z1 F0.25
 N9 G81 X-1.6 Z0 F0.25
-(ROUGH: face-dominated: radial extent 39.5 mm > length 25 mm, so G72 passes parallel to X)
-N10 G00 X106 Z2
+(ROUGH: face-dominated: radial extent 38.4 mm > length 25 mm, so G72 passes parallel to X)
+N10 G00 X106 Z0
 N11 G72 W1.5 R0.5 P18 Q24 X0.4 Z0.1 F0.25
 (TOOL OD finishing 55 deg DNMG150404)
 N12 G00 G40 Z80
@@ -33,8 +33,8 @@ N19 G01 X100 Z-25.05 F0.08
 N20 G01 X100 Z-10
 N21 G01 X30 Z-10
 N22 G01 X30 Z0
-N23 G01 X25 Z0
-N24 G01 X25 Z2
+N23 G01 X27.2 Z0
+N24 G01 X27.2 Z2
 N25 G00 G40 X106 Z2
 N26 G00 G40 Z80
 N27 G00 X100

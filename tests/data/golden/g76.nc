@@ -19,7 +19,7 @@ N6 G96 S180 M03
 N7 G00 X32 Z3
 N8 G81 X-1.6 Z0 F0.25
 (ROUGH: outside contour monotonic in X: G71 type I [with 1 groove[s] bridged, plunged later])
-N9 G00 X32 Z2
+N9 G00 X30 Z2
 N10 G71 U1.5 R0.5 P17 Q24 X0.4 Z0.1 F0.25
 (TOOL OD finishing 55 deg DNMG150404)
 N11 G00 X100
@@ -29,8 +29,8 @@ N14 M07
 (FINISH: finish the outside contour with T02 OD finishing 55 deg DNMG150404 R0.4 tip 3 [G42 from register 2])
 N15 G96 S240 M03
 N16 G00 G42 X32 Z2
-N17 G00 X13
-N18 G01 X13 Z0 F0.08
+N17 G00 X15.2
+N18 G01 X15.2 Z0 F0.08
 N19 G01 X18 Z0
 N20 G01 X20 Z-1
 N21 G01 X20 Z-29
@@ -43,28 +43,35 @@ N26 G00 X100
 N27 G00 G40 Z80
 N28 T0707
 N29 M07
-(GROOVE: square groove Z-25..Z-29 to diameter 17.8: walls steeper than any turning insert reaches, plunged with T07 Grooving 3 mm GROOVE3.0 R0.2 tip 3 in 2 plunges)
+(GROOVE: square groove Z-25..Z-29 to diameter 17.8: walls steeper than any turning insert reaches, plunged with T07 Grooving 3 mm GROOVE3.0 R0.2 tip 3 in 2 plunges, then one finishing pass on the walls and bottom)
 N30 G96 S120 M03
 N31 G00 X32
-N32 G00 Z-28
-N33 G00 X21
-N34 G01 X17.8 F0.05
-N35 G00 X32
-N36 G00 Z-29
-N37 G00 X21
-N38 G01 X17.8 F0.05
-N39 G00 X32
+N32 G00 Z-28.1
+N33 G00 X21.2
+N34 G01 X18 F0.05
+N35 G04 P0.06
+N36 G00 X21.2
+N37 G00 Z-28.9
+N38 G01 X18 F0.05
+N39 G04 P0.06
+N40 G00 X21.2
+N41 G00 Z-28
+N42 G01 X17.8 F0.05
+N43 G01 Z-29
+N44 G04 P0.06
+N45 G01 X21.2
+N46 G00 X32
 (TOOL OD threading 60 deg 16ER1.5ISO)
-N40 G00 X100
-N41 G00 G40 Z80
-N42 T0404
-N43 M07
-(THREAD: external thread M20x1.5 from Z0 to Z-22: G76, depth 0.92 mm [0.6134 x pitch], with T04 OD threading 60 deg 16ER1.5ISO R0.1875 tip 8)
-N44 G97 S600 M03
-N45 G00 X22 Z3
-N46 G76 C1 R0 E0 A60 X18.16 Z-22 K0.92 U0.05 V0.05 Q0.368 F1.5
 N47 G00 X100
 N48 G00 G40 Z80
-N49 M05
-N50 M09
-N51 M30
+N49 T0404
+N50 M07
+(THREAD: external thread M20x1.5 from Z0 to Z-22: G76, depth 0.92 mm [0.6134 x pitch], with T04 OD threading 60 deg 16ER1.5ISO R0.1875 tip 8)
+N51 G97 S600 M03
+N52 G00 X22 Z5.031
+N53 G76 C1 R0 E0 A60 X18.16 Z-23.5 K0.92 U0.05 V0.05 Q0.368 F1.5
+N54 G00 X100
+N55 G00 G40 Z80
+N56 M05
+N57 M09
+N58 M30

@@ -15,7 +15,7 @@ N4 T0101
 N5 M07
 (ROUGH: outside contour monotonic in X: G71 type I [with 1 groove[s] bridged, plunged later])
 N6 G96 S180 M03
-N7 G00 X32 Z2
+N7 G00 X30 Z2
 N8 G71 U1.5 R0.5 P15 Q22 X0.4 Z0.1 F0.25
 (TOOL OD finishing 55 deg DNMG150404)
 N9 G00 X100
@@ -39,19 +39,26 @@ N24 G00 X100
 N25 G00 G40 Z80
 N26 T0707
 N27 M07
-(GROOVE: square groove Z-20..Z-24 to diameter 16: walls steeper than any turning insert reaches, plunged with T07 Grooving 3 mm GROOVE3.0 R0.2 tip 3 in 2 plunges)
+(GROOVE: square groove Z-20..Z-24 to diameter 16: walls steeper than any turning insert reaches, plunged with T07 Grooving 3 mm GROOVE3.0 R0.2 tip 3 in 2 plunges, then one finishing pass on the walls and bottom)
 N28 G96 S120 M03
 N29 G00 X32
-N30 G00 Z-23
-N31 G00 X21
-N32 G01 X16 F0.05
-N33 G00 X32
-N34 G00 Z-24
-N35 G00 X21
-N36 G01 X16 F0.05
-N37 G00 X32
-N38 G00 X100
-N39 G00 G40 Z80
-N40 M05
-N41 M09
-N42 M30
+N30 G00 Z-23.1
+N31 G00 X21.2
+N32 G01 X16.2 F0.05
+N33 G04 P0.05
+N34 G00 X21.2
+N35 G00 Z-23.9
+N36 G01 X16.2 F0.05
+N37 G04 P0.05
+N38 G00 X21.2
+N39 G00 Z-23
+N40 G01 X16 F0.05
+N41 G01 Z-24
+N42 G04 P0.05
+N43 G01 X21.2
+N44 G00 X32
+N45 G00 X100
+N46 G00 G40 Z80
+N47 M05
+N48 M09
+N49 M30
