@@ -196,11 +196,18 @@ def test_generate_report_has_the_setup_sheet(shaft):
 def test_verify_report_and_unwritable_path(shaft, tmp_path, capsys):
     nc = shaft / "O1.nc"
     out = tmp_path / "v.html"
+    js = tmp_path / "v.json"
     rc = main(["verify", str(nc), "--model", str(REPO / "parts/stepped_shaft.py"),
-               "--stock", "45x117+2", "--report", str(out)])
+               "--stock", "45x117+2", "--report", str(out), "--json", str(js)])
     assert rc == 0 and out.exists()
     d = page_json(out.read_text())
-    assert d["findings"]["marks"] == []  # within tolerance: nothing beyond it to mark
+    rep = json.loads(js.read_text())
+    js.unlink()
+    # within tolerance: no overcut/undercut mark; the unreachable leftover with its size
+    marks = d["findings"]["marks"]
+    assert {m["kind"] for m in marks} <= {"unreachable"}
+    assert [(m["z"] / 1000, 2 * m["x"] / 1000, m["size"]) for m in marks] == \
+        [pytest.approx((u["z"], u["x"], u["size_mm"]), abs=1e-3) for u in rep["unreachable"]]
     # a report path that cannot be written: one line, exit 2, nothing left behind
     blocker = tmp_path / "file"
     blocker.write_text("x")
@@ -209,17 +216,18 @@ def test_verify_report_and_unwritable_path(shaft, tmp_path, capsys):
                         str(REPO / "parts/stepped_shaft.py"), "--stock", "45x117+2",
                         "--report", str(blocker / "r.html")], capture_output=True, text=True)
     assert r.returncode == 2
-    err = [ln for ln in r.stderr.splitlines() if ln.strip()]
+    err = [ln for ln in r.stderr.splitlines() if ln.strip() and not ln.startswith("note: ")]
     assert len(err) == 1 and err[0].startswith("error: --report ") and "Traceback" not in r.stderr
-    assert list(tmp_path.iterdir()) == [blocker, out] or sorted(tmp_path.iterdir()) == sorted([blocker, out])
+    assert "cannot write" in err[0]
+    assert sorted(tmp_path.iterdir()) == sorted([blocker, out])
 
 
 @pytest.mark.cad
 def test_verify_report_marks_deviations_with_values(shaft, tmp_path):
-    """The program against a thinner model: the overcut is marked with its value."""
+    """The program (d1 = 20) against a model with d1 = 22: the overcut is marked with its value."""
     out = tmp_path / "fail.html"
     rc = main(["verify", str(shaft / "O1.nc"), "--model", str(REPO / "parts/stepped_shaft.py"),
-               "--set", "d1=24", "--stock", "45x117+2", "--report", str(out)])
+               "--set", "d1=22", "--stock", "45x117+2", "--report", str(out)])
     assert rc == 1
     text = out.read_text()
     d = page_json(text)
