@@ -54,7 +54,9 @@ def _page(tmp_path, program: str, stock: str, name: str):
 
 
 @pytest.mark.parametrize("program,stock,name", [(SUB, "40x60+1", "sub.nc"),
-                                                (G71, "45x60+1", "g71.nc")])
+                                                (G71, "45x60+1", "g71.nc"),
+                                                ("%1\nM30\n", "20x10", "empty.nc"),
+                                                ("%1\nT0101\nG04 P2\nM30\n", "20x10", "dwell.nc")])
 def test_page_loads_draws_every_move_and_steps_to_the_final_outline(browser, tmp_path, program,
                                                                      stock, name):
     page, m = _page(tmp_path, program, stock, name)
