@@ -89,3 +89,65 @@ def test_thread_runs_into_the_relief_and_starts_three_leads_before(cycle):
     assert max(max(m.start[1], m.end[1]) for m in th) >= 0.0 + 3 * pitch - 1e-6
     # the spindle runs G97 within the machine's limit and the 1200/lead - 80 threading rule
     assert all(0 < m.spindle <= min(3000, 1200 / pitch - 80) + 1e-6 for m in th)
+
+
+# ---------------------------------------------------------------- material, allowance, explain
+
+def test_material_limits_the_cutting_data_and_unknown_names_the_known(tmp_path, capsys):
+    from hnc_cam.cli import main
+    alu = generate(PARTS + "stepped_shaft.py", material="6061")
+    rough = [op for op in alu.plan.operations if op.name == "rough"][0]
+    assert 300.0 <= rough.speed <= 800.0  # the library's 180 m/min raised into 6061's range
+    steel = generate(PARTS + "stepped_shaft.py", material="1045")  # an alias of C45
+    assert [op.speed for op in steel.plan.operations if op.name == "rough"] == [180.0]
+    assert alu.cycle_time_s < steel.cycle_time_s
+    out = tmp_path / "o.nc"
+    rc = main(["generate", PARTS + "stepped_shaft.py", "--material", "unobtainium", "-o", str(out)])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert rc == 2 and not out.exists() and len(err) == 1
+    assert err[0].startswith("error: unknown material") and "6061" in err[0] and "GG25" in err[0]
+
+
+@pytest.mark.parametrize("value,msg", [("-0.4,0.1", "cannot be negative"),
+                                       ("0.4", "give it as X,Z"),
+                                       ("0.4,500", "larger than the stock"),
+                                       ("50,0.1", "larger than the stock")])
+def test_contradictory_allowance_is_one_line_exit_2(tmp_path, capsys, value, msg):
+    from hnc_cam.cli import main
+    out = tmp_path / "o.nc"
+    rc = main(["generate", PARTS + "threaded_stud.py", f"--allowance={value}", "-o", str(out)])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert rc == 2 and not out.exists() and len(err) == 1 and msg in err[0]
+
+
+def test_allowance_option_is_what_the_roughing_leaves():
+    """The radial stock left after the roughing tools, measured on the simulated material
+    over the plain diameter 30 of the stud's collar (Z-32..-45), is the allowance asked."""
+    from hnc_cam.sim import simulate
+    from hnc_cam.sim.region import polygons
+    import shapely
+    for x_all in (0.4, 1.0):
+        prog = generate(PARTS + "threaded_stud.py", allowance=f"{x_all},0.1", verify=False)
+        # the moves before the finishing operation's comment line: the roughing tools only
+        lines = prog.text.splitlines()
+        at = next(i for i, ln in enumerate(lines, 1) if "FINISH OD" in ln)
+        moves = prog.toolpath.moves
+        first = next(i for i, m in enumerate(moves) if m.line > at)
+        from dataclasses import replace
+        tp = replace(prog.toolpath, moves=moves[:first])
+        mach = simulate(tp, prog.plan.stock, model=prog.plan.profile)
+        for z in (-33.0, -38.0, -44.0):
+            cut = mach.material.intersection(shapely.LineString([(z, 0.0), (z, 100.0)]))
+            top = cut.bounds[3]
+            assert 2 * top - 30.0 == pytest.approx(x_all, abs=0.01)
+
+
+def test_operator_comments_are_short_and_explain_has_the_reasons(capsys):
+    from hnc_cam.cli import main
+    rc = main(["generate", PARTS + "threaded_stud.py", "--explain", "--no-verify"])
+    cap = capsys.readouterr()
+    assert rc == 0
+    body = cap.out.split("G21 G90 G36 G95 G40 G97", 1)[1]
+    comments = [ln for ln in body.splitlines() if "(" in ln]
+    assert comments and all(len(ln[ln.index("("):]) < 60 for ln in comments)
+    assert "rest-rough undercut from Z-22 to Z-28.578" in cap.err

@@ -89,11 +89,32 @@ def _load_part(part: Any, params: Mapping[str, str] | None):
             prof = profile(part)
             return prof, None, prof.name or "part", dict(prof.params)
     prof = loaded.profile
+    mat = getattr(getattr(loaded, "module", None), "MATERIAL", None)
+    if mat is not None and "material" not in prof.params:
+        prof.notes = list(prof.notes)
+        _PART_MATERIAL[id(prof)] = str(mat)
     threads = list(getattr(loaded, "threads", None) or [])
     if threads and not prof.threads:
         prof.threads = threads
     name = getattr(loaded, "name", None) or prof.name
     return prof, getattr(loaded, "stock", None), name, dict(getattr(loaded, "params", {}) or {})
+
+
+def _parse_allowance(value: Any) -> tuple[float, float]:
+    """(X on diameter, Z) from ``"X,Z"`` or a pair; negative values are refused."""
+    try:
+        if isinstance(value, str):
+            parts = [float(v) for v in value.split(",")]
+        else:
+            parts = [float(v) for v in value]
+        if len(parts) != 2:
+            raise ValueError
+    except (TypeError, ValueError):
+        raise PlanError(f"allowance {value!r}: give it as X,Z in mm (X on the diameter), "
+                        f"e.g. 0.4,0.1") from None
+    if any(v < 0 or v != v for v in parts):
+        raise PlanError(f"allowance {value!r}: the finishing allowance cannot be negative")
+    return parts[0], parts[1]
 
 
 def _file_key(path: str | Path | None):
@@ -110,6 +131,8 @@ def _file_key(path: str | Path | None):
 
 
 _TOOLS: dict[Any, ToolLibrary] = {}
+#: the MATERIAL a part file declares, by id of the profile loaded from it
+_PART_MATERIAL: dict[int, str] = {}
 _MACHINES: dict[Any, Machine] = {}
 
 
@@ -172,7 +195,8 @@ def generate(part: Any, stock: str | Stock | None = None, *, params: Mapping[str
              templates: str | Path | None = None, program_number: int | None = None,
              verify: bool = True, tol: float = 0.01, number_format: str = "plain",
              block_numbers: str = "every", thread_cycle: str = "g76",
-             face_cycle: str = "g81", file: str = "<generated>") -> Program:
+             face_cycle: str = "g81", file: str = "<generated>",
+             material: str | None = None, allowance: Any = None) -> Program:
     """Plan, render, interpret (and verify) a program for ``part``.
 
     ``part``: a part file path (``parts/*.py``, ``.step``/``.stp``), a loaded part
@@ -180,6 +204,11 @@ def generate(part: Any, stock: str | Stock | None = None, *, params: Mapping[str
     or a :class:`TurnedProfile` (the model itself); the right face is program zero. ``stock``: a spec string or :class:`Stock`;
     default: the part file's ``STOCK``. ``tools``/``machine``: files or loaded tables
     (defaults: the bundled library, whose registers also fill the default machine).
+    ``material``: a name or alias from ``hnc_cam/data/materials.toml`` (default: the part
+    file's ``MATERIAL``, else none: the tool library's cutting data as it is); the tools'
+    speeds, feeds and depths are limited to the material's ranges. ``allowance``: the
+    finishing allowance ``(X on diameter, Z)`` in mm or ``"X,Z"`` (default: the material's,
+    else 0.4, 0.1 as in the manual's examples).
     """
     from .. import __version__
     from ..post import render
@@ -203,8 +232,17 @@ def generate(part: Any, stock: str | Stock | None = None, *, params: Mapping[str
         raise PlanError(f"thread cycle must be g76 or g82, got {thread_cycle!r}")
     if face_cycle not in ("g81", "g01"):
         raise PlanError(f"face cycle must be g81 or g01, got {face_cycle!r}")
+    mat_name = material if material is not None else _PART_MATERIAL.pop(id(prof), None)
+    ax, az = 0.4, 0.1
+    if mat_name is not None:
+        from .tools import apply_material, find_material
+        _key, mat = find_material(mat_name)
+        lib = apply_material(lib, mat)
+        ax, az = (float(v) for v in mat.get("allowance", (ax, az)))
+    if allowance is not None:
+        ax, az = _parse_allowance(allowance)
     opts = Options(comp=comp, program_number=int(program_number), thread_cycle=thread_cycle,
-                   face_cycle=face_cycle)
+                   face_cycle=face_cycle, allowance_x=ax / 2, allowance_z=az)
     plan = make_plan(prof, st, lib, mach, opts, name=name, params=pparams, version=__version__)
     text = render(plan, templates=templates, number_format=number_format,
                   block_numbers=block_numbers)

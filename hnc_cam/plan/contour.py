@@ -144,9 +144,13 @@ def allowance_path(contour: Sequence[Segment], radius: float, tip: int, allowanc
     """The imaginary-tip path of a tool with nose ``radius`` that leaves ``allowance`` mm
     normal to the part everywhere: the nose centre rolls at ``radius + allowance`` from the
     contour (the kernel's exact offset), the controlled point is ``radius`` from the centre in
-    the tip direction."""
+    the tip direction. Where the larger rolling radius cannot follow (an inside arc or
+    corner tighter than it), the path stays further out: the finishing tool finds more stock
+    there, never less."""
+    from ..compensate import compensate
     from ..geometry.tip import tip_vector
-    path = tip_path(contour, radius + allowance, tip, bore)
+    res = compensate(list(contour), radius + allowance, tip, "left" if bore else "right")
+    path = list(res.segments)
     vx, vz = tip_vector(tip, allowance)
     if bore:
         vx = -vx

@@ -12,6 +12,10 @@ from ..geometry import Point, Segment
 from ..tooling import Machine, Stock, Tool
 
 
+def _n(v: float) -> str:
+    return f"{float(v):.3f}".rstrip("0").rstrip(".")
+
+
 @dataclass
 class Block:
     """One motion block of a contour: G00/G01 with X and/or Z, or G02/G03 with R or I/K.
@@ -78,6 +82,36 @@ class Operation:
         return self.approach or [self.start]
 
     @property
+    def note(self) -> str:
+        """The operator's comment for the operation (under 60 characters); the planner's
+        full reasoning is :attr:`reason` (``generate --explain``)."""
+        t = f"T{self.tool.number:02d}"
+        f = f"F{_n(self.feed)}"
+        w = self.words
+        if self.name == "face":
+            return f"{t} FACE {self.cycle} {len(self.passes)}X F{_n(self.feed)}"
+        if self.name in ("rough", "bore_rough"):
+            where = "BORE" if self.name == "bore_rough" else ("FACE" if self.cycle == "G72" else "OD")
+            cyc = {"G71E": "G71 II", "G73": "G73"}.get(self.cycle, self.cycle)
+            d = w.get("W") if self.cycle == "G72" else w.get("U")
+            extra = f" D{_n(d)}" if d is not None and self.cycle != "G73" else ""
+            return f"{t} ROUGH {where} {cyc}{extra} {f}"
+        if self.name == "rough_zone":
+            z = [b.z for b in self.blocks if b.z is not None]
+            span = f" Z{_n(max(z))}..{_n(min(z))}" if z else ""
+            return f"{t} REST ROUGH{span} G71 II D{_n(w.get('U', 0))} {f}"
+        if self.name in ("finish", "bore_finish"):
+            return f"{t} FINISH {'BORE' if self.name == 'bore_finish' else 'OD'} {f}"
+        if self.name == "profile":
+            return f"{t} LEFT END CHAMFER {f}"
+        if self.name == "groove":
+            return (f"{t} GROOVE Z{_n(self.start[1])} X{_n(2 * w.get('x_bottom', 0))} "
+                    f"{len(self.passes)}X {f}")
+        if self.name == "thread":
+            return f"{t} THREAD LEAD {_n(w.get('F', self.feed))} S{_n(self.speed)}"
+        return f"{t} {self.name.upper()} {self.cycle}"
+
+    @property
     def tool_word(self) -> str:
         return f"T{self.tool.number:02d}{self.tool.register:02d}"
 
@@ -111,3 +145,11 @@ class Plan:
 
     def summary(self) -> str:
         return ", ".join(f"{op.name} {op.cycle}" for op in self.operations)
+
+    def explain(self) -> str:
+        """The planner's reasoning, one paragraph per operation (``generate --explain``)."""
+        out = [f"{self.name}: stock {self.stock.spec}, compensation {self.comp}"]
+        out += [f"  note: {n}" for n in self.notes]
+        for i, op in enumerate(self.operations, 1):
+            out.append(f"  {i}. {op.note}: {op.reason}")
+        return "\n".join(out)

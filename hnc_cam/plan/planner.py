@@ -25,7 +25,8 @@ Rules (each operation records its reason, which the program prints as a comment)
 * **Threads** declared by the part: ``G76`` (or ``G82`` passes) to the standard's depth
   (:attr:`hnc_cam.geometry.Thread.depth`), refused when the relief after the thread is
   shorter than half the lead plus 0.2 mm.
-* Roughing allowances: 0.2 mm radial / 0.1 mm axial by default, increased where the roughing
+* Roughing allowances: 0.4 mm on the diameter / 0.1 mm in Z by default (``--allowance``,
+  the material table), increased where the roughing
   tool, following the program contour uncompensated (``--comp control``) or the finishing
   tool's tip path (``--comp cam``), would otherwise come closer than 0.1 mm to the part
   (walls descending into undercuts); type II and G73 allow in X only.
@@ -134,6 +135,17 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
                             f"{stock.spec} is a solid bar: give a tube stock D/dxL with a "
                             f"pre-drilled hole (this planner does not drill)")
 
+    if opts.allowance_x < 0 or opts.allowance_z < 0:
+        raise PlanError(f"finishing allowance X{_fmt(2 * opts.allowance_x)} Z{_fmt(opts.allowance_z)}: "
+                        f"an allowance cannot be negative")
+    # the smallest diameter of the outside, the faces (lines along X) left out
+    r_low = min((min(s.start[0], s.end[0]) for s in od
+                 if abs(s.end[1] - s.start[1]) > 1e-6 and max(s.start[0], s.end[0]) > 1e-6),
+                default=0.0)
+    if opts.allowance_x >= r_stock - max(r_low, 0.0) - 1e-9 or opts.allowance_z >= length:
+        raise PlanError(f"finishing allowance X{_fmt(2 * opts.allowance_x)} Z{_fmt(opts.allowance_z)} "
+                        f"is larger than the stock: {_fmt(2 * (r_stock - max(r_low, 0.0)))} mm on "
+                        f"the diameter and {_fmt(length)} mm in Z are all there is to remove")
     x_a = r_stock + opts.clearance  # OD start X (radius)
     ops: list[Operation] = []
 

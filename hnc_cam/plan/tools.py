@@ -93,3 +93,67 @@ def thread_tools(lib: ToolLibrary, internal: bool) -> list[Tool]:
 def describe(tool: Tool) -> str:
     return (f"T{tool.number:02d} {tool.name} {tool.insert.code} R{tool.nose_radius:g} "
             f"tip {tool.tip}")
+
+
+# ------------------------------------------------------------------------------------------
+# work materials (hnc_cam/data/materials.toml)
+# ------------------------------------------------------------------------------------------
+
+_MATERIALS: dict | None = None
+
+
+def load_materials() -> dict[str, dict]:
+    """The bundled material table, keyed by its section name (read once)."""
+    global _MATERIALS
+    if _MATERIALS is None:
+        import tomllib
+        from importlib import resources
+        text = resources.files("hnc_cam.data").joinpath("materials.toml").read_text("utf-8")
+        _MATERIALS = tomllib.loads(text)
+    return _MATERIALS
+
+
+def find_material(name: str) -> tuple[str, dict]:
+    """(key, entry) for a material name or alias (case-insensitive); an unknown name is a
+    PlanError naming the known ones."""
+    from ..errors import PlanError
+    table = load_materials()
+    want = str(name).strip().upper()
+    for key, m in table.items():
+        if want == key.upper() or want in (a.upper() for a in m.get("aliases", [])):
+            return key, m
+    known = ", ".join(f"{k} ({m.get('name', k)})" for k, m in table.items())
+    raise PlanError(f"unknown material {name!r}: the known materials are {known}")
+
+
+def _clip(v: float, rng) -> float:
+    lo, hi = float(rng[0]), float(rng[1])
+    return min(max(v, lo), hi)
+
+
+def apply_material(lib: ToolLibrary, material: dict) -> ToolLibrary:
+    """The library with each tool's cutting data limited to the material's ranges: a
+    library value inside the range is kept, one outside becomes the nearer end."""
+    from dataclasses import replace
+    r, f, g = material.get("rough", {}), material.get("finish", {}), material.get("groove", {})
+    out = []
+    for t in lib.tools:
+        kw: dict = {}
+        if t.kind in ("turn", "bore"):
+            if "vc" in r:
+                kw["vc_rough"] = _clip(t.vc_rough, r["vc"])
+            if "feed" in r:
+                kw["feed_rough"] = _clip(t.feed_rough, r["feed"])
+            if "depth" in r and t.kind == "turn":
+                kw["depth"] = _clip(t.depth, r["depth"])
+            if "vc" in f:
+                kw["vc_finish"] = _clip(t.vc_finish, f["vc"])
+            if "feed" in f:
+                kw["feed_finish"] = _clip(t.feed_finish, f["feed"])
+        elif t.kind == "groove":
+            if "vc" in g:
+                kw["vc_finish"] = _clip(t.vc_finish, g["vc"])
+            if "feed" in g:
+                kw["feed_finish"] = _clip(t.feed_finish, g["feed"])
+        out.append(replace(t, **kw) if kw else t)
+    return ToolLibrary(tuple(out), lib.source)
