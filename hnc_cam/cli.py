@@ -34,6 +34,12 @@ def _add_gen_options(p: argparse.ArgumentParser) -> None:
                    help="threads with one G76 block or with G82 passes")
     p.add_argument("--face-cycle", choices=["g81", "g01"], default="g81",
                    help="facing with G81 cycles or with G01 passes")
+    p.add_argument("--material", metavar="NAME", help="work material from the bundled table "
+                   "(C45, 304, 6061, brass, GG25 or an alias; default: the part file's MATERIAL)")
+    p.add_argument("--allowance", metavar="X,Z", help="finishing allowance in mm, X on the "
+                   "diameter (default: the material's, else 0.4,0.1)")
+    p.add_argument("--explain", action="store_true", help="print the planner's reasoning for "
+                   "each operation on stderr")
 
 
 def _add_report(p: argparse.ArgumentParser, junit: bool) -> None:

@@ -32,7 +32,9 @@ def _options(args: argparse.Namespace) -> dict[str, Any]:
                 number_format=getattr(args, "number_format", "plain") or "plain",
                 block_numbers=getattr(args, "block_numbers", "every") or "every",
                 thread_cycle=getattr(args, "thread_cycle", "g76") or "g76",
-                face_cycle=getattr(args, "face_cycle", "g81") or "g81")
+                face_cycle=getattr(args, "face_cycle", "g81") or "g81",
+                material=getattr(args, "material", None),
+                allowance=getattr(args, "allowance", None))
 
 
 def generate_command(args: argparse.Namespace) -> int:
@@ -53,6 +55,8 @@ def generate_command(args: argparse.Namespace) -> int:
     if getattr(args, "report", None):
         from ..report import program_report
         program_report(args.report, prog, tol=getattr(args, "tol", 0.01))
+    if getattr(args, "explain", False):
+        print(prog.plan.explain(), file=sys.stderr)
     print(prog.summary(), file=sys.stderr)
     for w in prog.warnings:
         print(f"warning: {w}", file=sys.stderr)
