@@ -30,6 +30,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import re
 import sys
 
 from .errors import HncError, StockError
@@ -49,9 +50,65 @@ def _toolpath(path: str, machine):
     return run_file(path, machine, start="reference")
 
 
-def _model(path: str, params: list[str]):
+def _model(path: str, params: list[str] | dict[str, str], args: argparse.Namespace | None = None):
     from .cad import load_part, parse_set
-    return load_part(path, parse_set(params))
+    from .cad.loader import profile_options
+    kw = profile_options(args) if args is not None else {}
+    return load_part(path, params if isinstance(params, dict) else parse_set(params), **kw)
+
+
+_HEADER_RE = re.compile(r"^\((PARAMETERS|STOCK) (.*)\)\s*$")
+
+
+def program_header(path: str) -> tuple[dict[str, str] | None, str | None]:
+    """The ``(PARAMETERS name=value ...)`` and ``(STOCK spec)`` comments that ``generate``
+    writes at the head of a program: ``(params or None, stock or None)``. Only a regular file
+    is read here (at most its first 64 KiB, up to the first block that is not a comment)."""
+    import os
+    import stat
+    try:
+        if not stat.S_ISREG(os.stat(path).st_mode):
+            return None, None
+        with open(path, "rb") as f:
+            head = f.read(65536)
+    except OSError:
+        return None, None  # the interpreter reports the file
+    params: dict[str, str] | None = None
+    stock = None
+    for n, raw in enumerate(head.decode("utf-8", "replace").splitlines()):
+        line = raw.strip()
+        if not line or n == 0 and line.startswith(("%", "O")):
+            continue
+        if not line.startswith("("):
+            break
+        m = _HEADER_RE.match(line)
+        if m and m.group(1) == "PARAMETERS" and params is None:
+            params = dict(t.split("=", 1) for t in m.group(2).split() if "=" in t)
+        elif m and m.group(1) == "STOCK" and stock is None:
+            stock = m.group(2).strip()
+    return params, stock
+
+
+def _from_header(args: argparse.Namespace, model_needs_params: bool) -> None:
+    """Fill ``args.params`` and ``args.stock`` from the program's header comments where the
+    command line gives none, and say so on stderr."""
+    params, stock = program_header(args.program)
+    used = []
+    if not args.params and params and model_needs_params:
+        from .cad.loader import CAD_SUFFIXES
+        from pathlib import Path
+        if Path(args.model).suffix.lower() not in CAD_SUFFIXES:
+            args.params = dict(params)
+            used.append("parameters " + " ".join(f"{k}={v}" for k, v in params.items()))
+    if not args.stock and stock:
+        args.stock = stock
+        used.append(f"stock {stock}")
+    if not args.stock:
+        raise StockError(f"{args.program}: the program carries no (STOCK ...) line: give "
+                         f"--stock SPEC")
+    if used:
+        print(f"note: {args.program}: {' and '.join(used)} from the program's header "
+              f"(--set/--stock override)", file=sys.stderr)
 
 
 def _stock(spec: str):
@@ -76,6 +133,7 @@ def _plot(m, out: str, **kw) -> None:
 
 def simulate_command(args: argparse.Namespace) -> int:
     from .sim import simulate
+    _from_header(args, bool(args.model))
     machine = _machine(args)
     stock = _stock(args.stock)
     model = None
@@ -84,7 +142,7 @@ def simulate_command(args: argparse.Namespace) -> int:
     if args.params and not args.model:
         raise HncError("--set needs --model")
     if args.model:  # the offset:A blank, and the model outline in the plot
-        model = _model(args.model, args.params).profile
+        model = _model(args.model, args.params, args).profile
     tp = _toolpath(args.program, machine)
     for w in tp.warnings:
         print(f"{tp.file}:{w.line}: warning: {w.message}", file=sys.stderr)
@@ -101,9 +159,10 @@ def verify_command(args: argparse.Namespace) -> int:
     from .sim import simulate, verify
     if not (isinstance(args.tol, float) and math.isfinite(args.tol) and args.tol > 0):
         raise HncError(f"--tol {args.tol}: the tolerance must be a positive number of mm")
+    _from_header(args, True)
     machine = _machine(args)
     stock = _stock(args.stock)
-    loaded = _model(args.model, args.params)
+    loaded = _model(args.model, args.params, args)
     tp = _toolpath(args.program, machine)
     for w in tp.warnings:
         print(f"{tp.file}:{w.line}: warning: {w.message}", file=sys.stderr)

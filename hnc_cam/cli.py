@@ -6,8 +6,49 @@ Each sub-command's work lives in the module that owns it; this file only wires t
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 from typing import Callable, Sequence
+
+
+def _positive_mm(s: str) -> float:
+    """A tolerance: a finite number of mm above zero."""
+    try:
+        v = float(s)
+    except ValueError:
+        v = math.nan
+    if not (math.isfinite(v) and v > 0):
+        raise argparse.ArgumentTypeError(f"{s!r}: expected a positive number of mm")
+    return v
+
+
+def _jobs(s: str) -> int:
+    try:
+        v = int(s)
+    except ValueError:
+        v = -1
+    if v < 0:
+        raise argparse.ArgumentTypeError(f"{s!r}: expected a whole number of workers (0 = all "
+                                         f"cores)")
+    return v
+
+
+class _Parser(argparse.ArgumentParser):
+    """Bad options are one line on stderr and exit 2 (no usage block)."""
+
+    def error(self, message: str):  # type: ignore[override]
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
+def _add_profile_options(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--axis", metavar="AXIS", help="the part's turning axis in the model: Z "
+                   "(default), X, Y, -X, -Y, -Z or px,py,pz,dx,dy,dz")
+    p.add_argument("--zero", metavar="WHERE", help="program zero: right (default) or left face "
+                   "of the part, or a coordinate along the axis")
+    p.add_argument("--envelope", action="store_true", help="profile the turned envelope of a "
+                   "part with milled features (flats, holes, slots)")
+    p.add_argument("--fit-tol", type=_positive_mm, metavar="MM", help="arc-fitting tolerance "
+                   "for free-form curves (default 0.001)")
 
 
 def _add_set(p: argparse.ArgumentParser) -> None:
@@ -25,7 +66,8 @@ def _add_gen_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--templates", metavar="DIR", help="folder of templates overriding the defaults")
     p.add_argument("--program-number", type=int, metavar="N", help="program number (%%nnnn)")
     p.add_argument("--no-verify", action="store_true", help="do not simulate and verify")
-    p.add_argument("--tol", type=float, default=0.01, metavar="MM", help="verification tolerance")
+    p.add_argument("--tol", type=_positive_mm, default=0.01, metavar="MM",
+                   help="verification tolerance")
     p.add_argument("--number-format", choices=["plain", "point", "zero"], default="plain",
                    help="how whole numbers are written: X20 (plain), X20. (point), X20.0 (zero)")
     p.add_argument("--block-numbers", choices=["every", "pq"], default="every",
@@ -50,11 +92,12 @@ def _add_report(p: argparse.ArgumentParser, junit: bool) -> None:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    ap = argparse.ArgumentParser(prog="hnc-cam", description="HNC-21/22T lathe programs: "
+    ap = _Parser(prog="hnc-cam", description="HNC-21/22T lathe programs: "
                                  "generate from CAD, run, simulate, verify")
     from . import __version__
     ap.add_argument("--version", action="version", version=f"hnc-cam {__version__}")
-    sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND",
+                            parser_class=_Parser)
 
     p = sub.add_parser("run", help="interpret a program and print its toolpath summary")
     p.add_argument("program")
@@ -64,9 +107,11 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("simulate", help="remove material along a program's toolpath")
     p.add_argument("program")
-    p.add_argument("--stock", required=True, metavar="SPEC")
+    p.add_argument("--stock", metavar="SPEC", help="stock (default: the program's (STOCK ...) "
+                   "line)")
     p.add_argument("--model", metavar="PART", help="part (needed only for an offset:A stock)")
     _add_set(p)
+    _add_profile_options(p)
     p.add_argument("--machine", metavar="FILE")
     p.add_argument("--tools", metavar="FILE")
     p.add_argument("--json", metavar="OUT")
@@ -77,8 +122,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("program")
     p.add_argument("--model", required=True, metavar="PART")
     _add_set(p)
-    p.add_argument("--stock", required=True, metavar="SPEC")
-    p.add_argument("--tol", type=float, default=0.01, metavar="MM")
+    _add_profile_options(p)
+    p.add_argument("--stock", metavar="SPEC", help="stock (default: the program's (STOCK ...) "
+                   "line)")
+    p.add_argument("--tol", type=_positive_mm, default=0.01, metavar="MM")
     p.add_argument("--strict", action="store_true",
                    help="count unreachable leftover as a failure too")
     p.add_argument("--machine", metavar="FILE")
@@ -92,6 +139,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("part", help="part file (parts/....py) or .step/.stp file")
     _add_set(p)
     _add_gen_options(p)
+    _add_profile_options(p)
     p.add_argument("-o", "--output", metavar="OUT", help="program file (default: stdout)")
     _add_report(p, junit=False)
     p.set_defaults(func=("hnc_cam.plan.command", "generate_command"))
@@ -100,9 +148,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("part")
     p.add_argument("--table", required=True, metavar="FILE.csv")
     p.add_argument("--out", required=True, metavar="DIR")
-    p.add_argument("--jobs", type=int, default=0, metavar="N", help="worker processes (0 = all cores)")
+    p.add_argument("--jobs", type=_jobs, default=0, metavar="N", help="worker processes (0 = all cores)")
     _add_set(p)
     _add_gen_options(p)
+    _add_profile_options(p)
     _add_report(p, junit=True)
     p.set_defaults(func=("hnc_cam.plan.command", "family_command"))
 
@@ -117,7 +166,10 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     ap = build_parser()
-    args = ap.parse_args(argv)
+    try:
+        args = ap.parse_args(argv)
+    except SystemExit as e:  # --help, --version, or a bad option (one line already printed)
+        return e.code if isinstance(e.code, int) else 2
     from .errors import HncError
     modname, fname = args.func
     try:

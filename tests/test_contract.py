@@ -256,3 +256,309 @@ def _good(tmp_path: Path) -> Path:
     p = tmp_path / "good.nc"
     p.write_text("%1\nT0101\nM03 S800\nG00 X42 Z2\nG01 Z-30 F200\nX44\nG00 X80 Z80\nM30\n")
     return p
+
+
+# --------------------------------------------------------------------------------------------
+# every command x every broken-input class, as a user runs them (subprocesses, timeouts)
+# --------------------------------------------------------------------------------------------
+
+CLI = [sys.executable, "-m", "hnc_cam.cli"]
+PART = '''from hnc_cam.cad.sketch import Outline, revolve
+STOCK = "45x60+1"
+def part(d: float = 30.0, length: float = 30.0):
+    s = Outline((0.0, 0.0))
+    s.line_to(d / 2, 0.0)
+    s.line_to(d / 2, -length)
+    s.line_to(20.0, -length)
+    s.line_to(20.0, -50.0)
+    s.line_to(0.0, -50.0)
+    return revolve(s.segments())
+'''
+PROGRAM = "%1\nT0101\nM03 S800\nG00 X42 Z2\nG01 Z-30 F200\nX44\nG00 X80 Z80\nM30\n"
+TABLE = "d,length\n30,30\n28,25\n"
+PLACE = re.compile(r"^(error: )?\S.*?(:\d+(:\d+)?)?: ")
+# the run's exit code and stderr, from a fresh process
+TIMEOUT = 240
+
+
+def _cli(args: list[str], cwd: Path, timeout: float = TIMEOUT) -> subprocess.CompletedProcess:
+    return subprocess.run(CLI + args, cwd=cwd, capture_output=True, text=True, timeout=timeout,
+                          stdin=subprocess.DEVNULL)
+
+
+def _assert_one_line_error(r: subprocess.CompletedProcess, where: str) -> None:
+    lines = [ln for ln in r.stderr.splitlines() if ln.strip()]
+    assert r.returncode == 2, (r.returncode, r.stderr[-2000:])
+    assert "Traceback" not in r.stderr
+    assert len(lines) == 1, r.stderr
+    assert where in lines[0] and PLACE.match(lines[0]), lines[0]
+
+
+def _make_input(kind: str, d: Path, name: str) -> Path:
+    p = d / name
+    if kind == "missing":
+        return p
+    if kind == "directory":
+        p.mkdir()
+    elif kind == "empty":
+        p.write_bytes(b"")
+    elif kind == "binary":
+        p.write_bytes(bytes(range(256)) * 64)
+    elif kind == "nul":
+        p.write_bytes(b"%1\nG00 X1\x00 Z2\nM30\n")
+    elif kind == "utf16":
+        p.write_bytes("%1\nG00 X1 Z2\nM30\n".encode("utf-16"))
+    elif kind == "huge_line":
+        p.write_bytes(b"%1\n(" + b"A" * 3_000_000 + b")\nM30\n")
+    elif kind == "fifo":
+        os.mkfifo(p)  # nobody writes it: a reader that blocks would hang
+    return p
+
+
+INPUTS = ["missing", "directory", "empty", "binary", "nul", "utf16", "huge_line", "fifo"]
+
+
+def _workspace(tmp_path: Path) -> Path:
+    (tmp_path / "part.py").write_text(PART)
+    (tmp_path / "t.csv").write_text(TABLE)
+    (tmp_path / "good.nc").write_text(PROGRAM)
+    return tmp_path
+
+
+def _command(cmd: str, role: str, bad: str, tmp: Path) -> list[str]:
+    """The command line with the broken file in ``role`` (program, model, part, table,
+    tools)."""
+    prog = bad if role == "program" else "good.nc"
+    model = bad if role == "model" else "part.py"
+    part = bad if role == "part" else "part.py"
+    table = bad if role == "table" else "t.csv"
+    extra = ["--tools", bad] if role == "tools" else []
+    if cmd == "run":
+        return ["run", prog] + (["--machine", bad] if role == "machine" else [])
+    if cmd == "simulate":
+        return ["simulate", prog, "--stock", "45x60"] + extra
+    if cmd == "verify":
+        return ["verify", prog, "--model", model, "--stock", "45x60"] + extra
+    if cmd == "generate":
+        return ["generate", part, "--stock", "45x60+1", "--no-verify", "-o", "out.nc"] + extra
+    if cmd == "family":
+        return ["family", part, "--table", table, "--out", "fam", "--no-verify",
+                "--jobs", "1"] + extra
+    raise AssertionError(cmd)
+
+
+CASES = [("run", "program"), ("run", "machine"), ("simulate", "program"),
+         ("simulate", "tools"), ("verify", "program"), ("verify", "model"),
+         ("generate", "part"), ("generate", "tools"), ("family", "part"),
+         ("family", "table"), ("family", "tools")]
+
+
+@pytest.mark.parametrize("kind", INPUTS)
+@pytest.mark.parametrize("cmd,role", CASES, ids=[f"{c}-{r}" for c, r in CASES])
+def test_broken_input_is_one_line_exit_2(tmp_path, cmd, role, kind):
+    tmp = _workspace(tmp_path)
+    if kind == "empty" and role in ("program", "machine"):
+        pytest.skip("an empty program or machine file is valid (nothing to run, defaults)")
+    suffix = {"program": ".nc", "machine": ".toml", "tools": ".toml", "model": ".py",
+              "part": ".py", "table": ".csv"}[role]
+    bad = _make_input(kind, tmp, "bad" + suffix)
+    before = set(os.listdir(tmp))
+    t0 = time.monotonic()
+    r = _cli(_command(cmd, role, bad.name, tmp), tmp)
+    assert time.monotonic() - t0 < TIMEOUT
+    _assert_one_line_error(r, bad.name)
+    assert r.stdout == ""
+    # nothing written, no temporary left
+    assert set(os.listdir(tmp)) == before, set(os.listdir(tmp)) ^ before
+
+
+@pytest.mark.parametrize("cmd", ["run", "simulate", "verify", "generate", "family"])
+@pytest.mark.parametrize("out", ["parent_is_file", "unwritable_dir"])
+def test_unwritable_output_is_one_line_exit_2(tmp_path, cmd, out):
+    tmp = _workspace(tmp_path)
+    (tmp / "blocker").write_text("a file, not a folder")
+    if out == "parent_is_file":
+        target = "blocker/out"
+    else:
+        if os.geteuid() == 0:
+            pytest.skip("root writes into a read-only folder")
+        ro = tmp / "ro"
+        ro.mkdir()
+        ro.chmod(0o500)
+        target = "ro/out"
+    args = {"run": ["run", "good.nc", "--json", target],
+            "simulate": ["simulate", "good.nc", "--stock", "45x60", "--json", target],
+            "verify": ["verify", "good.nc", "--model", "part.py", "--stock", "45x60",
+                       "--json", target],
+            "generate": ["generate", "part.py", "--no-verify", "-o", target],
+            "family": ["family", "part.py", "--table", "t.csv", "--no-verify", "--out",
+                       target]}[cmd]
+    r = _cli(args, tmp)
+    assert r.returncode == 2 and "Traceback" not in r.stderr, r.stderr
+    errs = [ln for ln in r.stderr.splitlines() if "error" in ln]
+    assert len(errs) == 1 and target in errs[0], r.stderr
+    assert (tmp / "blocker").read_text() == "a file, not a folder"
+
+
+def test_family_out_is_a_file(tmp_path):
+    tmp = _workspace(tmp_path)
+    (tmp / "blocker").write_text("x")
+    r = _cli(["family", "part.py", "--table", "t.csv", "--no-verify", "--out", "blocker"], tmp)
+    _assert_one_line_error(r, "--out blocker")
+    assert (tmp / "blocker").read_text() == "x"
+
+
+@pytest.mark.parametrize("cmd", ["generate", "verify", "family"])
+@pytest.mark.parametrize("value", ["nan", "-1", "inf", "0", "x"])
+def test_tol_must_be_a_positive_number(tmp_path, cmd, value):
+    tmp = _workspace(tmp_path)
+    args = {"generate": ["generate", "part.py"],
+            "verify": ["verify", "good.nc", "--model", "part.py", "--stock", "45x60"],
+            "family": ["family", "part.py", "--table", "t.csv", "--out", "fam"]}[cmd]
+    r = _cli(args + ["--tol", value], tmp, timeout=60)
+    _assert_one_line_error(r, "--tol")
+    assert not (tmp / "fam").exists()
+
+
+def test_bad_part_file_is_one_error_for_the_whole_family(tmp_path):
+    tmp = _workspace(tmp_path)
+    (tmp / "broken.py").write_text("def part(d: float = 1.0):\n    return (\n")
+    r = _cli(["family", "broken.py", "--table", "t.csv", "--out", "fam", "--jobs", "2"], tmp)
+    _assert_one_line_error(r, "broken.py:")
+    assert not (tmp / "fam").exists()
+    # a part file whose part() fails at run time: one line for all the rows
+    (tmp / "raises.py").write_text("def part(d: float = 1.0, length: float = 2.0):\n"
+                                   "    raise RuntimeError('no geometry')\n")
+    r = _cli(["family", "raises.py", "--table", "t.csv", "--out", "fam2", "--jobs", "1",
+              "--no-verify"], tmp)
+    errs = [ln for ln in r.stderr.splitlines() if ln.strip()]
+    assert r.returncode == 2 and "Traceback" not in r.stderr, r.stderr
+    # each row's error names its parameters: one line per row, no count line
+    assert len(errs) == 2 and all("no geometry" in e for e in errs), r.stderr
+    assert "row 1 (line 2)" in errs[0] and "d=30, length=30" in errs[0]
+    assert "row 2 (line 3)" in errs[1] and "d=28, length=25" in errs[1]
+
+
+def test_part_returning_a_string_says_so(tmp_path):
+    tmp = _workspace(tmp_path)
+    (tmp / "s.py").write_text("def part(d: float = 1.0):\n    return 'hello'\n")
+    r = _cli(["generate", "s.py", "--stock", "40x50"], tmp, timeout=120)
+    _assert_one_line_error(r, "s.py")
+    assert "returned a str ('hello'), not a solid" in r.stderr
+
+
+def test_table_in_utf16_or_with_a_huge_field(tmp_path):
+    tmp = _workspace(tmp_path)
+    (tmp / "u.csv").write_bytes(TABLE.encode("utf-16"))
+    r = _cli(["family", "part.py", "--table", "u.csv", "--out", "fam"], tmp, timeout=60)
+    _assert_one_line_error(r, "u.csv: UTF-16")
+    (tmp / "h.csv").write_text("d,length\n" + "3" * 200_000 + ",1\n")
+    r = _cli(["family", "part.py", "--table", "h.csv", "--out", "fam"], tmp, timeout=60)
+    _assert_one_line_error(r, "h.csv:2: not a CSV table")
+    assert not (tmp / "fam").exists()
+
+
+def test_templates_folder_that_does_not_exist(tmp_path):
+    tmp = _workspace(tmp_path)
+    r = _cli(["generate", "part.py", "--templates", "nope", "-o", "o.nc"], tmp, timeout=120)
+    _assert_one_line_error(r, "nope")
+    assert not (tmp / "o.nc").exists()
+
+
+def test_corrupt_step_keeps_stdout_clean_and_names_the_line(tmp_path):
+    tmp = _workspace(tmp_path)
+    (tmp / "bad.step").write_text(
+        "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION((''),'2;1');\nENDSEC;\nDATA;\n"
+        "#1=CARTESIAN_POINT('',(0.,0.,0.);\n#2 = garbage here;\nENDSEC;\nEND-ISO-10303-21;\n")
+    r = _cli(["generate", "bad.step", "--stock", "40x50"], tmp, timeout=120)
+    assert r.stdout == ""
+    _assert_one_line_error(r, "bad.step:7: not a readable STEP file")
+    assert "\x1b[" not in r.stderr and "****" not in r.stderr
+
+
+# --------------------------------------------------------------------------------------------
+# family: interrupted and killed runs
+# --------------------------------------------------------------------------------------------
+
+def _children(pid: int) -> list[int]:
+    out = []
+    for d in os.listdir("/proc"):
+        if d.isdigit():
+            try:
+                stat_ = Path(f"/proc/{d}/stat").read_text()
+            except OSError:
+                continue
+            if int(stat_.rsplit(")", 1)[1].split()[1]) == pid:
+                out.append(int(d))
+    return out
+
+
+def _running(pid: int) -> bool:
+    try:
+        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+    except OSError:
+        return False
+    return state != "Z"
+
+
+def _family_in_background(tmp: Path, rows: int) -> subprocess.Popen:
+    (tmp / "many.csv").write_text("d,length\n" + "".join(
+        f"{26 + (i % 6)},{10 + i % 20}\n" for i in range(rows)))
+    return subprocess.Popen(CLI + ["family", "part.py", "--table", "many.csv", "--out", "fam",
+                                   "--jobs", "2"], cwd=tmp, stderr=subprocess.PIPE,
+                            stdout=subprocess.PIPE, text=True)
+
+
+def _wait_for_workers(p: subprocess.Popen, n: int = 2, timeout: float = 120) -> list[int]:
+    t0 = time.monotonic()
+    while time.monotonic() - t0 < timeout:
+        kids = _children(p.pid)
+        if len(kids) >= n:
+            return kids
+        time.sleep(0.1)
+    p.kill()
+    raise AssertionError("no workers started")
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
+def test_family_killed_leaves_no_worker_running(tmp_path):
+    tmp = _workspace(tmp_path)
+    p = _family_in_background(tmp, 40)
+    kids = _wait_for_workers(p)
+    time.sleep(1.0)
+    p.kill()
+    p.wait(30)
+    t0 = time.monotonic()
+    while any(_running(k) for k in kids) and time.monotonic() - t0 < 10:
+        time.sleep(0.1)
+    alive = [k for k in kids if _running(k)]
+    for k in alive:
+        os.kill(k, signal.SIGKILL)
+    assert alive == []
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM])
+def test_family_interrupted_writes_what_finished(tmp_path, sig):
+    tmp = _workspace(tmp_path)
+    p = _family_in_background(tmp, 30)
+    kids = _wait_for_workers(p)
+    fam = tmp / "fam"
+    t0 = time.monotonic()  # wait for a finished row (or give up waiting and interrupt anyway)
+    while time.monotonic() - t0 < 120 and not any(fam.glob("O*.nc")):
+        time.sleep(0.2)
+    p.send_signal(sig)
+    _out, err = p.communicate(timeout=60)
+    assert p.returncode == 128 + sig, err
+    assert "Traceback" not in err
+    lines = [ln for ln in err.splitlines() if ln.strip()]
+    assert len(lines) == 1 and lines[0].startswith("interrupted"), err
+    import csv
+    rows = list(csv.DictReader((fam / "summary.csv").open()))
+    assert len(rows) == 30
+    done = [r for r in rows if r["status"] == "ok"]
+    assert all(r["status"] in ("ok", "interrupted") for r in rows)
+    assert sorted(f.name for f in fam.glob("O*.nc")) == sorted(r["file"] for r in done)
+    assert not [f for f in fam.iterdir() if f.name.endswith(".tmp")]
+    time.sleep(0.5)
+    assert not [k for k in kids if _running(k)]

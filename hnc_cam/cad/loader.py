@@ -39,6 +39,7 @@ import importlib.util
 import inspect
 import dataclasses
 import math
+import re
 import sys
 import zlib
 from dataclasses import dataclass, field
@@ -112,6 +113,7 @@ def load_module(path: str | Path) -> ModuleType:
     p = Path(path)
     if not p.exists():
         raise PartError(f"{p}: no such part file")
+    _regular(p)
     if p.suffix != ".py":
         raise PartError(f"{p}: a part file is a .py module (or a .step/.stp/.brep file)")
     key = (str(p.resolve()), p.stat().st_mtime)
@@ -236,7 +238,11 @@ def load_part(path: str | Path, params: dict[str, Any] | None = None,
             raise PartError(f"{p}: a CAD file has no parameters (got {', '.join(params)})")
         if not p.exists():
             raise PartError(f"{p}: no such file")
-        prof = profile(p, name=name, **profile_kwargs)
+        _regular(p)
+        try:
+            prof = profile(p, name=name, **profile_kwargs)
+        except ProfileError as e:
+            raise ProfileError(_cli_hints(str(e))) from None
         return LoadedPart(profile=prof, stock=None, threads=[], name=name, params={},
                           module=None, path=p)
     mod = load_module(p)
@@ -252,12 +258,15 @@ def load_part(path: str | Path, params: dict[str, Any] | None = None,
         raise PartError(f"{where}: part({_fmt(full)}) raised {type(e).__name__}: {e}") from e
     if solid is None:
         raise PartError(f"{where}: part({_fmt(full)}) returned None instead of a solid")
+    if isinstance(solid, (str, bytes, Path, int, float, list, tuple, dict)):
+        raise PartError(f"{where}: part({_fmt(full)}) returned a {type(solid).__name__} "
+                        f"({str(solid)[:40]!r}), not a solid (build123d, CadQuery or OCP)")
     stock = _stock(mod, full, where)
     threads = _threads(mod, full, where)
     try:
         prof = profile(solid, name=name, **profile_kwargs)
     except ProfileError as e:
-        raise ProfileError(f"{where} ({_fmt(full)}): {e}") from None
+        raise ProfileError(f"{where} ({_fmt(full)}): {_cli_hints(str(e))}") from None
     prof.params = dict(full)
     shift = prof.z_max  # THREADS are declared with the right face at Z0
     if abs(shift) > 1e-9:
@@ -267,6 +276,70 @@ def load_part(path: str | Path, params: dict[str, Any] | None = None,
     _check_threads(prof, threads, where)
     return LoadedPart(profile=prof, stock=stock, threads=threads, name=name, params=full,
                       module=mod, path=p)
+
+
+def _regular(p: Path) -> None:
+    """A part or CAD file must be a regular file (a FIFO would block the reader)."""
+    import stat
+    try:
+        mode = p.stat().st_mode
+    except OSError as e:
+        raise PartError(f"{p}: cannot read: {e.strerror or e}") from None
+    if stat.S_ISDIR(mode):
+        raise PartError(f"{p}: is a directory, not a part file")
+    if not stat.S_ISREG(mode):
+        raise PartError(f"{p}: not a regular file")
+
+
+def _cli_hints(msg: str) -> str:
+    """A profile hint names the Python option; add the command-line one beside it."""
+    msg = msg.replace("use envelope=True", "use --envelope (envelope=True)")
+    msg = re.sub(r'axis="(-?[XYZ])" or "(-[XYZ])"\?', r'--axis \1 or --axis=\2 (axis="\1")?',
+                 msg)
+    msg = re.sub(r"axis=\(\(([^)]*)\), \(([^)]*)\)\)\?",
+                 lambda m: f'--axis "{m.group(1)}, {m.group(2)}" '
+                           f'(axis=(({m.group(1)}), ({m.group(2)})))?', msg)
+    return msg
+
+
+def profile_options(args: Any) -> dict[str, Any]:
+    """``--axis``, ``--zero``, ``--envelope`` and ``--fit-tol`` of a command as keyword
+    arguments of :func:`hnc_cam.cad.profile` (only those given). ``--axis``: X, Y, Z, -X, -Y,
+    -Z or six numbers ``px,py,pz,dx,dy,dz`` (a point on the axis and its direction);
+    ``--zero``: right, left or a coordinate along the axis."""
+    out: dict[str, Any] = {}
+    axis = getattr(args, "axis", None)
+    if axis is not None:
+        a = axis.strip().upper()
+        if re.fullmatch(r"[+-]?[XYZ]", a):
+            out["axis"] = a.lstrip("+")
+        else:
+            try:
+                v = [float(t) for t in re.split(r"[,\s]+", axis.strip()) if t]
+            except ValueError:
+                v = []
+            if len(v) != 6 or not all(math.isfinite(x) for x in v) or not any(v[3:]):
+                raise PartError(f"--axis {axis!r}: expected X, Y, Z, -X, -Y, -Z or six numbers "
+                                f"px,py,pz,dx,dy,dz (a point and a non-zero direction)")
+            out["axis"] = (tuple(v[:3]), tuple(v[3:]))
+    zero = getattr(args, "zero", None)
+    if zero is not None:
+        z = zero.strip().lower()
+        if z in ("right", "left"):
+            out["zero"] = z
+        else:
+            try:
+                out["zero"] = float(z)
+            except ValueError:
+                out["zero"] = math.nan
+            if not math.isfinite(out["zero"]):
+                raise PartError(f"--zero {zero!r}: expected right, left or a coordinate in mm")
+    if getattr(args, "envelope", False):
+        out["envelope"] = True
+    fit = getattr(args, "fit_tol", None)
+    if fit is not None:
+        out["fit_tol"] = fit
+    return out
 
 
 def _thread_name(t: Thread) -> str:

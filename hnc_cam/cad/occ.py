@@ -6,7 +6,13 @@ geometry. OCP is imported when this module is imported; :mod:`hnc_cam.cad` impor
 """
 from __future__ import annotations
 
+import contextlib
+import ctypes
 import math
+import os
+import re
+import sys
+import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Iterator
@@ -50,6 +56,55 @@ _SURF_NAMES = {
 
 
 # ---------------------------------------------------------------------------- input
+@contextlib.contextmanager
+def _captured_output():
+    """Catch what OpenCascade prints (on the process's stdout and stderr file descriptors,
+    below Python) while reading a file: stdout stays the program or pure JSON. Yields a
+    one-item list that holds the captured text afterwards."""
+    said = [""]
+    try:
+        sys.stdout.flush()
+        sys.stderr.flush()
+    except (OSError, ValueError):
+        pass
+    saved = []
+    try:
+        tmp = tempfile.TemporaryFile()
+        for fd in (1, 2):
+            saved.append((fd, os.dup(fd)))
+            os.dup2(tmp.fileno(), fd)
+    except OSError:  # no descriptors to spare: read without capturing
+        for fd, old in saved:
+            os.dup2(old, fd)
+            os.close(old)
+        yield said
+        return
+    try:
+        yield said
+    finally:
+        try:
+            ctypes.CDLL(None).fflush(None)  # the C library's buffers, before the switch back
+        except (OSError, AttributeError):
+            pass
+        for fd, old in saved:
+            os.dup2(old, fd)
+            os.close(old)
+        tmp.seek(0)
+        said[0] = tmp.read(1 << 20).decode("utf-8", "replace")
+        tmp.close()
+
+
+def _step_error(p: Path, said: str) -> str:
+    """One line from OpenCascade's STEP parser messages: the file, the line, the reason."""
+    text = re.sub(r"\x1b\[[0-9;]*m", "", said)
+    m = re.search(r"Line\s*(\d+)\s*:\s*(.*?)\s*\*{2,}", text) or \
+        re.search(r"Line\s*(\d+)\s*:\s*([^\n]*)", text)
+    if m:
+        why = m.group(2).strip().rstrip("*").strip()
+        return f"{p}:{m.group(1)}: not a readable STEP file: {why}"
+    return f"{p}: not a readable STEP file"
+
+
 def read_file(path: str | Path) -> TopoDS_Shape:
     """Read a .step/.stp or .brep file into one shape (ProfileError on failure)."""
     p = Path(path)
@@ -58,10 +113,13 @@ def read_file(path: str | Path) -> TopoDS_Shape:
     ext = p.suffix.lower()
     if ext in (".step", ".stp"):
         r = STEPControl_Reader()
-        if r.ReadFile(str(p)) != IFSelect_RetDone:
-            raise ProfileError(f"{p}: not a readable STEP file")
-        r.TransferRoots()
-        shape = r.OneShape()
+        with _captured_output() as said:
+            status = r.ReadFile(str(p))
+            if status == IFSelect_RetDone:
+                r.TransferRoots()
+                shape = r.OneShape()
+        if status != IFSelect_RetDone:
+            raise ProfileError(_step_error(p, said[0]))
         if shape is None or shape.IsNull():
             raise ProfileError(f"{p}: the STEP file holds no shape")
         return shape

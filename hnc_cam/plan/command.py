@@ -38,14 +38,20 @@ def _options(args: argparse.Namespace) -> dict[str, Any]:
 
 
 def generate_command(args: argparse.Namespace) -> int:
-    from ..cad import parse_set
+    from ..cad import load_part, parse_set
+    from ..cad.loader import profile_options
     from ..io import write_atomic
     from .api import generate
 
     params = parse_set(args.params or [])
+    part: Any = args.part
+    kw = profile_options(args)
+    if kw:  # --axis/--zero/--envelope/--fit-tol: profile here, then plan the loaded part
+        part = load_part(args.part, params, **kw)
+        params = {}
     from ..report import failure_report
     with failure_report(args):  # --report: the page of a program refused by verification
-        prog = generate(args.part, args.stock, params=params, program_number=args.program_number,
+        prog = generate(part, args.stock, params=params, program_number=args.program_number,
                         file=args.output or "<stdout>", **_options(args))
     if args.output:
         write_atomic(args.output, prog.text)
@@ -69,6 +75,129 @@ def generate_command(args: argparse.Namespace) -> int:
 
 #: how many times this process ran the worker initializer (a reused worker reports 1)
 _INITS = 0
+#: pid of the process that runs the family (set before the pool starts)
+_PARENT: list[int | None] = [None]
+
+
+def _bind_to_parent(parent: int) -> None:
+    """In a worker: ignore Ctrl-C and SIGTERM's default for the group (the parent decides),
+    and die with the parent, even when it is killed with SIGKILL: the kernel's parent-death
+    signal on Linux, and a watchdog thread that exits when the parent pid changes."""
+    import signal
+    import threading
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    if sys.platform.startswith("linux"):
+        try:
+            import ctypes
+            libc = ctypes.CDLL(None, use_errno=True)
+            libc.prctl(1, signal.SIGKILL, 0, 0, 0)  # PR_SET_PDEATHSIG
+        except (OSError, AttributeError):  # pragma: no cover - the watchdog still runs
+            pass
+    if os.getppid() != parent:  # the parent died before the line above
+        os._exit(1)
+
+    def watch() -> None:
+        import time
+        while True:
+            time.sleep(0.5)
+            if os.getppid() != parent:
+                os._exit(1)
+
+    threading.Thread(target=watch, name="parent-watchdog", daemon=True).start()
+
+
+class _Interrupted(Exception):
+    """Ctrl-C or SIGTERM during the rows: the rows finished so far, and the signal."""
+
+    def __init__(self, done: list[dict[str, Any]], signum: int):
+        super().__init__(signum)
+        self.done = done
+        self.signum = signum
+
+
+def _check_part_file(path: str) -> None:
+    """File-level faults of the part, found once before any row runs (not once per row):
+    missing, not a regular file, not UTF-8, a NUL byte, a Python syntax error."""
+    import stat
+    from ..cad.loader import CAD_SUFFIXES
+    try:
+        st = os.stat(path)
+    except OSError as e:
+        raise PartError(f"{path}: cannot read the part file: {e.strerror or e}") from None
+    if stat.S_ISDIR(st.st_mode):
+        raise PartError(f"{path}: is a directory, not a part file")
+    if not stat.S_ISREG(st.st_mode):
+        raise PartError(f"{path}: not a regular file")
+    suffix = Path(path).suffix.lower()
+    if suffix in CAD_SUFFIXES:
+        return
+    if suffix != ".py":
+        raise PartError(f"{path}: a part file is a .py module (or a .step/.stp/.brep file)")
+    if st.st_size > 16 * 1024 * 1024:
+        raise PartError(f"{path}: {st.st_size} bytes: too large for a part file")
+    try:
+        raw = Path(path).read_bytes()
+    except OSError as e:
+        raise PartError(f"{path}: cannot read the part file: {e.strerror or e}") from None
+    try:
+        src = raw.decode("utf-8")
+    except UnicodeDecodeError as e:
+        line = raw[:e.start].count(b"\n") + 1
+        raise PartError(f"{path}:{line}: not UTF-8 text (byte 0x{raw[e.start]:02x})") from None
+    if "\0" in src:
+        raise PartError(f"{path}:{src.count(chr(10), 0, src.index(chr(0))) + 1}: NUL byte: not "
+                        f"a Python file")
+    import ast
+    try:
+        tree = ast.parse(src, path)
+    except SyntaxError as e:
+        raise PartError(f"{path}:{e.lineno or 0}:{e.offset or 0}: {e.msg}") from None
+    except (ValueError, RecursionError, MemoryError) as e:
+        raise PartError(f"{path}: not a Python file: {e}") from None
+    names = set()
+    for node in tree.body:
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+            names.add(node.name)
+        elif isinstance(node, (ast.Import, ast.ImportFrom)):
+            names.update((a.asname or a.name).split(".")[0] for a in node.names)
+        elif isinstance(node, (ast.Assign, ast.AnnAssign)):
+            targets = node.targets if isinstance(node, ast.Assign) else [node.target]
+            names.update(t.id for t in targets if isinstance(t, ast.Name))
+        else:  # conditional definitions and the like: the loader decides
+            names.add("part")
+    if "part" not in names and "*" not in names:
+        raise PartError(f"{path}: defines no function part(**params)")
+
+
+def _check_tables(args: argparse.Namespace) -> None:
+    """The tool library, the machine file and the templates folder, checked once before any
+    row runs (an error in them is one line, not one per row)."""
+    from ..tooling import load_machine, load_tools
+    lib = load_tools(args.tools) if getattr(args, "tools", None) else None
+    load_machine(getattr(args, "machine", None), lib)
+    tpl = getattr(args, "templates", None)
+    if tpl is not None and not Path(tpl).is_dir():
+        raise PlanError(f"templates folder {tpl}: not a directory")
+
+
+def _prepare_out(out: str) -> Path:
+    """The output folder, created and writable (else one line, before any row runs)."""
+    from ..io import clean_stale_temporaries
+    d = Path(out)
+    try:
+        d.mkdir(parents=True, exist_ok=True)
+        if not os.access(d, os.W_OK | os.X_OK):
+            raise PermissionError(13, "Permission denied")
+        probe = d / f".probe.{os.getpid()}.tmp"
+        probe.write_bytes(b"")
+        probe.unlink()
+    except FileExistsError:
+        raise HncError(f"--out {out}: cannot create the folder: a file is in the way") from None
+    except OSError as e:
+        raise HncError(f"--out {out}: cannot write there: {e.strerror or e}") from None
+    clean_stale_temporaries(d)
+    return d
 
 
 def _init_worker(opts: dict[str, Any] | None = None) -> None:
@@ -77,6 +206,8 @@ def _init_worker(opts: dict[str, Any] | None = None) -> None:
     for every row the worker runs)."""
     global _INITS
     _INITS += 1
+    if _PARENT[0] is not None and os.getpid() != _PARENT[0]:
+        _bind_to_parent(_PARENT[0])
     try:
         import build123d  # noqa: F401
         from .. import cad  # noqa: F401
@@ -98,8 +229,14 @@ def _row_job(job: tuple) -> dict[str, Any]:
     idx, line, part, stock, params, number, opts = job
     out: dict[str, Any] = {"row": idx, "line": line, "program_number": number,
                            "worker": (os.getpid(), _INITS)}
+    opts = dict(opts)
+    kw = opts.pop("profile", None)
     try:
         from .api import VerificationError, generate
+        if kw:
+            from ..cad import load_part
+            part = load_part(part, params, **kw)
+            params = {}
         prog = generate(part, stock, params=params, program_number=number,
                         file=f"O{number:04d}.nc", **opts)
         rep = prog.report
@@ -120,15 +257,35 @@ def _row_job(job: tuple) -> dict[str, Any]:
 
 def read_table(path: str) -> tuple[list[str], list[tuple[int, int, dict[str, str] | str]]]:
     """Rows of the CSV: (row index from 1, file line, cells or an error message)."""
+    import stat
     try:
-        text = Path(path).read_text("utf-8-sig")
+        st = os.stat(path)
+        if stat.S_ISDIR(st.st_mode):
+            raise PartError(f"{path}: is a directory, not a CSV table")
+        if not stat.S_ISREG(st.st_mode):
+            raise PartError(f"{path}: not a regular file")
+        if st.st_size > 64 * 1024 * 1024:
+            raise PartError(f"{path}: {st.st_size} bytes: too large for a family table")
+        raw = Path(path).read_bytes()
     except OSError as e:
         raise PartError(f"{path}: cannot read the table: {e.strerror or e}") from None
+    if raw.startswith((b"\xff\xfe", b"\xfe\xff")):
+        raise PartError(f"{path}: UTF-16 text; save the table as UTF-8 CSV")
+    try:
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as e:
+        line = raw[:e.start].count(b"\n") + 1
+        raise PartError(f"{path}:{line}: not UTF-8 text (byte 0x{raw[e.start]:02x})") from None
+    if "\0" in text:
+        raise PartError(f"{path}:{text.count(chr(10), 0, text.index(chr(0))) + 1}: NUL byte: "
+                        f"not a CSV table")
     rdr = csv.reader(io.StringIO(text))
     try:
         header = next(rdr)
     except StopIteration:
         raise PartError(f"{path}: the table is empty (no header row)") from None
+    except csv.Error as e:
+        raise PartError(f"{path}:{rdr.line_num}: not a CSV table: {e}") from None
     header = [h.strip() for h in header]
     if not header or any(not h for h in header):
         raise PartError(f"{path}:1: the header has an empty column name")
@@ -136,7 +293,13 @@ def read_table(path: str) -> tuple[list[str], list[tuple[int, int, dict[str, str
         raise PartError(f"{path}:1: the header names a column twice")
     rows: list[tuple[int, int, dict[str, str] | str]] = []
     n = 0
-    for cells in rdr:
+    while True:
+        try:
+            cells = next(rdr)
+        except StopIteration:
+            break
+        except csv.Error as e:
+            raise PartError(f"{path}:{rdr.line_num}: not a CSV table: {e}") from None
         line = rdr.line_num
         if not cells or all(not c.strip() for c in cells):
             continue
@@ -152,12 +315,20 @@ def read_table(path: str) -> tuple[list[str], list[tuple[int, int, dict[str, str
 
 
 def family_command(args: argparse.Namespace) -> int:
+    import signal
+
     from ..cad import parse_set
+    from ..cad.loader import profile_options
     from ..io import write_atomic
 
+    _check_part_file(args.part)
+    _check_tables(args)
     _header, rows = read_table(args.table)
     base_params = parse_set(args.params or [])
     opts = _options(args)
+    kw = profile_options(args)
+    if kw:
+        opts["profile"] = kw
     out_dir = Path(args.out)
     base_number = args.program_number if args.program_number is not None else 1
     jobs: list[tuple] = []
@@ -185,10 +356,29 @@ def family_command(args: argparse.Namespace) -> int:
     dup = {n for n in numbers if numbers.count(n) > 1}
     if dup:
         raise PlanError(f"{args.table}: program number(s) {sorted(dup)} appear in several rows")
+    out_dir = _prepare_out(args.out)
     n_jobs = args.jobs or os.cpu_count() or 1
-    results.extend(_run_jobs(jobs, n_jobs, opts))
+
+    def done(r: dict[str, Any]) -> None:  # each program is written as soon as its row ends
+        if r.get("status") == "ok":
+            name = f"O{int(r['program_number']):04d}.nc"
+            write_atomic(out_dir / name, r["text"])
+            r["file"] = name
+
+    interrupted = 0
+    try:
+        results.extend(_run_jobs(jobs, n_jobs, opts, on_done=done))
+    except _Interrupted as e:
+        interrupted = e.signum
+        results.extend(e.done)
+        finished = {r["row"] for r in results}
+        for j in jobs:
+            if j[0] not in finished:
+                results.append({"row": j[0], "line": j[1], "program_number": j[5],
+                                "status": "interrupted", "exit": 2,
+                                "message": f"not finished: interrupted by "
+                                           f"{signal.Signals(e.signum).name}"})
     results.sort(key=lambda r: r["row"])
-    out_dir.mkdir(parents=True, exist_ok=True)
     worst = 0
     fields = ["row", "program_number", "file", "status", "operations", "cycle_time_s",
               "verified", "max_overcut_mm", "max_undercut_mm", "message"]
@@ -196,36 +386,63 @@ def family_command(args: argparse.Namespace) -> int:
     w = csv.DictWriter(buf, fieldnames=fields, extrasaction="ignore", lineterminator="\n")
     w.writeheader()
     ok = 0
+    errors: dict[str, list[dict[str, Any]]] = {}  # one line per distinct message
     for r in results:
         if r.get("status") == "ok":
-            name = f"O{int(r['program_number']):04d}.nc"
-            write_atomic(out_dir / name, r["text"])
-            r["file"] = name
             ok += 1
-        else:
+        elif r.get("status") != "interrupted":
             worst = max(worst, int(r.get("exit", 2)))
-            print(f"error: {args.table} row {r['row']} (line {r['line']}): {r['message']}",
-                  file=sys.stderr)
+            errors.setdefault(str(r["message"]), []).append(r)
         w.writerow({k: r.get(k, "") for k in fields})
     write_atomic(out_dir / "summary.csv", buf.getvalue())
     if getattr(args, "report", None) or getattr(args, "junit", None):
         from ..report import family_outputs
         family_outputs(args, jobs, results)
-    print(f"{ok} of {len(results)} program(s) written to {out_dir}"
-          + (f", {len(results) - ok} failed" if ok < len(results) else ""), file=sys.stderr)
+    for msg, rs in errors.items():
+        which = (f"row {rs[0]['row']} (line {rs[0]['line']})" if len(rs) == 1 else
+                 f"rows {', '.join(str(r['row']) for r in rs)}")
+        print(f"error: {args.table} {which}: {msg}", file=sys.stderr)
+    if interrupted:
+        print(f"interrupted ({signal.Signals(interrupted).name}): {ok} of {len(results)} "
+              f"program(s) written to {out_dir}; {out_dir / 'summary.csv'} lists the rows not "
+              f"finished", file=sys.stderr)
+        return 128 + interrupted
+    if not errors or ok:
+        print(f"{ok} of {len(results)} program(s) written to {out_dir}"
+              + (f", {len(results) - ok} failed" if ok < len(results) else ""), file=sys.stderr)
     return worst
 
 
-def _run_jobs(jobs: list[tuple], n_jobs: int,
-              opts: dict[str, Any] | None = None) -> list[dict[str, Any]]:
+def _run_jobs(jobs: list[tuple], n_jobs: int, opts: dict[str, Any] | None = None,
+              on_done: Any = None) -> list[dict[str, Any]]:
+    """Run the rows (in worker processes for ``n_jobs`` > 1); ``on_done(result)`` in this
+    process as each ends. Ctrl-C or SIGTERM stops the workers and raises :class:`_Interrupted`
+    with the rows finished so far."""
+    import signal
     if not jobs:
         return []
+    out: list[dict[str, Any]] = []
+
+    def on_term(signum, _frame):
+        raise _Interrupted(out, signum)
+
+    old_term = signal.signal(signal.SIGTERM, on_term)
+    _PARENT[0] = os.getpid()
+    try:
+        return _run_pool(jobs, n_jobs, opts, on_done, out)
+    except KeyboardInterrupt:
+        raise _Interrupted(out, signal.SIGINT) from None
+    finally:
+        signal.signal(signal.SIGTERM, old_term)
+
+
+def _run_pool(jobs: list[tuple], n_jobs: int, opts: dict[str, Any] | None, on_done: Any,
+              out: list[dict[str, Any]]) -> list[dict[str, Any]]:
     progress = None
     if sys.stderr.isatty():
         from rich.console import Console
         from rich.progress import Progress
         progress = Progress(console=Console(stderr=True), transient=True)
-    out: list[dict[str, Any]] = []
     task = None
     if progress is not None:
         progress.start()
@@ -234,18 +451,36 @@ def _run_jobs(jobs: list[tuple], n_jobs: int,
         if n_jobs <= 1 or len(jobs) == 1:
             _init_worker(opts)
             for j in jobs:
-                out.append(_row_job(j))
+                r = _row_job(j)
+                if on_done is not None:
+                    on_done(r)
+                out.append(r)
                 if progress is not None:
                     progress.advance(task)
         else:
             from concurrent.futures import ProcessPoolExecutor, as_completed
-            with ProcessPoolExecutor(max_workers=min(n_jobs, len(jobs)),
-                                     initializer=_init_worker, initargs=(opts,)) as ex:
+            ex = ProcessPoolExecutor(max_workers=min(n_jobs, len(jobs)),
+                                     initializer=_init_worker, initargs=(opts,))
+            try:
                 futs = [ex.submit(_row_job, j) for j in jobs]
                 for f in as_completed(futs):
-                    out.append(f.result())
+                    r = f.result()
+                    if on_done is not None:
+                        on_done(r)
+                    out.append(r)
                     if progress is not None:
                         progress.advance(task)
+            except BaseException:
+                procs = list((getattr(ex, "_processes", None) or {}).values())
+                ex.shutdown(wait=False, cancel_futures=True)
+                for p in procs:
+                    try:
+                        p.kill()
+                        p.join(5)
+                    except (OSError, ValueError, AssertionError):
+                        pass
+                raise
+            ex.shutdown(wait=True)
     finally:
         if progress is not None:
             progress.stop()
