@@ -151,3 +151,80 @@ def test_operator_comments_are_short_and_explain_has_the_reasons(capsys):
     comments = [ln for ln in body.splitlines() if "(" in ln]
     assert comments and all(len(ln[ln.index("("):]) < 60 for ln in comments)
     assert "rest-rough undercut from Z-22 to Z-28.578" in cap.err
+
+
+# ---------------------------------------------------------------- parts written fresh
+
+FRESH = "tests/data/turning_parts/"
+
+
+def _model_distance(prof, p):
+    segs = list(prof.outside) + list(prof.bore or [])
+    return min(s.distance_to(p) for s in segs)
+
+
+def _removed_by_tool(prog):
+    """mm^2 of the half-section each tool removed (the simulator's per-move removed area)."""
+    from hnc_cam.sim import simulate
+    mach = simulate(prog.toolpath, prog.plan.stock, model=prog.plan.profile)
+    out: dict[int, float] = {}
+    for m, a in zip(prog.toolpath.moves, mach.removed_area):
+        out[m.tool] = out.get(m.tool, 0.0) + float(a)
+    return out, mach
+
+
+@pytest.mark.parametrize("comp", ["cam", "control"])
+@pytest.mark.parametrize("name", ["stud_relief", "din509_shaft", "disc_hub", "wall30",
+                                  "tube_grooves", "long_shaft"])
+def test_fresh_part_generates_verifies_and_never_rapids_onto_the_part(name, comp):
+    prog = generate(FRESH + name + ".py", comp=comp)
+    assert prog.report.passed, prog.report.summary()
+    prof = prog.plan.profile
+    # program G00 ends (not the cycles' own retracts) stay 0.5 mm or more from the model
+    for m in prog.toolpath.moves:
+        if m.kind == "rapid" and m.op == "G00":
+            assert _model_distance(prof, m.end) >= 0.5 - 1e-6, (m.line, m.end)
+
+
+@pytest.mark.parametrize("name,zone", [("stud_relief", (-24.0, -20.0)),
+                                       ("din509_shaft", (-30.0, -26.5)),
+                                       ("wall30", (-40.0, -25.0))])
+def test_the_rougher_takes_the_bulk_and_the_zone_tool_only_its_undercut(name, zone):
+    prog = generate(FRESH + name + ".py", verify=False)
+    ops = prog.plan.operations
+    rough = next(op for op in ops if op.name == "rough")
+    zop = next(op for op in ops if op.name == "rough_zone")
+    assert rough.tool.insert.code.startswith("CNMG") and rough.cycle == "G71"
+    # the strongest insert that reaches the undercut: the 55 deg DNMG for walls up to 30 deg
+    assert zop.tool.insert.code.startswith("DNMG")
+    by_tool, mach = _removed_by_tool(prog)
+    total = sum(by_tool.values())
+    assert by_tool[rough.tool.number] > 0.75 * total
+    # every move of the zone operation's tool before the finishing pass cuts inside the zone
+    lines = prog.text.splitlines()
+    z_ops = [i for i, ln in enumerate(lines, 1) if "REST ROUGH" in ln]
+    fin = next(i for i, ln in enumerate(lines, 1) if "FINISH OD" in ln)
+    for m, a in zip(prog.toolpath.moves, mach.removed_area):
+        if z_ops[0] < m.line < fin and a > 1e-6:
+            assert zone[0] - 1.0 <= min(m.start[1], m.end[1]) and \
+                max(m.start[1], m.end[1]) <= zone[1] + 1.5, (m.line, m.start, m.end)
+
+
+def test_face_dominated_disc_is_g72_from_its_face_with_little_air():
+    prog = generate(FRESH + "disc_hub.py")
+    rough = next(op for op in prog.plan.operations if op.name == "rough")
+    assert rough.cycle == "G72" and rough.start[1] == pytest.approx(0.0)
+    assert prog.report.air_cut_fraction <= 0.08
+
+
+def test_bar_twice_the_diameter_works_and_the_chamfer_pass_meets_no_bar_wall():
+    for d in (60, 70):
+        prog = generate(FRESH + "long_shaft.py", stock=f"{d}x92+1")
+        assert prog.report.passed and not prog.report.collisions
+
+
+@pytest.mark.parametrize("name", ["bushing", "cast_blank", "cq_pin", "flange", "grooved_shaft",
+                                  "stepped_shaft", "threaded_stud"])
+def test_bundled_part_air_cut_is_small(name):
+    prog = generate(PARTS + name + ".py")
+    assert prog.report.air_cut_fraction <= 0.09  # target 0.08; see benchmarks/quality.py

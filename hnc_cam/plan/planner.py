@@ -480,6 +480,8 @@ def _zone_op(p: an.Pocket, t: Tool, opts: Options, r_stock: float, tag: str,
     start = (x_start, path[0].start[1])
     ns, nf = f"{tag}_ns", f"{tag}_nf"
     blocks = ct.to_blocks(path, "x", t.feed_rough, ns, nf, start=start)
+    # the ns block ends on the semi-finished surface: fed, not rapid (G01 is allowed there)
+    blocks[0].g, blocks[0].feed = 1, t.feed_rough
     words = {"U": t.depth, "R": opts.retract, "E": SEMI_X}
     last = path[-1].end
     reason = (f"rest-rough {_pocket_text(p)} with {describe(t)} (reaches "
@@ -488,7 +490,8 @@ def _zone_op(p: an.Pocket, t: Tool, opts: Options, r_stock: float, tag: str,
     return Operation(name="rough_zone", cycle="G71E", template="g71_type2.j2", tool=t,
                      reason=reason, start=start, speed=t.vc_rough, feed=t.feed_rough,
                      words=words, ns=ns, nf=nf, blocks=blocks, contour=path,
-                     retract=_retract([(x_start, last[1]), (x_start, start[1])], blocks))
+                     retract=_retract([(x_start, min(last[1] + 0.8, start[1])),
+                                       (x_start, start[1])], blocks))
 
 
 def _clip_above(path: list[Segment], top: float) -> list[Segment]:
@@ -532,7 +535,7 @@ def _end_pocket_op(p: an.Pocket, t: Tool, opts: Options, x_a: float, name: str) 
     (G40), in both compensation modes: a control compensating a path that reverses on itself
     would put the nose on the wrong side.
     """
-    z_in = p.entry[1] + 1.0
+    z_in = p.entry[1] + 0.5
     segs = list(p.segments)
     last = segs[-1]
     tx, tz = last.tangent_at_end()
@@ -549,6 +552,9 @@ def _end_pocket_op(p: an.Pocket, t: Tool, opts: Options, x_a: float, name: str) 
         if path:
             path.append(Line(path[-1].end, fwd[0].start))
         path += fwd + back
+    # the rapid ends 0.5 mm above the first pass, the rest is fed (the surface is finished)
+    p0 = path[0].start
+    path.insert(0, Line((p0[0] + 0.5, p0[1]), p0))
     blocks = ct.to_blocks(path, "x", t.feed_finish, "", "", start=(x_a, z_in))
     return Operation(
         name="profile", cycle="contour", template="finish.j2", tool=t,
@@ -556,7 +562,7 @@ def _end_pocket_op(p: an.Pocket, t: Tool, opts: Options, x_a: float, name: str) 
                 f"{describe(t)}, which reaches {back_reach(t):.0f} deg, past the end into the "
                 f"chuck-side stock and back (tip path, G40)"),
         start=(x_a, z_in), speed=t.vc_finish, feed=t.feed_finish, blocks=blocks, comp=40,
-        contour=path, retract=[(x_a, z_in)])
+        contour=path, retract=[(x_a, path[-1].end[1]), (x_a, z_in)])
 
 
 def _allowance(chain: Sequence[Segment], delta: float, base: Point, opts: Options,
@@ -792,9 +798,9 @@ def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stoc
     z_stop = stock.z_left if stock.kind != "offset" else z_lo - 10 * lead
     part_left = min(s.bbox()[1] for s in chain)
 
-    def wall_after(z_end: float) -> float | None:
+    def wall_after(z_end: float, span: float = need) -> float | None:
         z = z_end
-        while z > z_end - need - step:
+        while z > z_end - span - step:
             z -= step
             if z < part_left - 1e-9:
                 # beyond the part: the remaining stock (bar) is a wall at the part's left end
@@ -821,9 +827,11 @@ def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stoc
         ze = z_lo - frac * lead
         if ze < part_left + 1e-9 and stock.kind == "offset":
             continue
-        zw = wall_after(ze)
-        if zw is None or ze - zw >= need - 1e-9:
-            z_end, z_wall = ze, zw
+        # past the end, the insert's flanks (6 mm long, as the simulator draws them) must
+        # clear everything the thread ends in front of
+        reach = need + 6.0 * math.sin(math.radians(th.angle / 2))
+        if wall_after(ze, reach) is None:
+            z_end, z_wall = ze, None
             break
     if z_wall is not None and z_end - z_wall < need - 1e-9:
         raise PlanError(f"{label} is longer than the relief allows: it ends "
