@@ -69,6 +69,19 @@ def test_outside_grooving_blade_does_not_reach_into_the_bore():
     assert reachable(od_model, [tool_shape(GROOVE)], od_corner).area > 0.5 * od_corner.area
 
 
+def test_boring_bar_reaches_the_bore_from_its_mouth_not_a_recess_behind_it():
+    # bore 20 at the mouth (Z0..-10), a recess of 24 (Z-10..-20), bore 20 again to Z-30
+    outside = chain((10.0, 0.0), (20.0, 0.0), (20.0, -30.0), (10.0, -30.0))
+    bore = chain((10.0, 0.0), (10.0, -10.0), (12.0, -10.0), (12.0, -20.0), (10.0, -20.0),
+                 (10.0, -30.0))
+    model = profile_polygon(TurnedProfile(outside=outside, bore=bore))
+    bar = [tool_shape(BORING_BAR)]
+    mouth = box(-8.0, 9.9, -2.0, 10.0)  # a 0.1 band left on the mouth's wall
+    assert reachable(model, bar, mouth).area == pytest.approx(mouth.area, rel=1e-6)
+    recess = box(-18.0, 11.9, -12.0, 12.0)  # the same band on the recess's wall
+    assert reachable(model, bar, recess).area < 1e-9
+
+
 @pytest.mark.cad
 @pytest.mark.parametrize("comp", ["cam", "control"])
 def test_grooved_tube_verifies_with_the_bore_exit_corner_unreachable(comp):

@@ -338,7 +338,10 @@ def holder_direction(tip: int) -> tuple[float, float]:
 def tool_body(shape: ToolShape, length: float) -> np.ndarray:
     """The convex outline (ccw, relative to the controlled point) of the insert together with
     its holder: the insert swept ``length`` mm along :func:`holder_direction`, a body as wide as
-    the insert across that direction (a real shank is at least that wide)."""
+    the insert across that direction (a real shank is at least that wide). For a boring bar
+    that makes the bar as tall as the insert: an inside tool reaches nothing behind a mouth
+    narrower than where its tip is (a recess or a chamfer facing the chuck inside the bore),
+    as the planner assumes when it leaves such a feature for another operation."""
     dz, dx = holder_direction(shape.tip)
     pts = np.vstack([shape.outline, shape.outline + np.array([dz * length, dx * length])])
     hull = shapely.convex_hull(shapely.multipoints(pts))
