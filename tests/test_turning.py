@@ -228,3 +228,27 @@ def test_bar_twice_the_diameter_works_and_the_chamfer_pass_meets_no_bar_wall():
 def test_bundled_part_air_cut_is_small(name):
     prog = generate(PARTS + name + ".py")
     assert prog.report.air_cut_fraction <= 0.09  # target 0.08; see benchmarks/quality.py
+
+
+# ---------------------------------------------------------------- large parts
+
+def test_large_part_approaches_behind_the_face_x_first_and_verifies():
+    prog = generate(PARTS + "bushing.py", params={"outer_diameter": "240"})
+    assert prog.report.passed and not prog.report.collisions
+    r_stock = prog.plan.stock.diameter / 2
+    # every G00 that ends behind the stock's face (Z < 0) starts outside the stock or moves
+    # along one axis only: no dog-leg through the stock from the tool-change point
+    for m in prog.toolpath.moves:
+        if m.kind == "rapid" and m.op == "G00" and m.end[1] < -1e-6:
+            one_axis = abs(m.start[0] - m.end[0]) < 1e-9 or abs(m.start[1] - m.end[1]) < 1e-9
+            assert one_axis or m.start[0] >= r_stock, (m.line, m.start, m.end)
+
+
+def test_flange_720_plans_its_approaches_from_the_stock_there():
+    from hnc_cam.cad import load_part
+    lp = load_part(PARTS + "flange.py", {"diameter": "720"})
+    p = make_plan(lp.profile, Stock.parse(lp.stock), LIB, MACH, Options(), name="flange")
+    r_stock = 360.0
+    for op in p.operations:
+        if op.start[1] < 0 and op.start[0] >= r_stock:
+            assert op.approach_moves[0] == (op.start[0], None)  # X first, outside the stock

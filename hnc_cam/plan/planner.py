@@ -7,15 +7,22 @@ Rules (each operation records its reason, which the program prints as a comment)
   ``rough``).
 * **OD roughing**
   - ``offset:A`` stock (a near-net blank) -> ``G73`` with U = W = A and as many passes as the
-    tool's depth needs;
+    tool's depth needs, by the strongest roughing insert that reaches every wall;
   - otherwise the outside chain is analysed for *pockets* (stretches below the diameter
     already reached, i.e. undercuts). A pocket whose steepest descending wall a turning tool
-    reaches (back clearance, see :mod:`hnc_cam.plan.tools`) stays in the contour; a square
-    groove no turning insert reaches is bridged and plunged with a grooving insert; anything
-    else is refused, naming the feature and the tool it needs;
-  - contour monotonic in X -> ``G71`` type I, unless the part is *face-dominated* (its
-    radial extent, largest minus smallest radius of the outside contour, exceeds its length)
-    -> ``G72``; a contour with pockets -> ``G71`` type II (``E``).
+    reaches (back clearance, see :mod:`hnc_cam.plan.tools`) is a *zone*; a square groove no
+    turning insert reaches is bridged and plunged with a grooving insert; anything else is
+    refused, naming the feature and the tool it needs;
+  - no zones -> the library's roughing tool runs ``G71`` type I on the contour (``G72`` when
+    the part is *face-dominated*: radial extent, stock radius minus the smallest radius of the
+    outside, larger than its length), sharing the finishing contour as ns..nf;
+  - zones -> the roughing tool runs ``G71`` type I on the *envelope* (every pocket bridged)
+    with its own ns..nf: the envelope offset by the finishing allowance, its tip path, run
+    once after the cycle as a semi-finishing pass; then each zone is rest-roughed by the
+    strongest insert that reaches it (largest included angle) with ``G71`` type II over that
+    zone alone, from the level the envelope left, and its own semi-finishing pass;
+  - cycles start on the stock (G71 at its diameter, G72 on its face) and, after facing, the
+    contours start near the face's edge (:func:`hnc_cam.plan.contour.drop_face`).
 * **ID roughing** of a bore from a tube: ``G71`` type I with a negative X allowance (type II
   with a negative E for a bore with undercuts) with the boring bar; finished with the same or
   a finishing boring bar.
@@ -23,8 +30,11 @@ Rules (each operation records its reason, which the program prints as a comment)
   tool is another tool) at G96 surface speed; the spindle limit is the machine's max rpm,
   which on the HNC-21T is a system parameter (manual 3.3.6), stated in the header.
 * **Threads** declared by the part: ``G76`` (or ``G82`` passes) to the standard's depth
-  (:attr:`hnc_cam.geometry.Thread.depth`), refused when the relief after the thread is
-  shorter than half the lead plus 0.2 mm.
+  (:attr:`hnc_cam.geometry.Thread.depth`); the end runs one lead into the relief where the
+  insert's flanks clear what follows; the start is three leads (plus the flank infeed) before
+  the thread; G97 capped by the machine and by 1200/lead - 80 rpm. Refused when the relief
+  after the thread is shorter than half the lead plus 0.2 mm, or when less than two leads
+  of the thread are at full form.
 * Roughing allowances: 0.4 mm on the diameter / 0.1 mm in Z by default (``--allowance``,
   the material table), increased where the roughing
   tool, following the program contour uncompensated (``--comp control``) or the finishing
