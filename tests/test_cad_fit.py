@@ -135,3 +135,24 @@ def test_fit_end_piece_is_a_line_only_along_the_end_tangent():
     assert all(s.bbox()[3] <= 1e-12 for s in segs)
     if isinstance(segs[0], Arc):
         assert segs[0].center[0] == 0.0
+
+
+def test_recognised_arc_about_the_axis_has_its_centre_on_it():
+    """A free-form edge that is a circle about a point 3e-7 mm off the axis (a sphere exported
+    as a B-spline) becomes one Arc whose centre is exactly on the axis."""
+    from types import SimpleNamespace
+
+    from hnc_cam.cad.extract import _recognise
+    c = (3e-7, -5.0)
+
+    def rz(t):
+        return (c[0] + 5.0 * math.cos(t), c[1] + 5.0 * math.sin(t))
+    e = SimpleNamespace(first=0.2, last=1.4, rz=rz)
+    (arc,) = _recognise(e, rz(0.2), rz(1.4))
+    assert isinstance(arc, Arc) and arc.center[0] == 0.0
+    assert arc.center[1] == pytest.approx(-5.0, abs=1e-12)
+    assert arc.radius == pytest.approx(5.0, abs=1e-6)
+    # a centre farther off the axis is kept where it is
+    c = (0.01, -5.0)
+    (arc,) = _recognise(e, rz(0.2), rz(1.4))
+    assert arc.center[0] == pytest.approx(0.01, abs=1e-9)

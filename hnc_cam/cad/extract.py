@@ -220,7 +220,8 @@ def _edge_segments(e: occ.SectionEdge, fit_tol: float, notes: list[str]) -> list
 def _recognise(e: occ.SectionEdge, p0: Point, p1: Point) -> list[Segment] | None:
     """A free-form section edge that is a line or a circular arc within ``EXACT_TOL`` at 64
     points (e.g. the cut of a self-intersecting torus, which OpenCascade approximates)
-    becomes that Line/Arc."""
+    becomes that Line/Arc; an arc whose centre lies within ``AXIS_SNAP`` of the axis (a sphere
+    given as a B-spline) gets its centre exactly on it."""
     ts = [e.first + (e.last - e.first) * i / 64 for i in range(1, 64)]
     pts = [e.rz(t) for t in ts]
     if dist(p0, p1) < 1e-9:
@@ -233,6 +234,9 @@ def _recognise(e: occ.SectionEdge, p0: Point, p1: Point) -> list[Segment] | None
     if circ is None:
         return None
     c, r = circ
+    if abs(c[0]) <= AXIS_SNAP:  # a centre on the axis stays exactly on it
+        c = (0.0, c[1])
+        r = (dist(c, p0) + dist(c, p1)) / 2
     if all(abs(dist(c, p) - r) <= EXACT_TOL for p in pts):
         arc = Arc(p0, p1, c, _turn(p0, pm, p1) < 0)
         if all(arc.distance_to(p) <= EXACT_TOL for p in pts):
