@@ -18,10 +18,11 @@ report fails, and the leftover is classified reachable/unreachable, the expensiv
     python benchmarks/verify.py --shaft            # only the per-part figure for parts/stepped_shaft.py
 
 Prints per size, best of N with the load average beside it: moves, interpreter time, simulate
-time, verify time, peak memory (of the process, and the part of it that simulate and verify
+time, verify time (wall; and the CPU time of simulate+verify per round), peak memory (of the process, and the part of it that simulate and verify
 added above the interpreter's), and the growth factor of simulate+verify time per 10x moves;
 with ``--baseline REV`` the same figures for the code of REV (exported with ``git archive``
-into a temporary directory and imported from there) and the ratio REV/current per size; then
+into a temporary directory and imported from there, each size measured right after the
+current code's) and the ratio REV/current per size; then
 (the default sizes) the per-part simulate and verify time of generated programs for
 parts/stepped_shaft.py.
 """
@@ -104,11 +105,13 @@ def one(passes: int, repeat: int = 1, r08: bool = True) -> dict:
     t_int, tp = _best(lambda: run(text, machine, file=f"bench{passes}.nc", start=(50.0, 80.0),
                                   step_limit=1_000_000_000), repeat)
     interp_mb = _rss_mb()
+    c0 = time.process_time()
     t_sim, m = _best(lambda: simulate(tp, stock, machine), repeat)
     t_ver, rep = _best(lambda: verify(m, prof, tol=0.01), repeat)
+    cpu = (time.process_time() - c0) / repeat
     out = {"passes": passes, "moves": len(tp.moves), "interp_s": t_int, "simulate_s": t_sim,
            "verify_s": t_ver, "pass": rep.passed, "max_overcut": rep.max_overcut_mm,
-           "max_undercut": rep.max_undercut_mm, "repeat": repeat}
+           "max_undercut": rep.max_undercut_mm, "repeat": repeat, "cpu_s": cpu}
     del m, rep
     if r08:
         lib = _unlimited(load_machine())  # T0101: CNMG120408, r 0.8, tip 3
@@ -176,13 +179,13 @@ def _measure(passes: int, repeat: int, r08: bool, code: str | None = None) -> di
 def _table(title: str, rows: list[dict]) -> None:
     print(title)
     print(f"{'moves':>9} {'best of':>7} {'load':>5} {'interp s':>9} {'simulate s':>11} "
-          f"{'verify s':>9} {'sim+ver s':>10} {'peak MB':>8} {'sim MB':>7}  {'sim r0.8 s':>10} "
+          f"{'verify s':>9} {'sim+ver s':>10} {'(CPU s)':>8} {'peak MB':>8} {'sim MB':>7}  {'sim r0.8 s':>10} "
           f"{'ver r0.8 s':>10}  result (sharp; r0.8)")
     for r in rows:
         r08 = "simulate_r08_s" in r
         print(f"{r['moves']:>9} {r['repeat']:>7} {r['load']:>5.2f} {r['interp_s']:>9.2f} "
               f"{r['simulate_s']:>11.2f} {r['verify_s']:>9.2f} {r['total']:>10.2f} "
-              f"{r['peak_mb']:>8.0f} {r['sim_mb']:>7.0f}  "
+              f"{r.get('cpu_s', math.nan):>8.2f} {r['peak_mb']:>8.0f} {r['sim_mb']:>7.0f}  "
               + (f"{r['simulate_r08_s']:>10.2f} {r['verify_r08_s']:>10.2f}  " if r08
                  else f"{'-':>10} {'-':>10}  ")
               + f"{'PASS' if r['pass'] else 'FAIL'} (over {r['max_overcut']:.4f}, under "
@@ -231,20 +234,27 @@ def main(argv: list[str]) -> int:
     def rep(k: int) -> int:
         return 1 if k >= 1000 else max(1, args.repeat)
 
-    rows = [_measure(k, rep(k), not args.no_r08) for k in sizes]
+    # with a baseline, each size is measured for both codes one after the other, so that both
+    # see about the same load
+    import shutil
+    d = _export(args.baseline) if args.baseline else None
+    rows, base = [], []
+    try:
+        for k in sizes:
+            rows.append(_measure(k, rep(k), not args.no_r08))
+            if d is not None:
+                base.append(_measure(k, rep(k), not args.no_r08, code=d))
+    finally:
+        if d is not None:
+            shutil.rmtree(d, ignore_errors=True)
     _table("current code:", rows)
     if args.baseline:
-        import shutil
-        d = _export(args.baseline)
-        try:
-            base = [_measure(k, rep(k), not args.no_r08, code=d) for k in sizes]
-        finally:
-            shutil.rmtree(d, ignore_errors=True)
         _table(f"baseline {args.baseline}:", base)
         print(f"ratio baseline {args.baseline} / current (time: simulate+verify sharp"
               + ("" if args.no_r08 else ", simulate+verify r0.8") + "; peak memory):")
         for a, b in zip(base, rows):
-            line = f"  {b['moves']:>9} moves: x{a['total'] / b['total']:.2f}"
+            line = (f"  {b['moves']:>9} moves: x{a['total'] / b['total']:.2f} "
+                    f"(CPU x{a['cpu_s'] / b['cpu_s']:.2f})")
             if not args.no_r08:
                 line += (f", x{(a['simulate_r08_s'] + a['verify_r08_s']) / (b['simulate_r08_s'] + b['verify_r08_s']):.2f}")
             print(line + f"; memory x{a['peak_mb'] / b['peak_mb']:.2f}")
