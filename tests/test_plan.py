@@ -2,6 +2,8 @@
 CAD kernel); programs run through the interpreter without alarm in both compensation modes."""
 from __future__ import annotations
 
+import math
+
 import pytest
 
 from hnc_cam.errors import PlanError
@@ -26,8 +28,16 @@ def cycles(p):
 
 def test_monotonic_shaft_is_g71_type_1_with_facing():
     p = plan(shaft(), "50x90+2")
-    assert cycles(p)[:3] == [("face", "G81"), ("rough", "G71"), ("finish", "contour")]
+    # G96 S180 would need more than the machine's 3000 rpm inside diameter 19.1: G01 passes
+    # that switch to G97 S3000 there
+    assert cycles(p)[:3] == [("face", "G01"), ("rough", "G71"), ("finish", "contour")]
     face = p.operations[0]
+    assert face.words["cap"]["rpm"] == 3000.0
+    assert 2 * face.words["cap"]["x"] == pytest.approx(180000 / (math.pi * 3000))
+    prog = generate(shaft(), stock="50x90+2", verify=False)
+    cen = [m for m in prog.toolpath.moves if m.kind == "line" and m.tool == 1
+           and abs(m.end[0]) < 9.0 and m.end[1] >= -1e-9]
+    assert cen and all(m.spindle <= 3000.0 + 1e-6 for m in cen)
     assert face.passes[-1] == 0.0 and len(face.passes) == 2  # 2 mm in passes of <= 1.5
     assert face.words["x_end"] == pytest.approx(-0.8)  # past the centre by the nose radius
     rough = p.operations[1]

@@ -173,12 +173,22 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
         # past the centre by the nose radius, so that the nose reaches the axis
         x_end = -t.nose_radius if stock.kind != "tube" else max(0.0, stock.bore / 2 - opts.clearance)
         cyc = "G81" if opts.face_cycle == "g81" else "G01"
+        words: dict[str, Any] = {"x_end": x_end}
+        # the HNC-21T's G96 has no clamp word: where the surface speed would need more than
+        # the machine's max rpm, the centre of each pass runs G97 at that rpm (G01 passes)
+        r_cap = t.vc_rough * 1000.0 / (2 * math.pi * machine.max_rpm)
+        cap_note = ""
+        if max(x_end, 0.0) < r_cap - 1e-9 < r_stock:
+            cyc = "G01"
+            words["cap"] = {"x": r_cap, "rpm": machine.max_rpm}
+            cap_note = (f"; G96 S{_fmt(t.vc_rough)} needs more than {_fmt(machine.max_rpm)} rpm "
+                        f"inside diameter {_fmt(2 * r_cap)}: G97 S{_fmt(machine.max_rpm)} there")
         ops.append(Operation(
             name="face", cycle=cyc, template="face.j2", tool=t,
             reason=(f"stock has {_fmt(face_stock)} mm face stock: facing to Z0 in {n} "
-                    f"{cyc} pass{'es' if n > 1 else ''} of at most {_fmt(t.depth)} mm"),
+                    f"{cyc} pass{'es' if n > 1 else ''} of at most {_fmt(t.depth)} mm" + cap_note),
             start=(x_a, face_stock + opts.z_clear), speed=t.vc_rough, feed=t.feed_rough,
-            passes=levels, words={"x_end": x_end}))
+            passes=levels, words=words))
         z_face = 0.0
     z_a = z_face + opts.z_clear
 
