@@ -562,3 +562,81 @@ def test_family_interrupted_writes_what_finished(tmp_path, sig):
     assert not [f for f in fam.iterdir() if f.name.endswith(".tmp")]
     time.sleep(0.5)
     assert not [k for k in kids if _running(k)]
+
+
+# --------------------------------------------------------------------------------------------
+# user templates: errors name the template file and line
+# --------------------------------------------------------------------------------------------
+
+FOOTER_OK = "G00 X{{ plan.tool_change[0]|dia }}\nG00 G40 Z{{ plan.tool_change[1]|num }}\n"
+
+
+@pytest.mark.parametrize("footer,line,expect", [
+    (FOOTER_OK + "G12 X5\nM30\n", 3, "raises an alarm at its line"),
+    ("{{ plan.nothing }}\nM30\n", 1, "has no attribute 'nothing'"),
+    ("M30\n{{ 1/0 }}\n", 2, "ZeroDivisionError: division by zero"),
+    ("{% if %}\nM30\n", 1, "template syntax:"),
+])
+def test_user_template_errors_name_file_and_line(tmp_path, footer, line, expect):
+    tmp = _workspace(tmp_path)
+    (tmp / "tpl").mkdir()
+    (tmp / "tpl" / "footer.j2").write_text(footer)
+    r = _cli(["generate", "part.py", "--templates", "tpl", "--no-verify", "-o", "o.nc"], tmp)
+    _assert_one_line_error(r, f"tpl/footer.j2:{line}: ")
+    assert expect in r.stderr and "generator bug" not in r.stderr
+    assert not (tmp / "o.nc").exists()
+
+
+def test_generate_from_a_build123d_solid():
+    build123d = pytest.importorskip("build123d")
+    import hnc_cam
+    prog = hnc_cam.generate(build123d.Cylinder(15, 40), stock="32x45+1", verify=False)
+    assert "G71" in prog.text and prog.plan.profile.max_radius == pytest.approx(15.0)
+
+
+def test_generate_cli_profile_options(tmp_path):
+    # a cylinder modelled along X: refused about Z with a hint in CLI words, accepted with
+    # --axis X; a flat on it needs --envelope
+    tmp = _workspace(tmp_path)
+    (tmp / "x.py").write_text(
+        "import build123d as bd\n"
+        "def part(d: float = 30.0):\n"
+        "    return bd.Cylinder(d / 2, 40, rotation=(0, 90, 0))\n")
+    r = _cli(["generate", "x.py", "--stock", "32x45+1", "--no-verify"], tmp)
+    _assert_one_line_error(r, "x.py")
+    assert "--axis X" in r.stderr
+    r = _cli(["generate", "x.py", "--stock", "32x45+1", "--no-verify", "--axis", "X"], tmp)
+    assert r.returncode == 0, r.stderr
+    assert "G71" in r.stdout
+    (tmp / "flat.py").write_text(
+        "import build123d as bd\n"
+        "def part(d: float = 30.0):\n"
+        "    return bd.Cylinder(d / 2, 40) - bd.Pos(d / 2, 0, 0) * bd.Box(4, 40, 10)\n")
+    r = _cli(["generate", "flat.py", "--stock", "32x45+1", "--no-verify"], tmp)
+    _assert_one_line_error(r, "flat.py")
+    assert "--envelope" in r.stderr
+    r = _cli(["generate", "flat.py", "--stock", "32x45+1", "--no-verify", "--envelope",
+              "--fit-tol", "0.002", "--zero", "right"], tmp)
+    assert r.returncode == 0, r.stderr
+
+
+def test_verify_takes_parameters_and_stock_from_the_program(tmp_path):
+    tmp = _workspace(tmp_path)
+    r = _cli(["generate", "part.py", "--set", "d=26", "-o", "p.nc"], tmp)
+    assert r.returncode == 0, r.stderr
+    head = (tmp / "p.nc").read_text().splitlines()[:4]
+    assert "(PARAMETERS d=26.0 length=30.0)" in head and "(STOCK 45x60+1)" in head
+    r = _cli(["verify", "p.nc", "--model", "part.py"], tmp)
+    assert r.returncode == 0, r.stdout + r.stderr
+    notes = [ln for ln in r.stderr.splitlines() if ln.startswith("note:")]
+    assert len(notes) == 1 and "d=26.0" in notes[0] and "45x60+1" in notes[0]
+    # an explicit --set wins (and the program then fails against the d=30 model)
+    r = _cli(["verify", "p.nc", "--model", "part.py", "--set", "d=30"], tmp)
+    assert r.returncode == 1, r.stdout + r.stderr
+    r = _cli(["simulate", "p.nc"], tmp)
+    assert r.returncode == 0 and "stock 45x60+1" in r.stderr
+    # no STOCK line and no --stock: one line
+    (tmp / "bare.nc").write_text(PROGRAM)
+    r = _cli(["simulate", "bare.nc"], tmp)
+    _assert_one_line_error(r, "bare.nc")
+    assert "--stock" in r.stderr

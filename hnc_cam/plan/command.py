@@ -37,7 +37,29 @@ def _options(args: argparse.Namespace) -> dict[str, Any]:
                 allowance=getattr(args, "allowance", None))
 
 
+def user_template_error(e: HncError, templates: Any) -> HncError:
+    """A program rendered with a user's templates that raises an alarm is the templates'
+    fault, not the generator's: name the template file and line that write the refused word
+    (or the folder)."""
+    from ..errors import NCError
+    cause = e.__cause__
+    if templates is None or not isinstance(cause, NCError):
+        return e
+    from ..post import blame_user_template
+    place = blame_user_template(templates, cause.block, cause.col)
+    where = place or f"templates folder {templates}"
+    return PlanError(f"{where}: the program these templates write raises an alarm at its line "
+                     f"{cause.line}: {cause.message} [{cause.block.strip()[:80]}]")
+
+
 def generate_command(args: argparse.Namespace) -> int:
+    try:
+        return _generate_command(args)
+    except PlanError as e:
+        raise user_template_error(e, getattr(args, "templates", None)) from None
+
+
+def _generate_command(args: argparse.Namespace) -> int:
     from ..cad import load_part, parse_set
     from ..cad.loader import profile_options
     from ..io import write_atomic
@@ -249,7 +271,8 @@ def _row_job(job: tuple) -> dict[str, Any]:
     except VerificationError as e:
         out.update(status="failed", message=str(e), verified="fail", exit=1)
     except HncError as e:
-        out.update(status="error", message=str(e), exit=2)
+        out.update(status="error", message=str(user_template_error(e, opts.get("templates"))),
+                   exit=2)
     except Exception as e:  # a generator bug must not stop the other rows
         out.update(status="error", message=f"internal error: {type(e).__name__}: {e}", exit=2)
     return out

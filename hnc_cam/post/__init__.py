@@ -88,8 +88,55 @@ def render(plan: Any, *, templates: str | Path | None = None, number_format: str
     except jinja2.TemplateNotFound as e:
         raise PlanError(f"template {e.name} not found (in {templates or 'the defaults'})") from None
     except jinja2.TemplateSyntaxError as e:
-        raise PlanError(f"template {e.filename or e.name}:{e.lineno}: {e.message}") from None
-    except jinja2.UndefinedError as e:
-        raise PlanError(f"template error: {e.message}") from None
-    except ValueError as e:
-        raise PlanError(f"template rendering: {e}") from None
+        raise PlanError(f"{e.filename or e.name}:{e.lineno}: template syntax: {e.message}") from None
+    except PlanError:
+        raise
+    except Exception as e:  # noqa: BLE001 - an error raised while a template runs: say where
+        where = _template_place(e.__traceback__)
+        why = getattr(e, "message", None) or str(e) or type(e).__name__
+        if not isinstance(e, (jinja2.TemplateError, ValueError)):
+            why = f"{type(e).__name__}: {why}"
+        raise PlanError(f"{where or 'template'}: {why}") from None
+
+
+def _template_place(tb) -> str | None:
+    """``FILE:LINE`` of the innermost template frame of a traceback (Jinja maps its frames
+    to the template source)."""
+    place = None
+    while tb is not None:
+        fn = tb.tb_frame.f_code.co_filename
+        if fn.endswith(".j2"):
+            place = f"{fn}:{tb.tb_lineno}"
+        tb = tb.tb_next
+    return place
+
+
+def blame_user_template(templates: str | Path | None, block: str, col: int) -> str | None:
+    """When a program rendered with a user's templates folder raises an alarm: the
+    ``FILE:LINE`` of the user template that writes the refused word (the word at ``col`` of
+    ``block``, found in the template's literal text), or None."""
+    import re
+    if templates is None or not block:
+        return None
+    words = block[max(col - 1, 0):].split()
+    word = words[0] if words else ""
+    if not word:
+        return None
+    candidates = [word]
+    d = Path(templates)
+    try:
+        files = sorted(d.glob("*.j2"))
+    except OSError:
+        return None
+    for cand in candidates:
+        pat = re.compile(rf"(?<![A-Za-z0-9.]){re.escape(cand)}(?![0-9.])", re.I)
+        for f in files:
+            try:
+                text = f.read_text("utf-8", "replace")
+            except OSError:
+                continue
+            for n, line in enumerate(text.splitlines(), 1):
+                literal = re.sub(r"\{\{.*?\}\}|\{%.*?%\}|\{#.*?#\}", " ", line)
+                if pat.search(literal):
+                    return f"{f}:{n}"
+    return None
