@@ -354,15 +354,21 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
         envelope = ct.drop_face(envelope, 0.0)
     xs = [s.bbox()[0] for s in contour]
     radial_extent = r_stock - min(xs)
+    # passes each cycle would make: G71 levels from the stock's diameter down to where the
+    # contour starts, G72 levels from the face down to the deepest Z still under the stock
+    n71 = math.ceil(max(0.0, r_stock - contour[0].start[0]) / rougher.depth - 1e-9)
+    deep = min((s.bbox()[1] for s in contour if s.bbox()[0] < r_stock - 1e-6), default=0.0)
+    n72 = math.ceil(max(0.0, -deep) / rougher.depth - 1e-9)
     if stock.kind == "offset":
         cycle, tmpl = "G73", "g73.j2"
         reason = (f"near-net blank (stock {stock.spec}): G73 repeats the contour "
                   f"offset by the blank allowance")
         base_dir = (1.0, 0.0)
-    elif radial_extent > length and not zoned:
+    elif not zoned and radial_extent > length and n72 < n71:
         cycle, tmpl = "G72", "g72.j2"
         reason = (f"face-dominated: radial extent {_fmt(radial_extent)} mm > length "
-                  f"{_fmt(length)} mm, so G72 passes parallel to X")
+                  f"{_fmt(length)} mm and G72 needs {n72} passes parallel to X where G71 "
+                  f"needs {n71}")
         base_dir = (opts.allowance_x, opts.allowance_z)
     else:
         cycle, tmpl = "G71", "g71.j2"
