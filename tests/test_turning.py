@@ -4,6 +4,7 @@ simulated material, not on the program text."""
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import pytest
 
@@ -265,3 +266,23 @@ def test_disc_with_a_small_od_step_is_roughed_by_g71_in_fewer_passes_than_g72():
     g71 = [m for m in prog.toolpath.moves if m.op == "G71" and m.kind == "line"
            and abs(m.end[1] - m.start[1]) > 10.0]
     assert len({round(m.start[0], 3) for m in g71}) <= 3  # two levels and the last pass
+
+
+def test_library_without_a_tool_for_a_zone_is_refused_naming_the_zone(tmp_path, capsys):
+    """Without the 35 deg VNMG, nothing reaches the 45 deg wall of a zone: refused with its
+    place and size and the tool it needs, nothing written."""
+    from hnc_cam.cli import main
+    text = Path("hnc_cam/data/tools.toml").read_text()
+    blocks = text.split("[[tool]]")
+    kept = [b for b in blocks[1:] if "VNMG" not in b]
+    lib = tmp_path / "tools.toml"
+    lib.write_text(blocks[0] + "".join("[[tool]]" + b for b in kept))
+    part = tmp_path / "p.py"
+    part.write_text(Path(FRESH + "wall30.py").read_text()
+                    .replace("(14, -25), (11, -30.197)", "(14, -25), (11, -28)"))
+    out = tmp_path / "o.nc"
+    rc = main(["generate", str(part), "--tools", str(lib), "-o", str(out)])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert rc == 2 and not out.exists() and len(err) == 1
+    assert "undercut from Z-25 to Z-40 down to diameter 22" in err[0]
+    assert "trailing edge clears" in err[0]
