@@ -285,6 +285,72 @@ def parse_register(tbl: Mapping[str, Any], where: str) -> Register:
                     kind=str(tbl.get("kind", ins.kind if ins else "turn")))
 
 
+_XZ = {"x": Key("float"), "z": Key("float")}
+#: the machine file's keys (see :mod:`hnc_cam.schema`): unknown keys, types and ranges are
+#: one line ``FILE:LINE: ...`` with a did-you-mean
+MACHINE_FILE_SCHEMA = {
+    "": {"use_tool_library": Key("bool"), "machine": Key("table"), "work_offsets": Key("table"),
+         "register": Key("any"), "m_codes": Key("table"), "limits": Key("table")},
+    "machine": {"name": Key("str"), "rapid_x": Key("float", lo=0, lo_open=True, unit="mm/min"),
+                "rapid_z": Key("float", lo=0, lo_open=True, unit="mm/min"),
+                "reference": Key("table"), "max_rpm": Key("float", lo=0, lo_open=True, unit="rpm"),
+                "default_feed": Key("float", lo=0, lo_open=True, unit="mm/min"),
+                "step_limit": Key("int", lo=1, unit="statements"), "tool_change": Key("table"),
+                "diameter_mode": Key("bool")},
+    "machine.reference": _XZ,
+    "machine.tool_change": _XZ,
+    "limits": {"moves": Key("int", lo=1, hi=100_000_000, unit="moves"),
+               "cycle_passes": Key("int", lo=1, hi=10_000_000, unit="passes"),
+               "calls": Key("int", lo=1, hi=10_000_000_000, unit="runs"),
+               "program_bytes": Key("int", lo=1, hi=2 ** 31, unit="bytes"),
+               "line_chars": Key("int", lo=1, hi=2 ** 24, unit="characters")},
+    "register": {"number": Key("int", lo=1, hi=99), "x": Key("float"), "z": Key("float"),
+                 "x_wear": Key("float"), "z_wear": Key("float"), "radius": Key("float", lo=0),
+                 "tip": Key("int", lo=0, hi=9), "insert": Key("str"), "approach": Key("float"),
+                 "kind": Key("str")},
+}
+
+
+def _check_machine_file(data: Mapping[str, Any], where: str, text: str) -> None:
+    """Check every key of a machine file against :data:`MACHINE_FILE_SCHEMA` (and the
+    ``[work_offsets]``/``[m_codes]`` names); the first problem is a :class:`ToolError`
+    ``FILE:LINE: ...``."""
+    S = MACHINE_FILE_SCHEMA
+    check_table(data, S[""], where, text=text, error=ToolError)
+    m = data.get("machine")
+    if isinstance(m, Mapping):
+        check_table(m, S["machine"], where, text=text, table="machine", error=ToolError)
+        for k in ("reference", "tool_change"):
+            if isinstance(m.get(k), Mapping):
+                check_table(m[k], S[f"machine.{k}"], where, text=text, table="machine",
+                            error=ToolError, label=f"machine.{k}")
+    lim = data.get("limits")
+    if isinstance(lim, Mapping):
+        check_table(lim, S["limits"], where, text=text, table="limits", error=ToolError)
+    wo = data.get("work_offsets")
+    if isinstance(wo, Mapping):
+        names = {f"G{n}": Key("table") for n in range(54, 60)}
+        names.update({k.lower(): v for k, v in names.items()})
+        check_table(wo, names, where, text=text, table="work_offsets", error=ToolError)
+        for k, v in wo.items():
+            check_table(v, _XZ, where, text=text, table="work_offsets", error=ToolError,
+                        label=f"work_offsets.{k}")
+    mc = data.get("m_codes")
+    if isinstance(mc, Mapping):
+        for k in mc:
+            if not re.fullmatch(r"[Mm]\d{1,2}", str(k)):
+                n = key_line(text, "m_codes", str(k))
+                raise ToolError(f"{where}{':' + str(n) if n else ''}: m_codes: '{k}' is not an M code "
+                                f"(write M08 = \"coolant_on\")")
+        check_table(mc, {str(k): Key("str", choices=M_MEANINGS) for k in mc}, where, text=text,
+                    table="m_codes", error=ToolError)
+    regs = data.get("register")
+    if isinstance(regs, list):
+        for i, r in enumerate(regs):
+            check_table(r, S["register"], where, text=text, table="register", index=i,
+                        error=ToolError, label=f"register[{i}]")
+
+
 def _m_codes(tbl: Any, where: str) -> dict[int, str]:
     """The default M codes updated by the machine file's ``[m_codes]`` (``M08 = "coolant_on"``)."""
     out = dict(DEFAULT_M_CODES)
@@ -329,7 +395,8 @@ def load_machine(path: str | Path | None = None, tools: "ToolLibrary | None" = N
     Offset registers: those of the tool library (the default library when ``tools`` is None)
     first, then the machine file's own ``[[register]]`` entries, which win.
     """
-    data, where = _load_toml(path, "machine.toml")
+    data, where, text = _load_toml_text(path, "machine.toml")
+    _check_machine_file(data, where, text)
     m = data.get("machine", {})
     if not isinstance(m, Mapping):
         raise ToolError(f"{where}: [machine] must be a table")

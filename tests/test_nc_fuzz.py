@@ -21,7 +21,8 @@ def outcome(text: str):
     except NCError as e:
         assert isinstance(e.message, str) and e.message
         assert isinstance(e.line, int) and e.line >= 0 and isinstance(e.col, int) and e.col >= 0
-        e.one_line()
+        line = e.one_line()
+        assert line.isprintable() and len(line) < 1200, line  # one printable line, bounded
         return e
     assert isinstance(tp, Toolpath)
     for m in tp.moves:
@@ -36,6 +37,15 @@ def outcome(text: str):
 @given(st.binary(max_size=300))
 def test_random_bytes(data):
     outcome(data.decode("latin-1"))
+
+
+@SETTINGS
+@given(st.lists(st.sampled_from(["G01 X10 Z-5 F100", "G00 X20", "#1=1", "(c)", "M30", "%1", "O2",
+                                 "\r", "\n", "\r\n", "\0", "\x1b[2J", "\x0b", "\u00b3", "\u2028",
+                                 "9" * 400, "IF 1", "ENDIF", "WHILE 1", "ENDW", "G41 G01 X5",
+                                 "G40 G00 X30", "C1", "R1"]), max_size=30))
+def test_line_ends_and_control_characters(parts):
+    outcome("".join(parts))
 
 
 WORDS = ["G00", "G01", "G02", "G03", "G04", "G90", "G91", "G36", "G37", "G20", "G21", "G92", "G28",

@@ -275,8 +275,8 @@ def test_m_codes_table_in_a_machine_file(tmp_path):
     tp = run(prog("M13 S400 M10", "G1 X10 F100"), m, start=(20, 5))
     assert tp.moves[0].spindle_dir == 3
     from hnc_cam.errors import ToolError
-    for bad, words in (('M30 = "other"', "fixed by the CNC"), ('M10 = "coolant"', "must be one of"),
-                       ('X10 = "other"', "M00-M99")):
+    for bad, words in (('M30 = "other"', "fixed by the CNC"), ('M10 = "coolant"', "is not one of"),
+                       ('X10 = "other"', "not an M code")):
         p.write_text(f"[m_codes]\n{bad}\n")
         with pytest.raises(ToolError, match=words):
             load_machine(p)
@@ -290,11 +290,18 @@ def test_limits_table_in_a_machine_file(tmp_path):
     e = alarm(prog("G1F100", "WHILE 1", "U1", "U-1", "ENDW"), machine=m)
     assert "limit of 10 moves" in e.message
     from hnc_cam.errors import ToolError
-    p.write_text("[limits]\nmovez = 10\n")
-    with pytest.raises(ToolError, match="unknown key"):
+    # the machine file's keys go through hnc_cam.schema: FILE:LINE, did-you-mean, ranges
+    p.write_text("[limits]\nmoves = 10\nmovez = 10\n")
+    with pytest.raises(ToolError, match=rf"^{p}:3: unknown key 'movez' \(did you mean 'moves'\?\)"):
         load_machine(p)
-    p.write_text("[limits]\nmoves = 0\n")
-    with pytest.raises(ToolError, match="positive integer"):
+    p.write_text("[limits]\n\nmoves = 0\n")
+    with pytest.raises(ToolError, match=rf"^{p}:3: moves = 0 is out of range"):
+        load_machine(p)
+    p.write_text("[machine]\nrapid_x = 4000\nstep_limt = 5\n")
+    with pytest.raises(ToolError, match=rf"^{p}:3: unknown key 'step_limt' \(did you mean 'step_limit'\?\)"):
+        load_machine(p)
+    p.write_text('[m_codes]\nM08 = "coolnt_on"\n')
+    with pytest.raises(ToolError, match=rf'^{p}:2: M08 = "coolnt_on" is not one of: .*did you mean "coolant_on"'):
         load_machine(p)
 
 
