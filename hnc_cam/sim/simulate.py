@@ -463,7 +463,7 @@ def simulate(toolpath: Toolpath, stock: Stock | BaseGeometry, machine: Machine |
             # the material the batch can meet: inside the convex hull of its sweeps, grown by
             # SEAM so that the zone's boundary lies off every sweep (an overlay, not GEOS's
             # rectangle clip, which can return a wrong region for a valid polygon)
-            hull = shapely.convex_hull(shapely.multipolygons(geoms))
+            hull = shapely.convex_hull(shapely.geometrycollections(geoms))
             zone = shapely.buffer(hull, SEAM, join_style="mitre")
             local0 = inter(material, zone)
             if local0.is_empty:
