@@ -48,7 +48,9 @@ summary, not as a collision.
 """
 from __future__ import annotations
 
+import gc
 import math
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Any, Iterable
 from ..units import fmt_cycle_time
@@ -441,72 +443,87 @@ def simulate(toolpath: Toolpath, stock: Stock | BaseGeometry, machine: Machine |
             issues.append(Issue(m.line, toolpath.block(m.line),
                                 "thread move while the spindle is not turning", "thread-spindle"))
 
-    for c0 in range(0, n, CHUNK):
-        cm = moves[c0:c0 + CHUNK]
-        run = sweeper.run(cm)
-        has = np.flatnonzero(shapely.is_empty(run.sweeps) == False)  # noqa: E712 (None -> False)
-        has = has[run.sweeps[has] != None]  # noqa: E711
-        if len(has):
-            boxes[c0 + has] = shapely.bounds(run.sweeps[has])
-        for b0 in range(0, len(cm), batch):
-            if material.is_empty:
-                break
-            b1 = min(b0 + batch, len(cm))
-            lo, hi = np.searchsorted(has, [b0, b1])
-            if hi <= lo:
-                continue
-            idx = has[lo:hi]
-            geoms = run.sweeps[idx]
-            bb = boxes[c0 + idx]
-            if not _boxes_meet(material, bb):
-                continue
-            # the material the batch can meet: inside the convex hull of its sweeps, grown by
-            # SEAM so that the zone's boundary lies off every sweep (an overlay, not GEOS's
-            # rectangle clip, which can return a wrong region for a valid polygon)
-            hull = shapely.convex_hull(shapely.geometrycollections(geoms))
-            zone = shapely.buffer(hull, SEAM, join_style="mitre")
-            local0 = inter(material, zone)
-            if local0.is_empty:
-                continue
-            shapely.prepare(local0)
-            # the local material only shrinks: a sweep that misses it now misses it later too
-            hit = shapely.intersects(local0, geoms)
-            nc_hit = run.non_cutting_candidates(local0, b0, b1)
-            shapely.destroy_prepared(local0)
-            local = local0
-            local_area = _lib_area(local)
-            for k, g in zip(idx[hit].tolist(), geoms[hit].tolist()):
-                after = _difference(local, g)
-                after_area = _lib_area(after)
-                a = local_area - after_area
-                if a > 1e-12:
-                    removed_area[c0 + k] = a
-                    if a > TOUCH_AREA:
-                        m = cm[k]
-                        nc = k in nc_hit
-                        if nc or _checked(m):
-                            _check_move(m, local, g, sweeper.shape(m), run.path(k),
-                                        toolpath, issues, notes, nc)
-                    local, local_area = after, after_area
-            if local is local0:
-                continue
-            # the material outside the zone is untouched; both pieces meet on the zone's boundary
-            # at the same nodes (one noding of the material with the zone for both overlays)
-            material = _drop_specks(union_of([diff(material, zone), local]))
-            # pieces cut loose from the chucked end fall off
-            parts = polygons(material)
-            if len(parts) > 1 and chuck is not None:
-                keep = [p for p in parts if p.intersects(chuck)]
-                lost = [p for p in parts if not p.intersects(chuck)]
-                if lost:
-                    fallen.extend(lost)
-                    material = clean(shapely.union_all(keep)) if keep else Polygon()
+    # the loop makes many short-lived objects and no reference cycles: the cyclic collector
+    # would only rescan the toolpath's moves, more of them the longer the program
+    with _gc_paused():
+        for c0 in range(0, n, CHUNK):
+            cm = moves[c0:c0 + CHUNK]
+            run = sweeper.run(cm)
+            has = np.flatnonzero(shapely.is_empty(run.sweeps) == False)  # noqa: E712 (None -> False)
+            has = has[run.sweeps[has] != None]  # noqa: E711
+            if len(has):
+                boxes[c0 + has] = shapely.bounds(run.sweeps[has])
+            for b0 in range(0, len(cm), batch):
+                if material.is_empty:
+                    break
+                b1 = min(b0 + batch, len(cm))
+                lo, hi = np.searchsorted(has, [b0, b1])
+                if hi <= lo:
+                    continue
+                idx = has[lo:hi]
+                geoms = run.sweeps[idx]
+                bb = boxes[c0 + idx]
+                if not _boxes_meet(material, bb):
+                    continue
+                # the material the batch can meet: inside the convex hull of its sweeps, grown by
+                # SEAM so that the zone's boundary lies off every sweep (an overlay, not GEOS's
+                # rectangle clip, which can return a wrong region for a valid polygon)
+                hull = shapely.convex_hull(shapely.geometrycollections(geoms))
+                zone = shapely.buffer(hull, SEAM, join_style="mitre")
+                local0 = inter(material, zone)
+                if local0.is_empty:
+                    continue
+                shapely.prepare(local0)
+                # the local material only shrinks: a sweep that misses it now misses it later too
+                hit = shapely.intersects(local0, geoms)
+                nc_hit = run.non_cutting_candidates(local0, b0, b1)
+                shapely.destroy_prepared(local0)
+                local = local0
+                local_area = _lib_area(local)
+                for k, g in zip(idx[hit].tolist(), geoms[hit].tolist()):
+                    after = _difference(local, g)
+                    after_area = _lib_area(after)
+                    a = local_area - after_area
+                    if a > 1e-12:
+                        removed_area[c0 + k] = a
+                        if a > TOUCH_AREA:
+                            m = cm[k]
+                            nc = k in nc_hit
+                            if nc or _checked(m):
+                                _check_move(m, local, g, sweeper.shape(m), run.path(k),
+                                            toolpath, issues, notes, nc)
+                        local, local_area = after, after_area
+                if local is local0:
+                    continue
+                # the material outside the zone is untouched; both pieces meet on the zone's boundary
+                # at the same nodes (one noding of the material with the zone for both overlays)
+                material = _drop_specks(union_of([diff(material, zone), local]))
+                # pieces cut loose from the chucked end fall off
+                parts = polygons(material)
+                if len(parts) > 1 and chuck is not None:
+                    keep = [p for p in parts if p.intersects(chuck)]
+                    lost = [p for p in parts if not p.intersects(chuck)]
+                    if lost:
+                        fallen.extend(lost)
+                        material = clean(shapely.union_all(keep)) if keep else Polygon()
 
     issues.sort(key=lambda i: i.line)
     return Machined(material=material, stock=start_region, toolpath=toolpath, issues=issues,
                     removed_area=removed_area, sweep_bounds=boxes, shapes=dict(sweeper.shapes),
                     thread_spans=_thread_spans(moves, machine), fallen=fallen, machine=machine,
                     notes=notes)
+
+
+@contextmanager
+def _gc_paused():
+    """The cyclic garbage collector off for the block (as it was after)."""
+    was = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if was:
+            gc.enable()
 
 
 def _boxes_meet(g: BaseGeometry, bb: np.ndarray) -> bool:
