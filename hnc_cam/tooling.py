@@ -194,7 +194,7 @@ class Machine:
     reference: tuple[float, float] = (100.0, 150.0)  # (x radius, z) machine coordinates
     max_rpm: float = 3000.0
     default_feed: float = 100.0  # mm/min, used (with a warning) before any F
-    step_limit: int = 10_000_000
+    step_limit: int = 2_000_000  # statements executed before the step-limit alarm
     tool_change: tuple[float, float] = (50.0, 100.0)  # (x radius, z) work coordinates
     diameter_mode: bool = True  # power-on G36 (True) or G37 radius programming (False)
     work_offsets: dict[str, tuple[float, float]] = field(
