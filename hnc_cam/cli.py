@@ -33,6 +33,16 @@ def _jobs(s: str) -> int:
     return v
 
 
+def _scheduler(s: str) -> str:
+    """A Dask scheduler address, tcp://HOST:PORT (checked here; connected to by family)."""
+    import re
+    if not re.fullmatch(r"tcp://(\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9._-]+):[0-9]{1,5}", s) or \
+            not 0 < int(s.rsplit(":", 1)[1]) < 65536:
+        raise argparse.ArgumentTypeError(f"{s!r}: expected a Dask scheduler address "
+                                         f"tcp://HOST:PORT")
+    return s
+
+
 class _Parser(argparse.ArgumentParser):
     """Bad options are one line on stderr and exit 2 (no usage block)."""
 
@@ -149,6 +159,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--table", required=True, metavar="FILE.csv")
     p.add_argument("--out", required=True, metavar="DIR")
     p.add_argument("--jobs", type=_jobs, default=0, metavar="N", help="worker processes (0 = all cores)")
+    p.add_argument("--scheduler", type=_scheduler, metavar="tcp://HOST:PORT",
+                   help="run the rows on this Dask distributed cluster (needs the cluster "
+                        "extra: pip install hnc_cam[cluster]); --jobs is then ignored")
     _add_set(p)
     _add_gen_options(p)
     _add_profile_options(p)

@@ -7,7 +7,9 @@ family: one program per CSV row (columns: the part's parameters, optional ``prog
 and ``stock``), ``DIR/O<number>.nc`` plus ``DIR/summary.csv`` (row, program_number, file,
 status, operations, cycle_time_s, verified, max_overcut_mm, max_undercut_mm, message).
 Rows run in worker processes (``--jobs``, default all cores) that import the CAD kernel once
-(pool initializer) and are reused for every row. A bad row is reported (stderr and
+(pool initializer) and are reused for every row, or, with ``--scheduler tcp://HOST:PORT``,
+as tasks on a Dask distributed cluster whose workers import it with their first row (the
+same progress bar, summary.csv, order and messages; identical programs). A bad row is reported (stderr and
 summary.csv) and the others still complete; the exit code is then 2 (1 when the only
 failures are verification failures).
 """
@@ -97,6 +99,13 @@ def _generate_command(args: argparse.Namespace) -> int:
 
 #: how many times this process ran the worker initializer (a reused worker reports 1)
 _INITS = 0
+#: the process that counted _INITS (a forked worker starts its own count at 0)
+_INIT_PID: list[int | None] = [None]
+
+
+def _inits() -> int:
+    """How many times this process ran the worker initializer."""
+    return _INITS if _INIT_PID[0] == os.getpid() else 0
 #: pid of the process that runs the family (set before the pool starts)
 _PARENT: list[int | None] = [None]
 
@@ -227,6 +236,8 @@ def _init_worker(opts: dict[str, Any] | None = None) -> None:
     load the tool library, the machine and the templates (cached in :mod:`hnc_cam.plan.api`
     for every row the worker runs)."""
     global _INITS
+    if _INIT_PID[0] != os.getpid():
+        _INITS, _INIT_PID[0] = 0, os.getpid()
     _INITS += 1
     if _PARENT[0] is not None and os.getpid() != _PARENT[0]:
         _bind_to_parent(_PARENT[0])
@@ -250,7 +261,7 @@ def _row_job(job: tuple) -> dict[str, Any]:
     """Generate one row; never raises (the error becomes the row's result)."""
     idx, line, part, stock, params, number, opts = job
     out: dict[str, Any] = {"row": idx, "line": line, "program_number": number,
-                           "worker": (os.getpid(), _INITS)}
+                           "worker": (os.getpid(), _inits())}
     opts = dict(opts)
     kw = opts.pop("profile", None)
     try:
@@ -390,7 +401,8 @@ def family_command(args: argparse.Namespace) -> int:
 
     interrupted = 0
     try:
-        results.extend(_run_jobs(jobs, n_jobs, opts, on_done=done))
+        results.extend(_run_jobs(jobs, n_jobs, opts, on_done=done,
+                                 scheduler=getattr(args, "scheduler", None)))
     except _Interrupted as e:
         interrupted = e.signum
         results.extend(e.done)
@@ -418,13 +430,13 @@ def family_command(args: argparse.Namespace) -> int:
             errors.setdefault(str(r["message"]), []).append(r)
         w.writerow({k: r.get(k, "") for k in fields})
     write_atomic(out_dir / "summary.csv", buf.getvalue())
-    if getattr(args, "report", None) or getattr(args, "junit", None):
-        from ..report import family_outputs
-        family_outputs(args, jobs, results)
     for msg, rs in errors.items():
         which = (f"row {rs[0]['row']} (line {rs[0]['line']})" if len(rs) == 1 else
                  f"rows {', '.join(str(r['row']) for r in rs)}")
         print(f"error: {args.table} {which}: {msg}", file=sys.stderr)
+    if getattr(args, "report", None) or getattr(args, "junit", None):
+        from ..report import family_outputs
+        family_outputs(args, jobs, results)
     if interrupted:
         print(f"interrupted ({signal.Signals(interrupted).name}): {ok} of {len(results)} "
               f"program(s) written to {out_dir}; {out_dir / 'summary.csv'} lists the rows not "
@@ -437,10 +449,11 @@ def family_command(args: argparse.Namespace) -> int:
 
 
 def _run_jobs(jobs: list[tuple], n_jobs: int, opts: dict[str, Any] | None = None,
-              on_done: Any = None) -> list[dict[str, Any]]:
-    """Run the rows (in worker processes for ``n_jobs`` > 1); ``on_done(result)`` in this
-    process as each ends. Ctrl-C or SIGTERM stops the workers and raises :class:`_Interrupted`
-    with the rows finished so far."""
+              on_done: Any = None, scheduler: str | None = None) -> list[dict[str, Any]]:
+    """Run the rows (in worker processes for ``n_jobs`` > 1, or on the Dask cluster whose
+    scheduler listens at ``scheduler``); ``on_done(result)`` in this process as each ends.
+    Ctrl-C or SIGTERM stops the workers (cancels the cluster's rows) and raises
+    :class:`_Interrupted` with the rows finished so far."""
     import signal
     if not jobs:
         return []
@@ -452,6 +465,8 @@ def _run_jobs(jobs: list[tuple], n_jobs: int, opts: dict[str, Any] | None = None
     old_term = signal.signal(signal.SIGTERM, on_term)
     _PARENT[0] = os.getpid()
     try:
+        if scheduler:
+            return _run_cluster(jobs, scheduler, opts, on_done, out)
         return _run_pool(jobs, n_jobs, opts, on_done, out)
     except KeyboardInterrupt:
         raise _Interrupted(out, signal.SIGINT) from None
@@ -459,17 +474,20 @@ def _run_jobs(jobs: list[tuple], n_jobs: int, opts: dict[str, Any] | None = None
         signal.signal(signal.SIGTERM, old_term)
 
 
+def _progress(total: int) -> tuple[Any, Any]:
+    """The rich progress bar on stderr when it is a terminal (else None), started."""
+    if not sys.stderr.isatty():
+        return None, None
+    from rich.console import Console
+    from rich.progress import Progress
+    progress = Progress(console=Console(stderr=True), transient=True)
+    progress.start()
+    return progress, progress.add_task("generating", total=total)
+
+
 def _run_pool(jobs: list[tuple], n_jobs: int, opts: dict[str, Any] | None, on_done: Any,
               out: list[dict[str, Any]]) -> list[dict[str, Any]]:
-    progress = None
-    if sys.stderr.isatty():
-        from rich.console import Console
-        from rich.progress import Progress
-        progress = Progress(console=Console(stderr=True), transient=True)
-    task = None
-    if progress is not None:
-        progress.start()
-        task = progress.add_task("generating", total=len(jobs))
+    progress, task = _progress(len(jobs))
     try:
         if n_jobs <= 1 or len(jobs) == 1:
             _init_worker(opts)
@@ -507,4 +525,99 @@ def _run_pool(jobs: list[tuple], n_jobs: int, opts: dict[str, Any] | None, on_do
     finally:
         if progress is not None:
             progress.stop()
+    return out
+
+
+# ------------------------------------------------------------------------------------------
+# family on a Dask distributed cluster
+# ------------------------------------------------------------------------------------------
+
+def _cluster_row_job(job: tuple) -> dict[str, Any]:
+    """One row on a Dask worker. The first row a worker process runs imports the CAD kernel,
+    the interpreter and the simulator and loads the tables (module state, so a long-lived
+    worker does it once for all the families it runs; the tables are reloaded only when their
+    file changes); then as :func:`_row_job`."""
+    if _inits() == 0:
+        _init_worker(job[6])
+    return _row_job(job)
+
+
+#: seconds to wait for the Dask scheduler to answer
+CONNECT_TIMEOUT_S = 10.0
+
+
+def _cluster_client(scheduler: str) -> Any:
+    """A client of the Dask scheduler at ``scheduler`` (one line when distributed is absent or
+    the scheduler does not answer)."""
+    try:
+        from distributed import Client
+    except ImportError:
+        raise HncError(f"--scheduler {scheduler}: the distributed package is not installed "
+                       f"(pip install 'hnc_cam[cluster]')") from None
+    try:
+        return Client(scheduler, timeout=CONNECT_TIMEOUT_S, set_as_default=False)
+    except (OSError, TimeoutError) as e:
+        raise HncError(f"--scheduler {scheduler}: cannot connect to the Dask scheduler: "
+                       f"{str(e).splitlines()[0] if str(e) else type(e).__name__}") from None
+
+
+def _run_cluster(jobs: list[tuple], scheduler: str, opts: dict[str, Any] | None, on_done: Any,
+                 out: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """The rows as tasks on a Dask cluster: the same results, progress bar and on_done as the
+    local pool; a row whose worker is lost becomes that row's error. The part file, the tool
+    library, the machine file and the templates are read by the workers at the paths given
+    (the same files on every machine: a shared folder)."""
+    import uuid
+    # workers may run in another folder: they get absolute paths, and the messages they
+    # return name the files as the user gave them
+    given: dict[str, str] = {}
+
+    def absolute(path: Any) -> Any:
+        if path is None or os.path.isabs(str(path)):
+            return path
+        given[os.path.abspath(str(path))] = str(path)
+        return os.path.abspath(str(path))
+
+    wopts = dict(opts or {})
+    for k in ("tools", "machine", "templates"):
+        wopts[k] = absolute(wopts.get(k))
+    sent = [(j[0], j[1], absolute(j[2]), j[3], j[4], j[5], wopts) for j in jobs]
+    client = _cluster_client(scheduler)
+    progress, task = _progress(len(jobs))
+    futs: list[Any] = []
+    try:
+        from distributed import as_completed
+        tag = uuid.uuid4().hex[:12]
+        futs = [client.submit(_cluster_row_job, j, key=f"hnc-family-{tag}-{j[0]}", pure=False)
+                for j in sent]
+        by_key = {f.key: j for f, j in zip(futs, jobs)}
+        for f in as_completed(futs, loop=client.loop):
+            try:
+                r = f.result()
+            except Exception as e:  # the worker died or the task could not run
+                j = by_key[f.key]
+                msg = str(e).splitlines()[0] if str(e) else ""
+                r = {"row": j[0], "line": j[1], "program_number": j[5], "status": "error",
+                     "exit": 2, "message": f"cluster error: {type(e).__name__}: {msg}".rstrip()}
+            if r.get("message"):
+                for full, as_given in given.items():
+                    r["message"] = r["message"].replace(full, as_given)
+            if on_done is not None:
+                on_done(r)
+            out.append(r)
+            if progress is not None:
+                progress.advance(task)
+    except BaseException:
+        try:
+            client.cancel(futs, force=True)
+        except Exception:  # pragma: no cover - the client is closed below anyway
+            pass
+        raise
+    finally:
+        if progress is not None:
+            progress.stop()
+        try:
+            client.close(timeout=10)
+        except Exception:  # pragma: no cover - closing a client whose scheduler went away
+            pass
     return out
