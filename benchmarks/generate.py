@@ -73,7 +73,7 @@ def stages(n: int = 10) -> str:
     from hnc_cam.tooling import Stock
     lib = _load_tools(None)
     mach = _load_machine(None, lib)
-    t = dict.fromkeys(("load", "plan", "render", "interpret", "verify"), 0.0)
+    t = dict.fromkeys(("load", "plan", "render", "interpret", "simulate", "verify"), 0.0)
     for i in range(n + 1):
         t0 = time.perf_counter()
         lp = load_part(str(PART), {"length": str(95 + i % 10)})
@@ -85,12 +85,41 @@ def stages(n: int = 10) -> str:
         t3 = time.perf_counter()
         tp = run(text, machine=mach, start="reference")
         t4 = time.perf_counter()
-        verify(simulate(tp, st, machine=mach, model=plan.profile), plan.profile, tol=0.01)
+        sim = simulate(tp, st, machine=mach, model=plan.profile)
         t5 = time.perf_counter()
+        verify(sim, plan.profile, tol=0.01)
+        t6 = time.perf_counter()
         if i:  # the first round warms up
-            for k, v in zip(t, (t1 - t0, t2 - t1, t3 - t2, t4 - t3, t5 - t4)):
+            for k, v in zip(t, (t1 - t0, t2 - t1, t3 - t2, t4 - t3, t5 - t4, t6 - t5)):
                 t[k] += v
-    return ", ".join(f"{k} {1000 * v / n:.1f}" for k, v in t.items())
+    total = sum(t.values())
+    return (", ".join(f"{k} {1000 * v / n:.1f} ({100 * v / total:.0f} %)" for k, v in t.items())
+            + f"; total {1000 * total / n:.1f}")
+
+
+def cold_start() -> str:
+    """What a fresh process pays once before its first row (a family worker pays it once, a
+    ``generate`` command every time): interpreter start, the CAD kernel import, the rest of
+    the generator's imports, the tables and templates; measured in a child process."""
+    import subprocess
+    code = (
+        "import time; t0 = time.perf_counter()\n"
+        "import build123d\n"
+        "t1 = time.perf_counter()\n"
+        "from hnc_cam.plan.api import generate, warm; import hnc_cam.cad.extract, hnc_cam.nc, "
+        "hnc_cam.sim\n"
+        "t2 = time.perf_counter()\n"
+        "warm()\n"
+        "t3 = time.perf_counter()\n"
+        "print(t1 - t0, t2 - t1, t3 - t2)\n")
+    t0 = time.perf_counter()
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         cwd=REPO, check=True).stdout.split()
+    whole = time.perf_counter() - t0
+    kernel, rest, tables = (float(x) for x in out)
+    return (f"process {1000 * whole:.0f} ms: CAD kernel import {1000 * kernel:.0f}, other "
+            f"imports {1000 * rest:.0f}, tables + templates {1000 * tables:.0f}, interpreter "
+            f"start and exit {1000 * (whole - kernel - rest - tables):.0f}")
 
 
 def main() -> None:
@@ -102,7 +131,8 @@ def main() -> None:
     print(f"load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
     print(f"generate, warm, family 1: {warm_generate(10, False):.1f} ms/part without "
           f"verification, {warm_generate(5, True):.1f} ms/part with verification")
-    print(f"stages, ms/part: {stages()}")
+    print(f"stages, ms/part (warm, share of the row): {stages()}")
+    print(f"cold start, once per worker or generate command: {cold_start()}")
     if not a.no_family:
         for jobs in (1, 2):
             print(f"family of {a.rows} rows, --jobs {jobs}: {family(a.rows, jobs):.2f} parts/s "
