@@ -122,6 +122,33 @@ def cold_start() -> str:
             f"start and exit {1000 * (whole - kernel - rest - tables):.0f}")
 
 
+def step_generate(n: int = 3) -> str:
+    """Whole ``hnc-cam generate`` processes on a STEP file (best of n): without the profile
+    cache, and a repeat with it (the CAD kernel is then neither imported nor run)."""
+    import os
+    import subprocess
+    step = REPO / "tests" / "data" / "stepped_shaft.step"
+    tmp = Path(tempfile.mkdtemp(prefix="hnc-bench-cache-"))
+    try:
+        def once(cache: bool) -> float:
+            env = dict(os.environ)
+            env.pop("HNC_CAM_PROFILE_CACHE", None)
+            if cache:
+                env["HNC_CAM_PROFILE_CACHE"] = str(tmp / "cache")
+            t0 = time.perf_counter()
+            subprocess.run([sys.executable, "-m", "hnc_cam.cli", "generate", str(step),
+                            "--stock", "45x120+2", "-o", str(tmp / "o.nc")], env=env,
+                           check=True, capture_output=True)
+            return time.perf_counter() - t0
+        once(True)  # fills the cache
+        plain = min(once(False) for _ in range(n))
+        cached = min(once(True) for _ in range(n))
+        return (f"{1000 * plain:.0f} ms without the cache, {1000 * cached:.0f} ms with a "
+                f"cached profile ({plain / cached:.1f}x)")
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--rows", type=int, default=200)
@@ -133,6 +160,7 @@ def main() -> None:
           f"verification, {warm_generate(5, True):.1f} ms/part with verification")
     print(f"stages, ms/part (warm, share of the row): {stages()}")
     print(f"cold start, once per worker or generate command: {cold_start()}")
+    print(f"generate of a STEP file, whole process, best of 3: {step_generate()}")
     if not a.no_family:
         for jobs in (1, 2):
             print(f"family of {a.rows} rows, --jobs {jobs}: {family(a.rows, jobs):.2f} parts/s "

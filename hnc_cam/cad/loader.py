@@ -229,8 +229,6 @@ def load_part(path: str | Path, params: dict[str, Any] | None = None,
     ``fit_tol``). Raises :class:`PartError` for the file and its parameters and
     :class:`ProfileError` when the solid cannot be profiled.
     """
-    from .extract import profile
-
     p = Path(path)
     name = profile_kwargs.pop("name", None) or p.stem
     if p.suffix.lower() in CAD_SUFFIXES:
@@ -239,12 +237,21 @@ def load_part(path: str | Path, params: dict[str, Any] | None = None,
         if not p.exists():
             raise PartError(f"{p}: no such file")
         _regular(p)
-        try:
-            prof = profile(p, name=name, **profile_kwargs)
-        except ProfileError as e:
-            raise ProfileError(_cli_hints(str(e))) from None
+        cache = ProfileCache.from_environment()
+        key = cache.key(p, name, profile_kwargs) if cache is not None else None
+        prof = cache.get(key) if cache is not None and key is not None else None
+        if prof is None:
+            from .extract import profile
+            try:
+                prof = profile(p, name=name, **profile_kwargs)
+            except ProfileError as e:
+                raise ProfileError(_cli_hints(str(e))) from None
+            # cached only when the file did not change while it was read
+            if cache is not None and key is not None and cache.key(p, name, profile_kwargs) == key:
+                cache.put(key, prof)
         return LoadedPart(profile=prof, stock=None, threads=[], name=name, params={},
                           module=None, path=p)
+    from .extract import profile
     mod = load_module(p)
     where = str(p)
     full = resolve_params(mod, params, where)
@@ -276,6 +283,107 @@ def load_part(path: str | Path, params: dict[str, Any] | None = None,
     _check_threads(prof, threads, where)
     return LoadedPart(profile=prof, stock=stock, threads=threads, name=name, params=full,
                       module=mod, path=p)
+
+
+#: environment variable naming the folder of the profile cache (unset: no cache)
+CACHE_ENV = "HNC_CAM_PROFILE_CACHE"
+_CODE_KEY: list[bytes] = []
+
+
+def _code_key() -> bytes:
+    """What else decides a profile besides the file: the source of the profile extractor and
+    of the geometry kernel, and the OpenCascade binding's version (read from its metadata,
+    without importing it)."""
+    if not _CODE_KEY:
+        import hashlib
+        from importlib import metadata
+        h = hashlib.sha256()
+        root = Path(__file__).resolve().parents[1]
+        for f in sorted((root / "cad").glob("*.py")) + sorted((root / "geometry").glob("*.py")) \
+                + [root / "errors.py"]:
+            h.update(f"{f.parent.name}/{f.name}".encode() + b"\0" + f.read_bytes() + b"\0")
+        for dist in ("cadquery-ocp", "cadquery-ocp-novtk", "cadquery-ocp-proxy", "OCP"):
+            try:
+                h.update(f"{dist}={metadata.version(dist)}\0".encode())
+            except metadata.PackageNotFoundError:
+                h.update(f"{dist}=-\0".encode())
+        h.update(f"{sys.version_info[:2]}".encode())
+        _CODE_KEY.append(h.digest())
+    return _CODE_KEY[0]
+
+
+class ProfileCache:
+    """Profiles of STEP/BREP files kept on disk, so that a repeated ``generate``/``verify`` of
+    an unchanged file does not import or run the CAD kernel.
+
+    The key is a SHA-256 over the file's whole contents, its resolved path and name, the
+    profile options, and :func:`_code_key` (extractor and geometry source, OCP version): a
+    changed byte in any of them is another key, so a stale profile is never served. An entry
+    that cannot be read back as a profile (truncated, foreign, another Python) is ignored and
+    rewritten; a folder that cannot be written only means no caching. Python part files are
+    not cached: what they build may depend on more than their own text (modules they import,
+    files they read). Enabled by ``HNC_CAM_PROFILE_CACHE=DIR``.
+    """
+
+    MAX_ENTRY = 64 * 1024 * 1024
+
+    def __init__(self, folder: str | Path):
+        self.folder = Path(folder)
+
+    @classmethod
+    def from_environment(cls) -> "ProfileCache | None":
+        import os
+        d = os.environ.get(CACHE_ENV, "")
+        return cls(d) if d else None
+
+    def key(self, path: Path, name: str, options: dict[str, Any]) -> str | None:
+        import hashlib
+        try:
+            with path.open("rb") as fh:
+                digest = hashlib.file_digest(fh, "sha256").digest()
+        except OSError:
+            return None  # the extractor reports the file's fault
+        h = hashlib.sha256(b"hnc_cam profile 1\0")
+        h.update(_code_key())
+        h.update(str(path.resolve()).encode("utf-8", "surrogateescape") + b"\0")
+        h.update(name.encode("utf-8", "surrogateescape") + b"\0")
+        h.update(repr(sorted((k, repr(v)) for k, v in options.items())).encode() + b"\0")
+        h.update(digest)
+        return h.hexdigest()
+
+    def get(self, key: str) -> TurnedProfile | None:
+        import pickle
+        f = self.folder / f"{key}.profile"
+        try:
+            if f.stat().st_size > self.MAX_ENTRY:
+                return None
+            obj = pickle.loads(f.read_bytes())
+        except Exception:  # noqa: BLE001 - a missing or unreadable entry is a miss
+            return None
+        if not (isinstance(obj, tuple) and len(obj) == 2 and obj[0] == key
+                and isinstance(obj[1], TurnedProfile)):
+            return None
+        return obj[1]
+
+    def put(self, key: str, prof: TurnedProfile) -> None:
+        import os
+        import pickle
+        import tempfile
+        try:
+            self.folder.mkdir(parents=True, exist_ok=True)
+            fd, tmp = tempfile.mkstemp(dir=self.folder, prefix=".", suffix=".tmp")
+            try:
+                with os.fdopen(fd, "wb") as fh:
+                    fh.write(pickle.dumps((key, prof), protocol=pickle.HIGHEST_PROTOCOL))
+                os.replace(tmp, self.folder / f"{key}.profile")
+            except BaseException:
+                try:
+                    os.unlink(tmp)
+                except OSError:
+                    pass
+                raise
+        except (OSError, pickle.PicklingError, RecursionError):
+            pass  # no caching there; the profile itself is fine
 
 
 def _regular(p: Path) -> None:
