@@ -115,3 +115,32 @@ def test_bad_scheduler_address_is_an_option_error(tmp_path, capsys, addr):
     err = capsys.readouterr().err.strip().splitlines()
     assert rc == 2 and len(err) == 1 and "tcp://HOST:PORT" in err[0]
     assert not (tmp_path / "o").exists()
+
+
+def test_cluster_interrupt_keeps_finished_rows(cluster):
+    """Ctrl-C while the rows run on the cluster: the rows finished so far come back with the
+    signal, the others are cancelled on the cluster, and the cluster takes new work after."""
+    import signal
+    from distributed import Client
+    from hnc_cam.plan.command import _Interrupted, _run_jobs
+    jobs = [(i, i + 1, str(PART), None, {"nosuch": "1"}, 500 + i, {}) for i in range(1, 7)]
+    seen: list[int] = []
+
+    def on_done(r):
+        seen.append(r["row"])
+        if len(seen) == 2:
+            raise KeyboardInterrupt
+
+    with pytest.raises(_Interrupted) as ei:
+        _run_jobs(jobs, 1, {}, on_done=on_done, scheduler=cluster)
+    assert ei.value.signum == signal.SIGINT
+    assert [r["row"] for r in ei.value.done] == seen[:1]  # the row being handed over is lost
+    with Client(cluster, set_as_default=False) as c:
+        import time
+        t0 = time.monotonic()
+        while any(str(k).startswith("hnc-family-") for k in c.who_has()) and \
+                time.monotonic() - t0 < 10:
+            time.sleep(0.1)
+        assert not any(str(k).startswith("hnc-family-") for k in c.who_has())
+    res = _run_jobs(jobs[:2], 1, {}, scheduler=cluster)
+    assert sorted(r["row"] for r in res) == [1, 2]
