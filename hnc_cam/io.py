@@ -16,6 +16,7 @@ import stat
 import sys
 import tempfile
 from pathlib import Path
+from typing import Callable
 
 from .errors import HncError
 
@@ -136,3 +137,58 @@ def _write_special(path: str | Path, p: Path, raw: bytes) -> None:
         raise HncError(f"{path}: cannot write: {e.strerror or e}") from None
     finally:
         os.close(fd)
+
+
+def read_bytes(path: str | Path, kind: str, error: Callable[[str], Exception] = HncError,
+               max_bytes: int = 16 * 1024 * 1024) -> bytes:
+    """The bytes of a user's input file, ``kind`` naming what it should be ("a TOML file").
+
+    Only a regular file is read: it is opened without blocking, so a FIFO with no writer or a
+    device is refused, not waited on or read without end. A directory, a file over
+    ``max_bytes`` or one that cannot be read raises ``error`` with one line naming the path.
+    """
+    try:
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    except OSError as e:
+        raise error(f"{path}: cannot read: {e.strerror or e}") from None
+    try:
+        st = os.fstat(fd)
+        if stat.S_ISDIR(st.st_mode):
+            raise error(f"{path}: is a directory, not {kind}")
+        if not stat.S_ISREG(st.st_mode):
+            raise error(f"{path}: not a regular file")
+        if st.st_size > max_bytes:
+            raise error(f"{path}: {st.st_size} bytes, more than the {max_bytes} {kind} may have")
+        with os.fdopen(os.dup(fd), "rb") as f:
+            return f.read(max_bytes + 1)
+    except OSError as e:
+        raise error(f"{path}: cannot read: {e.strerror or e}") from None
+    finally:
+        os.close(fd)
+
+
+def decode_text(raw: bytes, where: str, kind: str,
+                error: Callable[[str], Exception] = HncError) -> str:
+    """UTF-8 text of a user's file (a byte-order mark dropped). UTF-16, a byte that is not
+    UTF-8 and a NUL character raise ``error`` with one line and the place (``FILE:LINE:COL``)."""
+    if raw.startswith((b"\xff\xfe", b"\xfe\xff")):
+        raise error(f"{where}: UTF-16 text; save {kind} as UTF-8")
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as e:
+        line = raw[:e.start].count(b"\n") + 1
+        col = e.start - (raw.rfind(b"\n", 0, e.start) + 1) + 1
+        raise error(f"{where}:{line}:{col}: not UTF-8 text (byte 0x{raw[e.start]:02x})") from None
+    if text.startswith("\ufeff"):
+        text = text[1:]
+    if "\0" in text:
+        i = text.index("\0")
+        line = text.count("\n", 0, i) + 1
+        raise error(f"{where}:{line}:{i - text.rfind(chr(10), 0, i)}: NUL byte: not {kind}")
+    return text
+
+
+def read_text(path: str | Path, kind: str, error: Callable[[str], Exception] = HncError,
+              max_bytes: int = 16 * 1024 * 1024) -> str:
+    """``read_bytes`` then ``decode_text``: a user's text file, or one line saying why not."""
+    return decode_text(read_bytes(path, kind, error, max_bytes), str(path), kind, error)

@@ -189,29 +189,9 @@ def read_toml(path: str, error: Callable[[str], Exception] = HncError,
     """Read and parse a TOML file: ``(data, text)``. A file that cannot be read, is not a
     regular file, is too large, is not UTF-8 or is not valid TOML raises ``error`` with one
     line (``FILE:LINE:COL: ...`` for a syntax error)."""
-    import os
-    import stat
-    import tomllib
+    from .io import read_bytes
 
-    try:
-        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
-    except OSError as e:
-        raise error(f"{path}: cannot read: {e.strerror or e}") from None
-    try:
-        st = os.fstat(fd)
-        if stat.S_ISDIR(st.st_mode):
-            raise error(f"{path}: is a directory, not a TOML file")
-        if not stat.S_ISREG(st.st_mode):
-            raise error(f"{path}: not a regular file")
-        if st.st_size > max_bytes:
-            raise error(f"{path}: {st.st_size} bytes, more than the {max_bytes} a TOML file "
-                        f"may have")
-        with os.fdopen(os.dup(fd), "rb") as f:
-            raw = f.read(max_bytes + 1)
-    except OSError as e:
-        raise error(f"{path}: cannot read: {e.strerror or e}") from None
-    finally:
-        os.close(fd)
+    raw = read_bytes(path, "a TOML file", error, max_bytes)
     return parse_toml(raw, path, error), raw.decode("utf-8", "replace")
 
 
@@ -220,25 +200,10 @@ def parse_toml(raw: bytes | str, where: str,
     """Parse TOML bytes or text; bad encoding or syntax -> ``error`` with the place."""
     import tomllib
 
-    if isinstance(raw, bytes):
-        if raw.startswith((b"\xff\xfe", b"\xfe\xff")):
-            raise error(f"{where}: UTF-16 text; save the file as UTF-8")
-        try:
-            text = raw.decode("utf-8")
-        except UnicodeDecodeError as e:
-            line = raw[:e.start].count(b"\n") + 1
-            col = e.start - (raw.rfind(b"\n", 0, e.start) + 1) + 1
-            raise error(f"{where}:{line}:{col}: not UTF-8 text (byte 0x{raw[e.start]:02x})") \
-                from None
-    else:
-        text = raw
-    if text.startswith("\ufeff"):
-        text = text[1:]
-    if "\0" in text:
-        i = text.index("\0")
-        line = text.count("\n", 0, i) + 1
-        raise error(f"{where}:{line}:{i - text.rfind(chr(10), 0, i)}: NUL byte; not a TOML "
-                    f"text file")
+    from .io import decode_text
+
+    text = decode_text(raw if isinstance(raw, bytes) else raw.encode("utf-8", "surrogatepass"),
+                       where, "a TOML file", error)
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as e:

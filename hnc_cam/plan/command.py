@@ -165,20 +165,8 @@ def _check_part_file(path: str) -> None:
         return
     if suffix != ".py":
         raise PartError(f"{path}: a part file is a .py module (or a .step/.stp/.brep file)")
-    if st.st_size > 16 * 1024 * 1024:
-        raise PartError(f"{path}: {st.st_size} bytes: too large for a part file")
-    try:
-        raw = Path(path).read_bytes()
-    except OSError as e:
-        raise PartError(f"{path}: cannot read the part file: {e.strerror or e}") from None
-    try:
-        src = raw.decode("utf-8")
-    except UnicodeDecodeError as e:
-        line = raw[:e.start].count(b"\n") + 1
-        raise PartError(f"{path}:{line}: not UTF-8 text (byte 0x{raw[e.start]:02x})") from None
-    if "\0" in src:
-        raise PartError(f"{path}:{src.count(chr(10), 0, src.index(chr(0))) + 1}: NUL byte: not "
-                        f"a Python file")
+    from ..io import read_text
+    src = read_text(path, "a Python part file", PartError)
     import ast
     try:
         tree = ast.parse(src, path)
@@ -291,28 +279,8 @@ def _row_job(job: tuple) -> dict[str, Any]:
 
 def read_table(path: str) -> tuple[list[str], list[tuple[int, int, dict[str, str] | str]]]:
     """Rows of the CSV: (row index from 1, file line, cells or an error message)."""
-    import stat
-    try:
-        st = os.stat(path)
-        if stat.S_ISDIR(st.st_mode):
-            raise PartError(f"{path}: is a directory, not a CSV table")
-        if not stat.S_ISREG(st.st_mode):
-            raise PartError(f"{path}: not a regular file")
-        if st.st_size > 64 * 1024 * 1024:
-            raise PartError(f"{path}: {st.st_size} bytes: too large for a family table")
-        raw = Path(path).read_bytes()
-    except OSError as e:
-        raise PartError(f"{path}: cannot read the table: {e.strerror or e}") from None
-    if raw.startswith((b"\xff\xfe", b"\xfe\xff")):
-        raise PartError(f"{path}: UTF-16 text; save the table as UTF-8 CSV")
-    try:
-        text = raw.decode("utf-8-sig")
-    except UnicodeDecodeError as e:
-        line = raw[:e.start].count(b"\n") + 1
-        raise PartError(f"{path}:{line}: not UTF-8 text (byte 0x{raw[e.start]:02x})") from None
-    if "\0" in text:
-        raise PartError(f"{path}:{text.count(chr(10), 0, text.index(chr(0))) + 1}: NUL byte: "
-                        f"not a CSV table")
+    from ..io import read_text
+    text = read_text(path, "a CSV table", PartError, 64 * 1024 * 1024)
     rdr = csv.reader(io.StringIO(text))
     try:
         header = next(rdr)
