@@ -331,3 +331,14 @@ def test_css_per_rev_feed_without_f_and_spindle_stopped():
     assert [(m.kind, m.end) for m in tp.moves] == [("line", (0.0, 9.0))]
     assert tp.moves[0].duration == pytest.approx(9 / 100 * 60)
     assert any("default feed" in w.message for w in tp.warnings)
+
+
+@pytest.mark.parametrize("bom", [b"\xff\xfe", b"\xfe\xff"])
+def test_utf16_program_is_one_line_naming_the_encoding(tmp_path, bom):
+    body = "%1\nG00 X20 Z2\nM30\n".encode("utf-16-le" if bom == b"\xff\xfe" else "utf-16-be")
+    p = tmp_path / "u16.nc"
+    p.write_bytes(bom + body)
+    r = cli("run", str(p))
+    assert r.returncode == 2 and r.stdout == ""
+    assert r.stderr.count("\n") == 1 and r.stderr.startswith(f"error: {p}: cannot read the program: UTF-16")
+    assert all(c.isprintable() for c in r.stderr.rstrip("\n"))

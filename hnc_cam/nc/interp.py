@@ -1884,5 +1884,8 @@ def run_file(path: str, machine: Machine | None = None, **kw) -> Toolpath:
     if len(data) > limit:  # grew while we read it
         raise ProgramFileError(f"cannot read the program: more than the machine's limit of {limit} "
                                f"bytes ([limits] program_bytes)", 0, 0, "", name)
+    if data.startswith((b"\xff\xfe", b"\xfe\xff")):
+        raise ProgramFileError("cannot read the program: UTF-16 text (it starts with a byte-order "
+                               "mark); save it as ASCII or UTF-8", 0, 0, "", name)
     text = data.decode("utf-8", errors="replace")
     return run(text, m, file=str(path), **kw)
