@@ -307,3 +307,114 @@ def test_random_monotone_profiles_are_at_exactly_r(steps, r):
         assert dist_to_chain(p, ch) == pytest.approx(r, abs=1e-7)
     for d in res.departures:
         assert d.departure > 0
+
+
+# ---------------------------------------------------------------------------------------------
+# a path that runs over itself: the distance index and the shared measuring budget
+
+def _brute_distance(segs, p):
+    return min(g.distance_to(p) for g in segs)
+
+
+def test_segment_grid_distance_is_the_exact_minimum():
+    import random
+
+    from hnc_cam.geometry.offset import _SegmentGrid
+
+    rng = random.Random(5)
+    segs = []
+    for _ in range(60):  # lines and arcs crossing back and forth over one area, some repeated
+        a = (rng.uniform(0, 30), rng.uniform(-40, 0))
+        b = (rng.uniform(0, 30), rng.uniform(-40, 0))
+        if rng.random() < 0.3:
+            m = ((a[0] + b[0]) / 2, (a[1] + b[1]) / 2)
+            h = dist(a, b) * rng.uniform(0.1, 0.6)
+            d = (b[0] - a[0], b[1] - a[1])
+            c = (m[0] - d[1] / dist(a, b) * h, m[1] + d[0] / dist(a, b) * h)
+            segs.append(Arc(a, b, c, rng.random() < 0.5))
+        else:
+            segs.append(Line(a, b))
+    segs += segs[:20] + [Line(g.end, g.start) for g in segs[:10] if isinstance(g, Line)]
+    segs.append(Line((200.0, 5.0), (201.0, 5.0)))  # far from the rest
+    grid = _SegmentGrid(segs)
+    pts = [(rng.uniform(-20, 60), rng.uniform(-60, 20)) for _ in range(400)]
+    pts += [g.point_at(0.37) for g in segs] + [(1e4, -1e4), (-50.0, 3.0), (200.5, 5.0)]
+    for p in pts:
+        assert grid.distance(p) == _brute_distance(segs, p), p
+
+
+def _loops(n):
+    # a rectangle X 10..15 (radius), Z 0..-20 run n times over itself
+    one = chain_of((10.0, 0.0), (10.0, -20.0), (15.0, -20.0), (15.0, 0.0), (10.0, 0.0))
+    return one * n
+
+
+class _ScanAll:
+    """Reference for the index: a scan of every path segment (no index, no sharing)."""
+
+    def __init__(self, segs):
+        self.segs = list(segs)
+
+    def distance(self, p):
+        return _brute_distance(self.segs, p)
+
+
+@pytest.mark.parametrize("side", ["left", "right"])
+def test_repeated_loop_same_result_with_and_without_the_index(side, monkeypatch):
+    from hnc_cam.geometry import offset as off
+
+    chain = _loops(5) + chain_of((10.0, 0.0), (12.0, -7.0), (10.0, -20.0), (15.0, -3.0))
+    fast = offset_chain(chain, 0.8, side)
+    monkeypatch.setattr(off, "_SegmentGrid", _ScanAll)
+    slow = offset_chain(chain, 0.8, side)
+    assert fast.segments == slow.segments
+    assert [(d.kind, d.segments, d.departure, d.at) for d in fast.departures] == \
+        [(d.kind, d.segments, d.departure, d.at) for d in slow.departures]
+    assert fast.departures
+
+
+def test_repeated_loop_hand_values():
+    # on the right the nose runs inside the rectangle: lines at X 10.5 / 14.5 and Z -0.5 /
+    # -19.5; the path cuts the repeated passes to one; each corner of the rectangle keeps
+    # r (sqrt 2 - 1) of the nose radius
+    r = 0.5
+    chain = _loops(4)
+    res = offset_chain(chain, r, "right")
+    assert_at_exactly_r(res, chain, r)
+    assert [(g.kind, g.start, g.end) for g in res.segments] == [
+        ("line", (14.5, -0.5), (10.5, -0.5)), ("line", (10.5, -0.5), (10.5, -19.5)),
+        ("line", (10.5, -19.5), (14.5, -19.5)), ("line", (14.5, -19.5), (14.5, -0.5)),
+        ("line", (14.5, -0.5), (10.5, -0.5))]
+    corners = {(10.0, 0.0), (10.0, -20.0), (15.0, -20.0), (15.0, 0.0)}
+    assert res.departures
+    for d in res.departures:
+        assert d.departure == pytest.approx(r * (math.sqrt(2) - 1), abs=1e-6)
+        assert min(dist(d.at, c) for c in corners) < 1e-6
+
+
+def _grooves(n, w=1.0, depth=2.0, pitch=4.0):
+    # a face at X 20 (radius) with n grooves of width w < 2r, cut along -Z
+    pts = [(20.0, 0.0)]
+    for k in range(n):
+        z = -pitch * (k + 1)
+        pts += [(20.0, z), (20.0 - depth, z), (20.0 - depth, z - w), (20.0, z - w)]
+    pts.append((20.0, pts[-1][1] - pitch))
+    return chain_of(*pts)
+
+
+def test_many_departures_share_one_budget_and_keep_the_figures():
+    # 25 grooves measured under the shared budget report what one groove alone reports
+    r = 0.8
+    one = offset_chain(_grooves(1), r, "right")
+    many = offset_chain(_grooves(25), r, "right")
+    (g1,) = [d for d in one.departures if d.kind == "groove"]
+    # by hand: the nose bridges the groove touching both rims, its centre sqrt(r^2 - 0.5^2)
+    # above the face; the bottom corner is hypot(2 + that, 0.5) from the centre
+    assert g1.departure == pytest.approx(math.hypot(2 + math.sqrt(r * r - 0.25), 0.5) - r,
+                                         abs=2e-5)
+    gs = [d for d in many.departures if d.kind == "groove"]
+    assert len(gs) == 25
+    for k, d in enumerate(gs):
+        assert d.departure == pytest.approx(g1.departure, abs=2e-5)
+        assert dist(d.at, (g1.at[0], g1.at[1] - 4.0 * k)) < 1e-3
+        assert many.distance_to(d.at) - r == pytest.approx(d.departure, abs=1e-9)
