@@ -132,6 +132,8 @@ class Tool:
     vc_finish: float = 220.0  # m/min
     rpm: float = 0.0  # fixed speed (threading), rpm
     min_bore: float = 0.0  # smallest bore diameter a boring bar enters, mm
+    max_rpm: float = 0.0  # the tool's own spindle limit (0: the machine's), rpm
+    dwell_rev: float = 2.0  # spindle revolutions at the bottom of a groove plunge
     x_offset: float = 0.0  # diameter
     z_offset: float = 0.0
 
@@ -481,6 +483,8 @@ TOOL_KEYS = {
     "vc_finish": Key("float", 1, 2000, "m/min"),
     "rpm": Key("float", 0, 50000, "rpm"),
     "min_bore": Key("float", 0, 2000, "mm"),
+    "max_rpm": Key("float", 0, 50000, "rpm"),
+    "dwell_rev": Key("float", 0.5, 20, "rev"),
     "x": Key("float", -2000, 2000, "mm"),
     "z": Key("float", -2000, 2000, "mm"),
 }
@@ -529,6 +533,7 @@ def load_tools(path: str | Path | None = None) -> ToolLibrary:
             feed_rough=_num(t, "feed_rough", 0.25, w), feed_finish=_num(t, "feed_finish", 0.1, w),
             vc_rough=_num(t, "vc_rough", 180.0, w), vc_finish=_num(t, "vc_finish", 220.0, w),
             rpm=_num(t, "rpm", 0.0, w), min_bore=_num(t, "min_bore", 0.0, w),
+            max_rpm=_num(t, "max_rpm", 0.0, w), dwell_rev=_num(t, "dwell_rev", 2.0, w),
             x_offset=_num(t, "x", 0.0, w), z_offset=_num(t, "z", 0.0, w)))
     return ToolLibrary(tuple(tools), where)
 

@@ -241,6 +241,8 @@ def to_blocks(contour: Sequence[Segment], first_axis: str, feed: float,
             else:
                 b = Block(g, x=s.end[0], z=s.end[1], i=s.center[0] - s.start[0],
                           k=s.center[1] - s.start[1])
+            bb = s.bbox()
+            b.span = (bb[0], bb[2])
         else:
             b = Block(1, x=s.end[0], z=s.end[1])
         if not fed:

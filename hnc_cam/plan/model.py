@@ -32,6 +32,11 @@ class Block:
     label: str = ""
     feed: float | None = None
     comment: str = ""
+    #: the X range (radius) an arc sweeps through, where it is not at its end points
+    span: tuple[float, float] | None = None
+    #: a spindle line written before the block (``G97 S..`` / ``G96 S..``), where the
+    #: contour crosses the diameter below which G96 would exceed the spindle limit
+    spindle: str = ""
 
     @property
     def gcode(self) -> str:

@@ -176,13 +176,14 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
         words: dict[str, Any] = {"x_end": x_end}
         # the HNC-21T's G96 has no clamp word: where the surface speed would need more than
         # the machine's max rpm, the centre of each pass runs G97 at that rpm (G01 passes)
-        r_cap = t.vc_rough * 1000.0 / (2 * math.pi * machine.max_rpm)
+        lim = rpm_limit(t, machine)
+        r_cap = t.vc_rough * 1000.0 / (2 * math.pi * lim)
         cap_note = ""
         if max(x_end, 0.0) < r_cap - 1e-9 < r_stock:
             cyc = "G01"
-            words["cap"] = {"x": r_cap, "rpm": machine.max_rpm}
-            cap_note = (f"; G96 S{_fmt(t.vc_rough)} needs more than {_fmt(machine.max_rpm)} rpm "
-                        f"inside diameter {_fmt(2 * r_cap)}: G97 S{_fmt(machine.max_rpm)} there")
+            words["cap"] = {"x": r_cap, "rpm": lim}
+            cap_note = (f"; G96 S{_fmt(t.vc_rough)} needs more than {_fmt(lim)} rpm "
+                        f"inside diameter {_fmt(2 * r_cap)}: G97 S{_fmt(lim)} there")
         ops.append(Operation(
             name="face", cycle=cyc, template="face.j2", tool=t,
             reason=(f"stock has {_fmt(face_stock)} mm face stock: facing to Z0 in {n} "
@@ -194,7 +195,7 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
 
     # ---------------- OD ----------------
     *od_ops, grooves = _plan_od(od, prof, stock, tools, opts, name, x_a, z_a, r_stock, length,
-                                faced=face_stock > 1e-6, max_rpm=machine.max_rpm)
+                                faced=face_stock > 1e-6, machine=machine)
 
     # ---------------- bore ----------------
     bore_ops: list[Operation] = []
@@ -217,6 +218,8 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
                                 params=dict(params or {})))
 
     for op in ops:
+        if op.blocks and op.name in ("finish", "bore_finish", "profile") and op.speed_mode == "G96":
+            _cap_contour(op, rpm_limit(op.tool, machine))
         plan.notes.extend(op.notes)
         # a start behind the stock's face, outside it: X first, then Z (a combined rapid's
         # dog-leg could run through the stock on the way from the tool-change point)
@@ -241,11 +244,48 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
     for op in ops:
         if prev is not None and prev.tool.number == op.tool.number:
             op.new_tool = False
-            if (prev.speed_mode, prev.speed) == (op.speed_mode, op.speed):
+            if (prev.speed_mode, prev.speed) == (op.speed_mode, op.speed) and \
+                    not prev.words.get("spindle_changed"):
                 op.set_spindle = False
         prev = op
     plan.operations = ops
     return plan
+
+
+def rpm_limit(t: Tool, machine: Machine | None) -> float:
+    """The spindle limit for tool ``t``: the lower of the machine's max rpm and the tool's own
+    ``max_rpm`` (when given)."""
+    lim = machine.max_rpm if machine is not None else 3000.0
+    return min(lim, t.max_rpm) if t.max_rpm > 0 else lim
+
+
+def _cap_contour(op: Operation, limit: float) -> None:
+    """The HNC-21T's G96 has no clamp word: a contour run at G96 switches to G97 at ``limit``
+    rpm before each move that comes inside the diameter where G96 would need more, and back
+    to G96 before the first move that stays outside it. The op starts in G97 when its start
+    point is inside that diameter already."""
+    vc = op.speed
+    r_c = vc * 1000.0 / (2 * math.pi * limit)
+    x, z = abs(op.start[0]), op.start[1]
+    mode = "G96" if x >= r_c - 1e-9 else "G97"
+    if mode == "G97":
+        op.speed_mode, op.speed = "G97", limit
+    first = mode
+    for b in op.blocks:
+        nx = abs(b.x) if b.x is not None else x
+        lo = min(x, nx)
+        if b.span is not None:
+            lo = min(lo, min(abs(b.span[0]), abs(b.span[1])) if b.span[0] * b.span[1] > 0 else 0.0)
+        need = "G97" if lo < r_c - 1e-9 else "G96"
+        if need != mode:
+            b.spindle = f"G97 S{_fmt(limit)}" if need == "G97" else f"G96 S{_fmt(vc)}"
+            mode = need
+        x = nx
+    if mode != first:
+        op.words["spindle_changed"] = True
+    if any(b.spindle for b in op.blocks) or first == "G97":
+        op.reason += (f"; G96 S{_fmt(vc)} needs more than {_fmt(limit)} rpm inside diameter "
+                      f"{_fmt(2 * r_c)}: G97 S{_fmt(limit)} there")
 
 
 # ------------------------------------------------------------------------------------------
@@ -260,7 +300,7 @@ def _pocket_text(p: an.Pocket, bore: bool = False) -> str:
 
 def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibrary,
              opts: Options, name: str, x_a: float, z_a: float, r_stock: float,
-             length: float, faced: bool = False, max_rpm: float = 3000.0
+             length: float, faced: bool = False, machine: Machine | None = None
              ) -> tuple[list[Operation], Operation, list[Operation]]:
     profilers = [t for t in lib.tools if t.kind == "turn" and
                  ("profile" in t.uses or "finish" in t.uses)]
@@ -321,7 +361,8 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
                             f"insert at most {_fmt(width)} mm wide (grooving tools in the library: {have})")
         t = max(fits, key=lambda t: t.insert.width)
         bridged.add(id(p))
-        groove_ops.append(_groove_op(t, z_l, z_r, x_b, p.level, x_a, max_rpm))
+        groove_ops.append(_groove_op(t, z_l, z_r, x_b, p.level, x_a,
+                                         rpm_limit(t, machine)))
     contour = an.assemble(items, bridge=lambda p: id(p) in bridged)
     if faced:
         # enough of the face for the finishing nose to enter the edge along it
@@ -615,8 +656,6 @@ def _allowance(chain: Sequence[Segment], delta: float, base: Point, opts: Option
     return bx * scale, bz * scale
 
 
-#: dwell at a groove's bottom, spindle revolutions (the bottom is cleaned round)
-GROOVE_DWELL_REVS = 2.0
 #: stock left on a wide groove's walls and bottom by the plunges, for the finishing pass, mm
 GROOVE_FINISH = 0.1
 
@@ -624,8 +663,8 @@ GROOVE_FINISH = 0.1
 def _groove_op(t: Tool, z_l: float, z_r: float, x_b: float, level: float,
                x_a: float, max_rpm: float = 3000.0) -> Operation:
     """Plunges with the grooving insert (controlled point: its left corner), each back out
-    only to 0.6 mm above the groove's top; a dwell of :data:`GROOVE_DWELL_REVS` at the
-    bottom. A groove wider than the insert is plunged leaving :data:`GROOVE_FINISH` on the
+    only to 0.6 mm above the groove's top; a dwell of the tool's ``dwell_rev`` revolutions
+    at the bottom. A groove wider than the insert is plunged leaving :data:`GROOVE_FINISH` on the
     walls and the bottom, then finished in one pass: down the right wall, along the bottom,
     up the left wall."""
     w = t.insert.width
@@ -635,8 +674,12 @@ def _groove_op(t: Tool, z_l: float, z_r: float, x_b: float, level: float,
     step = max(0.1 * w, w - 2 * t.nose_radius - 0.05)
     n = max(1, math.ceil((first - last) / step - 1e-9) + 1) if first - last > 1e-9 else 1
     pos = [first - (first - last) * i / (n - 1) for i in range(n)] if n > 1 else [last]
-    rpm = min(max_rpm, t.vc_finish * 1000.0 / (2 * math.pi * max(x_b, 0.5)))
-    dwell = round(GROOVE_DWELL_REVS * 60.0 / rpm, 2)
+    # the HNC-21T's G96 has no clamp word: where the bottom needs more than the spindle
+    # limit, the whole groove runs G97 at the limit
+    rpm = t.vc_finish * 1000.0 / (2 * math.pi * max(x_b, 1e-3))
+    capped = rpm > max_rpm
+    rpm = min(max_rpm, rpm)
+    dwell = round(t.dwell_rev * 60.0 / rpm, 2)
     words = {"x_bottom": x_b + fa, "x_clear": level + 0.6, "dwell": max(dwell, 0.05)}
     if fa > 0:
         words["finish"] = {"z_right": z_r - w, "z_left": z_l, "x_bottom": x_b}
@@ -646,8 +689,8 @@ def _groove_op(t: Tool, z_l: float, z_r: float, x_b: float, level: float,
                 f"steeper than any turning insert reaches, plunged with {describe(t)} in "
                 f"{len(pos)} plunge{'s' if len(pos) > 1 else ''}"
                 + (", then one finishing pass on the walls and bottom" if fa > 0 else "")),
-        start=(x_a, pos[0]), speed=t.vc_finish, feed=t.feed_finish, passes=pos,
-        words=words)
+        start=(x_a, pos[0]), speed_mode="G97" if capped else "G96",
+        speed=rpm if capped else t.vc_finish, feed=t.feed_finish, passes=pos, words=words)
 
 
 # ------------------------------------------------------------------------------------------
@@ -877,7 +920,7 @@ def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stoc
     z_a = max(z_hi, 0.0) + max(3.0, 3 * lead) + depth * math.tan(math.radians(th.angle / 2))
     # G97: the insert's speed, the machine's limit and the shop rule for threading on the
     # HNC-21T's encoder-following spindle, n <= 1200 / lead - 80
-    rpm = min(t.rpm or 500.0, machine.max_rpm, max(50.0, 1200.0 / lead - 80.0))
+    rpm = min(t.rpm or 500.0, rpm_limit(t, machine), max(50.0, 1200.0 / lead - 80.0))
     q = round(min(0.5, max(0.1, depth * 0.4)), 3)
     words: dict[str, Any] = {
         "C": 1, "R": 0.0, "E": 0.0, "A": th.angle, "X": r_root, "Z": z_end, "K": depth,
