@@ -27,8 +27,11 @@ Rules (each operation records its reason, which the program prints as a comment)
   with a negative E for a bore with undercuts) with the boring bar; finished with the same or
   a finishing boring bar.
 * **Finishing**: the ns..nf contour after roughing (tool change when the library's finishing
-  tool is another tool) at G96 surface speed; the spindle limit is the machine's max rpm,
-  which on the HNC-21T is a system parameter (manual 3.3.6), stated in the header.
+  tool is another tool) at G96 surface speed; the spindle limit is the lower of the
+  machine's max rpm (on the HNC-21T a system parameter, manual 3.3.6, stated in the header)
+  and the tool's ``max_rpm``. G96 has no clamp word: facing passes, finishing contours and
+  grooves switch to G97 at the limit inside the diameter where G96 would exceed it
+  (:func:`_cap_contour`); the roughing cycles do not (a cycle cannot change speed inside).
 * **Threads** declared by the part: ``G76`` (or ``G82`` passes) to the standard's depth
   (:attr:`hnc_cam.geometry.Thread.depth`); the end runs one lead into the relief where the
   insert's flanks clear what follows; the start is three leads (plus the flank infeed) before
