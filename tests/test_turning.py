@@ -376,3 +376,42 @@ def test_dwell_rev_and_max_rpm_are_checked_in_the_tool_file(tmp_path):
                    'uses = ["groove"]\ndwell_rev = 3.5\nmax_rpm = 1800\n')
     t = load_tools(src).by_number(7)
     assert (t.dwell_rev, t.max_rpm) == (3.5, 1800.0)
+
+
+# ---------------------------------------------------------------- thread to a shoulder
+
+def _stud_to_shoulder(thread_len=25.0):
+    # M20x1.5 running right up to a 26 mm collar, no relief groove
+    from hnc_cam.geometry import Thread
+    return TurnedProfile(chain((0, 0), (9, 0), (10, -1), (10, -25), (13, -25), (13, -45),
+                               (0, -45)), threads=[Thread(0.0, -thread_len, 20.0, 1.5)],
+                         name="stud_no_relief")
+
+
+def test_thread_without_relief_runs_out_before_the_shoulder():
+    prog = generate(_stud_to_shoulder(), stock="30x50+1")
+    assert prog.report.passed  # the insert never touches the collar, the thread is whole
+    th = [m for m in prog.toolpath.moves if m.kind == "thread"]
+    root = min(m.end[0] for m in th)
+    assert root == pytest.approx(10.0 - 0.6134 * 1.5, abs=0.002)
+    full = [m for m in th if abs(m.start[0] - root) < 1e-6 and abs(m.end[0] - root) < 1e-6]
+    assert full
+    # the last full-depth point is at least one lead before the shoulder at Z-25
+    assert min(m.end[1] for m in full) >= -25.0 + 1.5 - 1e-6
+    # each pass leaves along the run-out: out to the crest while still moving toward the collar
+    outs = [m for m in th if m.end[0] > m.start[0] + 1e-6]
+    assert outs and all(m.end[1] < m.start[1] - 1e-6 for m in outs)
+    assert min(m.end[1] for m in th) > -25.0  # never at the shoulder's face
+    assert max(m.end[0] for m in outs) >= 10.0 - 1e-6
+    assert prog.report.threads[0].achieved_diameter == pytest.approx(18.16, abs=0.05)
+
+
+def test_thread_without_relief_and_no_room_for_the_run_out_is_refused():
+    # two full leads and the run-out do not fit in 5 mm
+    prof = TurnedProfile(chain((0, 0), (9, 0), (10, -1), (10, -5), (13, -5), (13, -30),
+                               (0, -30)), name="short_stud",
+                         threads=[__import__("hnc_cam.geometry", fromlist=["Thread"])
+                                  .Thread(0.0, -5.0, 20.0, 1.5)])
+    with pytest.raises(PlanError, match=r"external thread M20x1.5 from Z0 to Z-5 runs into the "
+                                        r"shoulder at Z-5.* run-out does not fit"):
+        _plan(prof, "30x35+1")

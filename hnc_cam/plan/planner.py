@@ -37,7 +37,9 @@ Rules (each operation records its reason, which the program prints as a comment)
   insert's flanks clear what follows; the start is three leads (plus the flank infeed) before
   the thread; G97 capped by the machine and by 1200/lead - 80 rpm. Refused when the relief
   after the thread is shorter than half the lead plus 0.2 mm, or when less than two leads
-  of the thread are at full form.
+  of the thread are at full form. An outside G76 thread that runs into a shoulder with no
+  relief ends one lead (plus the flank's clearance) before it and leaves along the cycle's
+  R/E run-out; refused when the run-out and two full leads do not fit.
 * Roughing allowances: 0.4 mm on the diameter / 0.1 mm in Z by default (``--allowance``,
   the material table), increased where the roughing
   tool, following the program contour uncompensated (``--comp control``) or the finishing
@@ -838,7 +840,8 @@ def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stoc
     # the thread zone must not lie under a larger diameter (smaller for internal)
     n = 40
     for i in range(n + 1):
-        z = z_hi - (z_hi - z_lo) * i / n
+        # inside the ends by 0.1 um: a shoulder wall at the thread's end is not above it
+        z = min(max(z_hi - (z_hi - z_lo) * i / n, z_lo + 1e-4), z_hi - 1e-4)
         r = _radius_at(chain, z, th.internal)
         if r is not None and sgn * (r - r_crest) > 0.01:
             raise PlanError(f"{label}: the part is at diameter {_fmt(2 * r)} at Z{_fmt(z)}, "
@@ -905,6 +908,28 @@ def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stoc
         if wall_after(ze, reach) is None:
             z_end, z_wall = ze, None
             break
+    run_r = run_e = 0.0
+    half = math.radians(th.angle / 2)
+    at_wall = _radius_at(chain, z_wall + 0.05, False) if z_wall is not None else None
+    if z_wall is not None and z_end - z_wall < need - 1e-9 and not th.internal \
+            and opts.thread_cycle == "g76" and at_wall is not None and at_wall >= r_crest - 0.02:
+        # no relief (G76 only, the external thread): the cycle's run-out (R toward the wall,
+        # E out to the crest) pulls the insert out over one lead; it ends where the leading
+        # flank, at the crest, clears the shoulder (as far up as the simulator draws the
+        # flank, 6 mm) by 0.2 mm
+        r_sh = max((r for r in (_radius_at(chain, z_wall - d, False) for d in (0.05, 0.5, 2.0))
+                    if r is not None), default=r_crest)
+        # (G76 shifts each pass's end by its depth along the flank, toward the wall)
+        gap = 0.2 + (min(max(r_sh - r_crest, 0.0), 6.0 * math.cos(half)) + depth) * math.tan(half)
+        z_full = z_wall + gap + lead
+        if z_hi - z_full < 2 * lead - 1e-9:
+            raise PlanError(f"{label} runs into the shoulder at Z{_fmt(z_wall)} with no relief, and "
+                            f"even G76's run-out does not fit: the run-out needs "
+                            f"{_fmt(gap + lead)} mm before the shoulder and two leads "
+                            f"({_fmt(2 * lead)} mm) at full depth before that; the thread is "
+                            f"{_fmt(z_hi - z_wall)} mm long (cut a relief groove or shorten it)")
+        z_end, z_wall = z_full, None
+        run_r, run_e = -lead, depth
     if z_wall is not None and z_end - z_wall < need - 1e-9:
         raise PlanError(f"{label} is longer than the relief allows: it ends "
                         f"{_fmt(max(0.0, z_lo - z_wall))} mm before the wall at Z{_fmt(z_wall)}, and "
@@ -926,7 +951,7 @@ def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stoc
     rpm = min(t.rpm or 500.0, rpm_limit(t, machine), max(50.0, 1200.0 / lead - 80.0))
     q = round(min(0.5, max(0.1, depth * 0.4)), 3)
     words: dict[str, Any] = {
-        "C": 1, "R": 0.0, "E": 0.0, "A": th.angle, "X": r_root, "Z": z_end, "K": depth,
+        "C": 1, "R": run_r, "E": run_e, "A": th.angle, "X": r_root, "Z": z_end, "K": depth,
         "U": 0.05, "V": 0.05, "Q": q, "F": lead, "starts": th.starts,
         "angles": [360.0 * i / th.starts for i in range(th.starts)],
     }
