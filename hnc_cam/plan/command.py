@@ -442,30 +442,40 @@ def _run_jobs(jobs: list[tuple], n_jobs: int, opts: dict[str, Any] | None = None
         signal.signal(signal.SIGTERM, old_term)
 
 
-def _progress(total: int) -> tuple[Any, Any]:
-    """The rich progress bar on stderr when it is a terminal (else None), started."""
-    if not sys.stderr.isatty():
-        return None, None
-    from rich.console import Console
-    from rich.progress import Progress
-    progress = Progress(console=Console(stderr=True), transient=True)
-    progress.start()
-    return progress, progress.add_task("generating", total=total)
+class _Finished:
+    """Where a finished row goes: the caller's ``on_done``, the result list, and the rich
+    progress bar on stderr when it is a terminal."""
+
+    def __init__(self, total: int, on_done: Any, out: list[dict[str, Any]]):
+        self.on_done, self.out = on_done, out
+        self.progress = self.task = None
+        if sys.stderr.isatty():
+            from rich.console import Console
+            from rich.progress import Progress
+            self.progress = Progress(console=Console(stderr=True), transient=True)
+            self.progress.start()
+            self.task = self.progress.add_task("generating", total=total)
+
+    def add(self, r: dict[str, Any]) -> None:
+        if self.on_done is not None:
+            self.on_done(r)
+        self.out.append(r)
+        if self.progress is not None:
+            self.progress.advance(self.task)
+
+    def stop(self) -> None:
+        if self.progress is not None:
+            self.progress.stop()
 
 
 def _run_pool(jobs: list[tuple], n_jobs: int, opts: dict[str, Any] | None, on_done: Any,
               out: list[dict[str, Any]]) -> list[dict[str, Any]]:
-    progress, task = _progress(len(jobs))
+    finished = _Finished(len(jobs), on_done, out)
     try:
         if n_jobs <= 1 or len(jobs) == 1:
             _init_worker(opts)
             for j in jobs:
-                r = _row_job(j)
-                if on_done is not None:
-                    on_done(r)
-                out.append(r)
-                if progress is not None:
-                    progress.advance(task)
+                finished.add(_row_job(j))
         else:
             from concurrent.futures import ProcessPoolExecutor, as_completed
             ex = ProcessPoolExecutor(max_workers=min(n_jobs, len(jobs)),
@@ -473,12 +483,7 @@ def _run_pool(jobs: list[tuple], n_jobs: int, opts: dict[str, Any] | None, on_do
             try:
                 futs = [ex.submit(_row_job, j) for j in jobs]
                 for f in as_completed(futs):
-                    r = f.result()
-                    if on_done is not None:
-                        on_done(r)
-                    out.append(r)
-                    if progress is not None:
-                        progress.advance(task)
+                    finished.add(f.result())
             except BaseException:
                 procs = list((getattr(ex, "_processes", None) or {}).values())
                 ex.shutdown(wait=False, cancel_futures=True)
@@ -491,8 +496,7 @@ def _run_pool(jobs: list[tuple], n_jobs: int, opts: dict[str, Any] | None, on_do
                 raise
             ex.shutdown(wait=True)
     finally:
-        if progress is not None:
-            progress.stop()
+        finished.stop()
     return out
 
 
@@ -551,7 +555,7 @@ def _run_cluster(jobs: list[tuple], scheduler: str, opts: dict[str, Any] | None,
         wopts[k] = absolute(wopts.get(k))
     sent = [(j[0], j[1], absolute(j[2]), j[3], j[4], j[5], wopts) for j in jobs]
     client = _cluster_client(scheduler)
-    progress, task = _progress(len(jobs))
+    finished = _Finished(len(jobs), on_done, out)
     futs: list[Any] = []
     try:
         from distributed import as_completed
@@ -570,11 +574,7 @@ def _run_cluster(jobs: list[tuple], scheduler: str, opts: dict[str, Any] | None,
             if r.get("message"):
                 for full, as_given in given.items():
                     r["message"] = r["message"].replace(full, as_given)
-            if on_done is not None:
-                on_done(r)
-            out.append(r)
-            if progress is not None:
-                progress.advance(task)
+            finished.add(r)
     except BaseException:
         try:
             client.cancel(futs, force=True)
@@ -582,8 +582,7 @@ def _run_cluster(jobs: list[tuple], scheduler: str, opts: dict[str, Any] | None,
             pass
         raise
     finally:
-        if progress is not None:
-            progress.stop()
+        finished.stop()
         try:
             client.close(timeout=10)
         except Exception:  # pragma: no cover - closing a client whose scheduler went away
