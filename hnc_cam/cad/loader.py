@@ -366,23 +366,14 @@ class ProfileCache:
         return obj[1]
 
     def put(self, key: str, prof: TurnedProfile) -> None:
-        import os
         import pickle
-        import tempfile
+
+        from ..errors import HncError
+        from ..io import write_atomic
         try:
-            self.folder.mkdir(parents=True, exist_ok=True)
-            fd, tmp = tempfile.mkstemp(dir=self.folder, prefix=".", suffix=".tmp")
-            try:
-                with os.fdopen(fd, "wb") as fh:
-                    fh.write(pickle.dumps((key, prof), protocol=pickle.HIGHEST_PROTOCOL))
-                os.replace(tmp, self.folder / f"{key}.profile")
-            except BaseException:
-                try:
-                    os.unlink(tmp)
-                except OSError:
-                    pass
-                raise
-        except (OSError, pickle.PicklingError, RecursionError):
+            write_atomic(self.folder / f"{key}.profile",
+                         pickle.dumps((key, prof), protocol=pickle.HIGHEST_PROTOCOL))
+        except (HncError, pickle.PicklingError, RecursionError):
             pass  # no caching there; the profile itself is fine
 
 
