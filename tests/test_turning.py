@@ -415,3 +415,34 @@ def test_thread_without_relief_and_no_room_for_the_run_out_is_refused():
     with pytest.raises(PlanError, match=r"external thread M20x1.5 from Z0 to Z-5 runs into the "
                                         r"shoulder at Z-5.* run-out does not fit"):
         _plan(prof, "30x35+1")
+
+
+KNOB = '''"""A knob turned from a bar that ends at the part's left face, plain build123d."""
+from build123d import BuildLine, BuildPart, BuildSketch, Plane, Polyline, Axis, make_face, revolve
+
+STOCK = "45x72+2"
+
+
+def part():
+    pts = [(0, 0), (11.5, 0), (12.5, -1), (12.5, -20), (20, -20), (20, -70), (0, -70)]
+    with BuildPart() as p:
+        with BuildSketch(Plane.XZ):
+            with BuildLine():
+                Polyline(*pts, close=True)
+            make_face()
+        revolve(axis=Axis.Z)
+    return p.part
+'''
+
+
+@pytest.mark.cad
+@pytest.mark.parametrize("comp", ["cam", "control"])
+def test_bar_ending_at_the_left_face_gets_a_square_left_corner(tmp_path, comp):
+    """The stock ends exactly at the part's left end (72 mm of bar, 2 mm face stock, a 70 mm
+    part): the passes run on past the corner by more than the largest nose radius, so the
+    Ø40 corner at Z-70 is left square, not rounded by the nose."""
+    from hnc_cam.testing import assert_roundtrip
+    f = tmp_path / "knob.py"
+    f.write_text(KNOB)
+    program, report = assert_roundtrip(str(f), comp=comp)
+    assert report.passed and report.max_undercut_mm <= 0.01

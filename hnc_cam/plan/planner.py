@@ -338,6 +338,10 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
         raise PlanError("the tool library has no OD finishing tool (kind turn, uses 'finish')")
     if not roughers:
         raise PlanError("the tool library has no OD roughing tool (kind turn, uses 'rough')")
+    if stock.kind != "offset" and od and stock.z_left > od[-1].end[1] - 1e-6:
+        # the bar ends at the part's left end: a nose that stops short of the corner by its
+        # radius leaves that corner rounded, so the passes run on past it by the largest nose
+        overrun = max(overrun, OVERRUN + max(t.nose_radius for t in finishers + roughers))
     best_reach = max(back_reach(t) for t in finishers)
     grooving = [t for t in lib.tools if t.kind == "groove"]
     groove_ops: list[Operation] = []
