@@ -161,3 +161,21 @@ def test_threaded_stud_pitch_1_with_a_partial_profile_insert(tmp_path):
 def test_step_files_generate_and_verify(step, stock, comp):
     prog = generate(REPO / "tests" / "data" / step, stock, comp=comp)
     assert prog.report.passed, prog.report.summary()
+
+
+GOLDEN_PARTS = REPO / "tests" / "data" / "golden" / "parts"
+
+
+@pytest.mark.parametrize("comp", ["cam", "control"])
+@pytest.mark.parametrize("part", sorted(FAMILIES))
+def test_bundled_part_program_golden(part, comp):
+    """The HNC-21T program of each bundled part (default parameters and stock) stays byte for
+    byte (regenerate with HNC_CAM_UPDATE_GOLDEN=1 after a deliberate change, and review the
+    diff)."""
+    import os
+    text = generate(PARTS / part, comp=comp, verify=False).text
+    path = GOLDEN_PARTS / f"{part[:-3]}_{comp}.nc"
+    if os.environ.get("HNC_CAM_UPDATE_GOLDEN"):
+        path.parent.mkdir(exist_ok=True)
+        path.write_text(text)
+    assert text == path.read_text()
