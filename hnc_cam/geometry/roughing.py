@@ -315,13 +315,19 @@ def _frame_for(start: Point, profile: Sequence[Segment], face: bool) -> Frame:
 
 def rough_turn(start: Point, profile: Sequence[Segment], motions: Sequence[str], *,
                depth: float, retract: float, allowance: Point, face: bool = False,
-               pockets: bool = False) -> RoughPlan:
+               pockets: bool = False, finish_allowance: Optional[Point] = None,
+               sign_warning: Optional[str] = None) -> RoughPlan:
     """Plan G71 (``face=False``) or G72 (``face=True``) roughing.
 
     ``profile``: the programmed path ns…nf from the start point A (segment 0 is A→A′);
     ``motions``: 'rapid'/'feed' per segment (as programmed, used for the last pass);
     ``depth`` Δd (> 0), ``retract`` r (> 0), ``allowance`` (dx radius, dz) translation of the
     profile; ``pockets``: G71 type II (profile monotonic only along the cut).
+    ``finish_allowance`` (dx radius, dz): the last pass follows the profile translated by it
+    instead of ``allowance`` (Haas's rough-pass allowance I/K: the level passes stop at
+    ``allowance``, the last pass leaves only ``finish_allowance``); it must lie between the
+    profile and ``allowance``. ``sign_warning``: the text of the warning given when the
+    allowance points toward the part (default: the HNC manual's figure).
     Returns the moves in work coordinates, starting at ``start`` and ending there."""
     if depth <= 0:
         raise RoughingError(f"depth of cut must be > 0, got {depth:g}")
@@ -344,9 +350,15 @@ def rough_turn(start: Point, profile: Sequence[Segment], motions: Sequence[str],
     canon = [fr.seg_fwd(s) for s in path]
     du, dv = fr.fwd(allowance)  # a vector: the frame is linear
     if du < -TOL or dv < -TOL:
-        warnings.append("the sign of the finishing allowance is opposite to fig. %s for this "
+        warnings.append(sign_warning or
+                        "the sign of the finishing allowance is opposite to fig. %s for this "
                         "quadrant: the offset profile is shifted toward the part"
                         % ("3.3.31" if face else "3.3.25"))
+    fin_du, fin_dv = (du, dv) if finish_allowance is None else fr.fwd(finish_allowance)
+    if (fin_du - du > TOL or fin_dv - dv > TOL or (fin_du < -TOL and du >= -TOL)
+            or (fin_dv < -TOL and dv >= -TOL)):
+        raise RoughingError("the finishing allowance of the last pass lies outside the "
+                            "allowance of the roughing passes")
 
     # --- checks on the programmed (canonical) profile
     bad = first_non_monotonic(canon, 1, -1)
@@ -458,8 +470,11 @@ def rough_turn(start: Point, profile: Sequence[Segment], motions: Sequence[str],
         stack.extend(reversed(node.children))
 
     # last pass: along the whole offset profile
+    if finish_allowance is not None:
+        off = translate_chain(canon, fin_du, fin_dv)
     A2 = off[0].end
-    on_ns = [n for n in nodes if slanted and off[0].distance_to((n.u, n.hi)) < 1e-7]
+    on_ns = [n for n in nodes if slanted and finish_allowance is None
+             and off[0].distance_to((n.u, n.hi)) < 1e-7]
     if on_ns:
         # slanted approach: from the start of the lowest pass on it, feed down the approach
         # line to A″ (this cuts the last stair between that line and the profile)
@@ -493,9 +508,13 @@ def rough_turn(start: Point, profile: Sequence[Segment], motions: Sequence[str],
 # --------------------------------------------------------------------------- G73
 
 def pattern_repeat(start: Point, profile: Sequence[Segment], motions: Sequence[str], *,
-                   stock: Point, allowance: Point, count: int) -> RoughPlan:
+                   stock: Point, allowance: Point, count: int,
+                   sign_warning: Optional[str] = None) -> RoughPlan:
     """Plan G73: ``count`` passes, pass k the programmed path (from A) shifted by
-    ``allowance + stock·(count − k)/count`` (all (dx radius, dz)); back to A at the end."""
+    ``allowance + stock·(count − k)/count`` (all (dx radius, dz)); back to A at the end.
+    (FANUC's spacing (d − k)/(d − 1) is this with ``stock`` scaled by d/(d − 1).)
+    ``sign_warning``: the text of the warning given when a shift points toward the part,
+    ``{name}`` standing for the word pair (default: the HNC manual's figure)."""
     if count < 1:
         raise RoughingError(f"number of passes must be >= 1, got {count}")
     segs = [(s, m) for s, m in zip(profile, motions) if s.length > TOL]
@@ -514,7 +533,8 @@ def pattern_repeat(start: Point, profile: Sequence[Segment], motions: Sequence[s
     warnings: list[str] = []
     for name, (dx, dz) in (("finishing allowance X/Z", allowance), ("roughing stock U/W", stock)):
         if sx * dx < -TOL or sz * dz < -TOL:
-            warnings.append(f"the sign of the {name} is opposite to fig. 3.3.34 for this "
+            warnings.append(sign_warning.format(name=name) if sign_warning else
+                            f"the sign of the {name} is opposite to fig. 3.3.34 for this "
                             f"quadrant: the passes are shifted toward the part")
     A = fr.fwd(start)
     canon = [fr.seg_fwd(s) for s in path]

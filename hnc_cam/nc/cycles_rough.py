@@ -6,6 +6,9 @@ G73 figs. 3.3.34–3.3.35, notes (5)) and appendix 1(2), the controller's own ma
 :mod:`hnc_cam.geometry.roughing` (its docstring states the stock model and the pass order);
 this module reads the words, validates them, gets the programmed profile from the
 interpreter and emits the moves through the :class:`~hnc_cam.nc.context.CycleContext`.
+The dialect-neutral halves (:func:`profile_blocks`, :func:`level_bound`,
+:func:`engine_alarm`, :func:`emit`) also serve the FANUC and Haas decoders
+(``hnc_cam.dialect.fanuc0it.cycles``).
 
 Words (X is a diameter in G36, as X words always are; U/W/R/E as stated)
 
@@ -63,16 +66,22 @@ def _x_units(ctx: Any, value: float) -> float:
 def _profile(ctx: Any):
     ns = _int_word(ctx, "P", "the first block ns of the profile")
     nf = _int_word(ctx, "Q", "the last block nf of the profile")
+    return (ns, nf) + profile_blocks(ctx, ns, nf)
+
+
+def profile_blocks(ctx: Any, ns: int, nf: int):
+    """The programmed path N``ns``…N``nf`` from ``ctx.profile`` as (segments, source lines,
+    motions); an empty profile alarms at P. Shared by every dialect's decoder."""
     prof = ctx.profile(ns, nf)
     if not prof:
         ctx.alarm(f"G{ctx.code}: the profile N{ns}…N{nf} is empty", "P")
     segs = [p[0] for p in prof]
     lines = [p[1] for p in prof]
     motions = [p[2] for p in prof]
-    return ns, nf, segs, lines, motions
+    return segs, lines, motions
 
 
-def _engine_alarm(ctx: Any, err: RoughingError, lines: list[int]) -> NoReturn:
+def engine_alarm(ctx: Any, err: RoughingError, lines: list[int]) -> NoReturn:
     msg = f"G{ctx.code}: {err.message}"
     if err.index is not None and 0 <= err.index < len(lines):
         msg += f" (profile block at line {lines[err.index]})"
@@ -80,7 +89,7 @@ def _engine_alarm(ctx: Any, err: RoughingError, lines: list[int]) -> NoReturn:
     raise AssertionError("ctx.alarm returned")  # pragma: no cover
 
 
-def _emit(ctx: Any, plan: RoughPlan) -> None:
+def emit(ctx: Any, plan: RoughPlan) -> None:
     for w in plan.warnings:
         ctx.warn(f"G{ctx.code}: {w}")
     for m in plan.moves:
@@ -107,7 +116,7 @@ def _max_passes(ctx: Any) -> int:
     return int(getattr(ctx, "max_passes", 10_000))
 
 
-def _level_bound(ctx: Any, start, segs, allowance, depth: float, face: bool, letter: str) -> None:
+def level_bound(ctx: Any, start, segs, allowance, depth: float, face: bool, letter: str) -> None:
     """Alarm when the depth of cut is so small against the profile's extent along the level
     axis that the cycle would take more levels than the machine's [limits] cycle_passes
     (counted before planning, so that planning never runs away)."""
@@ -152,7 +161,7 @@ def _g71_g72(ctx: Any, face: bool) -> RoughPlan:
         allowance = (_x_units(ctx, float(dx or 0.0)), float(dz or 0.0))
     ns, nf, segs, lines, motions = _profile(ctx)
     start = ctx.pos
-    _level_bound(ctx, start, segs, allowance, depth, face, depth_letter)
+    level_bound(ctx, start, segs, allowance, depth, face, depth_letter)
     if face and segs:
         a1 = segs[0].end
         if abs(a1[0] - start[0]) > 1e-6:
@@ -162,7 +171,7 @@ def _g71_g72(ctx: Any, face: bool) -> RoughPlan:
         return rough_turn(start, segs, motions, depth=depth, retract=retract,
                           allowance=allowance, face=face, pockets=pockets)
     except RoughingError as err:
-        _engine_alarm(ctx, err, lines)
+        engine_alarm(ctx, err, lines)
 
 
 def _g73(ctx: Any) -> RoughPlan:
@@ -189,7 +198,7 @@ def _g73(ctx: Any) -> RoughPlan:
         return pattern_repeat(ctx.pos, segs, motions, stock=stock, allowance=allowance,
                               count=count)
     except RoughingError as err:
-        _engine_alarm(ctx, err, lines)
+        engine_alarm(ctx, err, lines)
 
 
 def plan_cycle(code: int, ctx: Any) -> RoughPlan:
@@ -207,4 +216,4 @@ def plan_cycle(code: int, ctx: Any) -> RoughPlan:
 
 def execute(code: int, ctx: Any) -> None:
     """Run G71/G72/G73 of the current block through the interpreter's ``ctx``."""
-    _emit(ctx, plan_cycle(code, ctx))
+    emit(ctx, plan_cycle(code, ctx))

@@ -27,6 +27,11 @@ Paths (letters of the figures; every cycle except G32 ends back on A)
   where s = +1 for an outside thread (A outside C), −1 for a bore, x_t = C.x + s·(K − t) and
   h = t·tan(A/2) in the cutting direction (single-flank infeed along the trailing flank).
 
+The motion itself is done by engines shared with the FANUC and Haas decoders
+(``hnc_cam.dialect.fanuc0it.cycles``): :func:`turn_legs` (G80/G90), :func:`face_legs`
+(G81/G94), :func:`thread_loop` (G82/G92), :func:`thread_passes` with :func:`g76_depths`
+and :func:`flank_shifts` (G76); the functions here only decode HNC's words.
+
 Thread moves carry the lead F (mm/rev), the spindle start angle and the tool profile angle
 (G76: its A word; G32 and G82: 60°).
 
@@ -192,18 +197,33 @@ def _runout(ctx: Any, r: float, e: float, s: int) -> None:
 # --------------------------------------------------------------------------- G80 / G81
 
 
+def turn_legs(ctx: Any, a: Point, c: Point, taper: float = 0.0) -> None:
+    """The turning-cycle engine (HNC G80, FANUC G90): from A, B = (C.x + ``taper``, A.z);
+    A→B rapid, B→C feed, C→D = (A.x, C.z) feed, D→A rapid (radius x)."""
+    legs = _Legs(ctx, a)
+    legs.rapid((c[0] + taper, a[1]))  # B
+    legs.feed(c)  # C
+    legs.feed((a[0], c[1]))  # D
+    legs.rapid(a)
+
+
+def face_legs(ctx: Any, a: Point, c: Point, taper: float = 0.0) -> None:
+    """The facing-cycle engine (HNC G81, FANUC G94): from A, B = (A.x, C.z + ``taper``);
+    A→B rapid, B→C feed, C→D = (C.x, A.z) feed, D→A rapid."""
+    legs = _Legs(ctx, a)
+    legs.rapid((a[0], c[1] + taper))  # B
+    legs.feed(c)  # C
+    legs.feed((c[0], a[1]))  # D
+    legs.rapid(a)
+
+
 def _g80(ctx: Any) -> None:
     """Turning cycle: A→B rapid, B→C feed, C→D feed, D→A rapid (figs. 3.3.15/3.3.16)."""
     _refuse_uw(ctx)
     w = _require(ctx, "XZ")
     a = ctx.pos
     c = _end_point(ctx, a, w["X"], w["Z"])
-    i = _opt(ctx, "I", 0.0)
-    legs = _Legs(ctx, a)
-    legs.rapid((c[0] + i, a[1]))  # B
-    legs.feed(c)  # C
-    legs.feed((a[0], c[1]))  # D
-    legs.rapid(a)
+    turn_legs(ctx, a, c, _opt(ctx, "I", 0.0))
 
 
 def _g81(ctx: Any) -> None:
@@ -212,12 +232,7 @@ def _g81(ctx: Any) -> None:
     w = _require(ctx, "XZ")
     a = ctx.pos
     c = _end_point(ctx, a, w["X"], w["Z"])
-    k = _opt(ctx, "K", 0.0)
-    legs = _Legs(ctx, a)
-    legs.rapid((a[0], c[1] + k))  # B
-    legs.feed(c)  # C
-    legs.feed((c[0], a[1]))  # D
-    legs.rapid(a)
+    face_legs(ctx, a, c, _opt(ctx, "K", 0.0))
 
 
 # --------------------------------------------------------------------------- threads
@@ -252,12 +267,20 @@ def _g82(ctx: Any) -> None:
     _runout(ctx, r, e, s)
     b = (c[0] + i, a[1])
     d = (c[0] + e, c[1] + r)
+    thread_loop(ctx, a, b, [c, d], lead, start_angles(starts, p), DEFAULT_THREAD_ANGLE)
+
+
+def thread_loop(ctx: Any, a: Point, b: Point, path: list[Point], lead: float,
+                angles: list[float], tool_angle: float) -> None:
+    """The threading-cycle engine (HNC G82, FANUC G92), once per spindle start angle:
+    A→B rapid, thread through the points of ``path`` (the thread end, then its run-out or
+    chamfer leg), rapid in X back to A.x, rapid in Z back to A."""
     legs = _Legs(ctx, a)
-    for ang in start_angles(starts, p):
+    for ang in angles:
         legs.rapid(b)
-        legs.thread(c, lead, ang, DEFAULT_THREAD_ANGLE)
-        legs.thread(d, lead, ang, DEFAULT_THREAD_ANGLE)
-        legs.rapid((a[0], d[1]))
+        for p in path:
+            legs.thread(p, lead, ang, tool_angle)
+        legs.rapid((a[0], legs.at[1]))
         legs.rapid(a)
 
 
@@ -374,15 +397,59 @@ def _g76(ctx: Any) -> None:
                             min(MAX_G76_PASSES, int(getattr(ctx, "max_passes", MAX_G76_PASSES))))
     except ValueError as exc:
         ctx.alarm(f"G76: {exc}")
+    thread_passes(ctx, a, c, flank_shifts(depths, angle, a, c), height=k, taper=i, lead=lead,
+                  start_angle=p, tool_angle=angle, runout=(e, r))
+
+
+def flank_shifts(depths: list[tuple[float, bool]], angle: float, a: Point, c: Point,
+                 alternate: bool = False) -> list[tuple[float, float]]:
+    """``(depth, z shift)`` of each pass of a multiple-pass thread: single-flank infeed
+    shifts pass t by t·tan(angle/2) in the cutting direction (A toward C), so that one flank
+    of the tool stays on one flank of the finished thread. ``alternate``: flanks in turn
+    (double-flank infeed): the even passes are shifted by (2K − t)·tan(angle/2), K the final
+    depth, so that the other flank stays on the other side of the same finished thread."""
     dirz = 1.0 if c[1] > a[1] else -1.0
     tan_half = math.tan(math.radians(angle) / 2.0)
+    full = max((t for t, _ in depths), default=0.0)
+    out = []
+    for n, (t, _finish) in enumerate(depths):
+        if alternate and n % 2 == 1:
+            out.append((t, dirz * (2.0 * full - t) * tan_half))
+        else:
+            out.append((t, dirz * t * tan_half))
+    return out
+
+
+def thread_passes(ctx: Any, a: Point, c: Point, passes: list[tuple[float, float]], *,
+                  height: float, taper: float, lead: float, start_angle: float,
+                  tool_angle: float, runout: Point = (0.0, 0.0), chamfer: Point = (0.0, 0.0),
+                  axes_return: bool = False) -> None:
+    """The multiple-pass threading engine (HNC G76, FANUC and Haas G76).
+
+    ``c`` is the root end point (radius x), ``height`` the thread height K, ``taper`` the
+    radius difference start − end; per pass ``(t, h)`` (depth below the crest, z shift):
+    A→(A.x − s·t, A.z + h) rapid, → (x_t + taper, A.z + h) rapid (the pass start), thread to
+    (x_t, C.z + h) where x_t = C.x + s·(K − t) and s = +1 outside, −1 inside. ``chamfer``
+    (length along Z, pull-out in X, radius) ends the thread inside that end: the straight
+    thread stops the length before it and a second thread leg pulls out to
+    (x_t + s·pull-out, C.z + h). ``runout`` (dx, dz) is a further thread leg after the end.
+    Then back to A: one rapid, or with ``axes_return`` rapid in X to A.x, then in Z."""
+    s = 1 if a[0] > c[0] else -1
+    length = abs(c[1] - a[1])
+    dirz = 1.0 if c[1] > a[1] else -1.0
     legs = _Legs(ctx, a)
-    for t, _finish in depths:
-        h = dirz * t * tan_half
-        x_end = c[0] + s * (k - t)
+    for t, h in passes:
+        x_end = c[0] + s * (height - t)
         legs.rapid((a[0] - s * t, a[1] + h))
-        legs.rapid((x_end + i, a[1] + h))
+        legs.rapid((x_end + taper, a[1] + h))
         end = (x_end, c[1] + h)
-        legs.thread(end, lead, p, angle)
-        legs.thread((end[0] + e, end[1] + r), lead, p, angle)
+        if chamfer[0] > _TOL and length > _TOL:
+            frac = min(chamfer[0] / length, 1.0)
+            legs.thread((x_end + taper * frac, end[1] - dirz * min(chamfer[0], length)), lead,
+                        start_angle, tool_angle)
+            end = (x_end + s * chamfer[1], end[1])
+        legs.thread(end, lead, start_angle, tool_angle)
+        legs.thread((end[0] + runout[0], end[1] + runout[1]), lead, start_angle, tool_angle)
+        if axes_return:
+            legs.rapid((a[0], legs.at[1]))
         legs.rapid(a)
