@@ -32,17 +32,17 @@ def test_monotonic_shaft_is_g71_type_1_with_facing():
     # that switch to G97 S3000 there
     assert cycles(p)[:3] == [("face", "G01"), ("rough", "G71"), ("finish", "contour")]
     face = p.operations[0]
-    assert face.words["cap"]["rpm"] == 3000.0
-    assert 2 * face.words["cap"]["x"] == pytest.approx(180000 / (math.pi * 3000))
+    assert face.face.cap_rpm == 3000.0
+    assert 2 * face.face.cap_x == pytest.approx(180000 / (math.pi * 3000))
     prog = generate(shaft(), stock="50x90+2", verify=False)
     cen = [m for m in prog.toolpath.moves if m.kind == "line" and m.tool == 1
            and abs(m.end[0]) < 9.0 and m.end[1] >= -1e-9]
     assert cen and all(m.spindle <= 3000.0 + 1e-6 for m in cen)
     assert face.passes[-1] == 0.0 and len(face.passes) == 2  # 2 mm in passes of <= 1.5
-    assert face.words["x_end"] == pytest.approx(-0.8)  # past the centre by the nose radius
+    assert face.face.x_end == pytest.approx(-0.8)  # past the centre by the nose radius
     rough = p.operations[1]
     assert rough.tool.number == 1 and p.operations[2].tool.number == 2
-    assert rough.words["X"] >= 0.2 and rough.words["Z"] >= 0.1
+    assert rough.rough.allowance_x >= 0.2 and rough.rough.allowance_z >= 0.1
     assert "monotonic" in rough.reason
 
 
@@ -65,7 +65,7 @@ def test_flange_is_g72_by_the_stated_rule():
     assert rough.cycle == "G72"
     assert "radial extent" in rough.reason and "> length" in rough.reason
     fin = [op for op in p.operations if op.name == "finish"][0]
-    assert fin.comp == 41  # contour run toward +Z
+    assert fin.nose_comp == "left" and fin.comp == 41  # contour run toward +Z
     assert fin.blocks[0].x is None and fin.blocks[0].z is not None  # ns moves along Z only
 
 
@@ -74,7 +74,7 @@ def test_offset_stock_is_g73():
     rough = [op for op in p.operations if op.name == "rough"][0]
     assert rough.cycle == "G73"
     # the blank's face allowance is faced first, then the passes step in X only
-    assert rough.words["U"] == 2 and rough.words["W"] == 0 and rough.words["R"] >= 2
+    assert rough.rough.relief_x == 2 and rough.rough.relief_z == 0 and rough.rough.count >= 2
     face = [op for op in p.operations if op.name == "face"][0]
     assert face.passes[-1] == 0.0 and face.start[1] == pytest.approx(4.0)
 
@@ -84,9 +84,10 @@ def test_tube_gets_bore_roughing_with_negative_allowance():
     names = cycles(p)
     assert ("bore_rough", "G71") in names and ("bore_finish", "contour") in names
     b = [op for op in p.operations if op.name == "bore_rough"][0]
-    assert b.tool.kind == "bore" and b.words["X"] < 0
+    assert b.tool.kind == "bore" and b.rough.side == "id" and b.rough.x_sign == -1
+    assert b.rough.allowance_x > 0
     bf = [op for op in p.operations if op.name == "bore_finish"][0]
-    assert bf.comp == 41
+    assert bf.nose_comp == "left"
 
 
 def test_square_groove_is_plunged_with_the_grooving_tool():
@@ -96,9 +97,9 @@ def test_square_groove_is_plunged_with_the_grooving_tool():
     # plunges leave 0.1 mm on the walls and the bottom; the finishing pass takes it
     assert g.passes[0] == pytest.approx(-20 - 3.0 - 0.1)
     assert g.passes[-1] == pytest.approx(-24.0 + 0.1)
-    assert g.words["x_bottom"] == pytest.approx(8.1)
-    f = g.words["finish"]
-    assert (f["z_right"], f["z_left"], f["x_bottom"]) == pytest.approx((-23.0, -24.0, 8.0))
+    assert g.groove.x_bottom == pytest.approx(8.1)
+    f = g.groove.finish
+    assert (f.z_right, f.z_left, f.x_bottom) == pytest.approx((-23.0, -24.0, 8.0))
     prog = generate(grooved(width=4.0), stock="30x70", verify=False)
     moves = [m for m in prog.toolpath.moves if m.tool == 7]
     # the groove tool's feed moves: down to the bottom, a dwell there, and never a rapid
@@ -116,9 +117,9 @@ def test_thread_g76_depth_from_the_standard_and_g82_option():
     p = plan(stud(), "30x60+1")
     th = [op for op in p.operations if op.name == "thread"][0]
     assert th.cycle == "G76"
-    assert th.words["K"] == pytest.approx(0.6134 * 1.5)
-    assert 2 * th.words["X"] == pytest.approx(20 - 2 * 0.6134 * 1.5)
-    assert th.speed_mode == "G97"
+    assert th.thread.height == pytest.approx(0.6134 * 1.5)
+    assert 2 * th.thread.x_root == pytest.approx(20 - 2 * 0.6134 * 1.5)
+    assert th.speed_mode == "G97" and th.spindle == "rpm"
     p2 = plan(stud(), "30x60+1", thread_cycle="g82")
     th2 = [op for op in p2.operations if op.name == "thread"][0]
     assert th2.cycle == "G82" and th2.passes[-1] == pytest.approx(10 - 0.6134 * 1.5)
@@ -176,8 +177,8 @@ def test_thread_pitch_from_the_part_not_from_the_insert():
     for pitch in (1.0, 1.25, 1.5):
         th = [op for op in plan(_stud_pitch(pitch), "30x60+1", lib=lib).operations
               if op.name == "thread"][0]
-        assert th.feed == pytest.approx(pitch) and th.words["F"] == pytest.approx(pitch)
-        assert th.words["K"] == pytest.approx(0.6134 * pitch)
+        assert th.feed == pytest.approx(pitch) and th.thread.lead == pytest.approx(pitch)
+        assert th.thread.height == pytest.approx(0.6134 * pitch)
         assert th.tool.insert.code == "16ERA60"
     from hnc_cam.post import render
     text = render(plan(_stud_pitch(1.0), "30x60+1", lib=lib))

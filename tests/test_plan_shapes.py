@@ -158,15 +158,15 @@ def test_written_contours_have_no_fragments(shape, stock, comp):
             x = b.x if b.x is not None else (cur[0] if cur else None)
             z = b.z if b.z is not None else (cur[1] if cur else None)
             end = (round(2 * x, 3), round(z, 3)) if x is not None and z is not None else None
-            if cur is not None and end is not None and b.g in (1, 2, 3):
+            if cur is not None and end is not None and b.kind != "rapid":
                 d = (end[0] - cur[0], end[1] - cur[1])
                 assert math.hypot(d[0] / 2, d[1]) >= 0.0005, (op.name, b)
-                if b.g == 1 and prev is not None and prev[0] == 1:
+                if b.kind == "line" and prev is not None and prev[0] == "line":
                     pd = prev[1]
                     crs = abs(pd[0] * d[1] - pd[1] * d[0]) / (math.hypot(*pd) * math.hypot(*d))
                     assert crs > 1e-4 or pd[0] * d[0] + pd[1] * d[1] < 0, (op.name, b)
-                if b.g in (2, 3) and prev is not None and prev[0] == b.g:
+                if b.arc and prev is not None and prev[0] == b.kind:
                     assert not (b.r is not None and prev[2] == b.r), (op.name, b)
-                prev = (b.g, d, b.r)
+                prev = (b.kind, d, b.r)
             if end is not None:
                 cur = end

@@ -1,7 +1,9 @@
-"""``generate``: part (file, loaded part or profile) + stock -> a checked HNC-21T program.
+"""``generate``: part (file, loaded part or profile) + stock -> a checked program in a
+dialect (HNC-21T by default; FANUC 0i-T, Haas).
 
-Every program is run through the interpreter before it is returned (an alarm there is a bug
-of the generator and raises), and, when ``verify`` is true and the simulator is installed,
+Every program is run through the interpreter, reading it as the same dialect, before it is
+returned (an alarm there is a bug of the generator and raises), and, when ``verify`` is true
+and the simulator is installed,
 simulated and compared with the model; a program that fails verification is refused with
 :class:`VerificationError` (exit code 1), so no failing program is ever written.
 """
@@ -38,6 +40,7 @@ class Program:
     toolpath: Any = None
     report: Any = None
     warnings: list[str] = field(default_factory=list)
+    dialect: str = "hnc21t"
 
     @property
     def cycle_time_s(self) -> float:
@@ -158,20 +161,29 @@ def _load_machine(path: str | Path | None, lib: ToolLibrary) -> Machine:
 
 def warm(tools: str | Path | None = None, machine: str | Path | None = None,
          templates: str | Path | None = None, number_format: str = "plain",
-         block_numbers: str = "every") -> None:
+         block_numbers: str = "every", dialect: str | None = None) -> None:
     """Load the tables and the template environment once (a family worker's initializer)."""
     from ..post import environment
-    _load_machine(machine, _load_tools(tools))
-    environment(None if templates is None else str(templates), number_format, block_numbers)
+    mach = _load_machine(machine, _load_tools(tools))
+    environment(None if templates is None else str(templates), number_format, block_numbers,
+                dialect_of(dialect, mach))
 
 
-def _interpret(text: str, machine: Machine, file: str):
+def dialect_of(dialect: str | None, machine: Machine | None) -> str:
+    """The dialect a program is written in: the one asked for, else the machine file's
+    ``controller``, else HNC-21T."""
+    from ..post import DEFAULT_DIALECT
+    return dialect or getattr(machine, "controller", None) or DEFAULT_DIALECT
+
+
+def _interpret(text: str, machine: Machine, file: str, dialect: str = "hnc21t"):
     try:
         from ..nc import run
     except ImportError:
         return None
     try:
-        return run(text, machine=machine, file=file, start="reference")
+        kw = {} if dialect == "hnc21t" else {"dialect": dialect}
+        return run(text, machine=machine, file=file, start="reference", **kw)
     except NCError as e:
         raise PlanError(f"internal error: the generated program raises an alarm in the "
                         f"interpreter (a generator bug, please report): {e.one_line()}") from e
@@ -196,7 +208,8 @@ def generate(part: Any, stock: str | Stock | None = None, *, params: Mapping[str
              verify: bool = True, tol: float = 0.01, number_format: str = "plain",
              block_numbers: str = "every", thread_cycle: str = "g76",
              face_cycle: str = "g81", file: str = "<generated>",
-             material: str | None = None, allowance: Any = None) -> Program:
+             material: str | None = None, allowance: Any = None,
+             dialect: str | None = None) -> Program:
     """Plan, render, interpret (and verify) a program for ``part``.
 
     ``part``: a part file path (``parts/*.py``, ``.step``/``.stp``), a loaded part
@@ -208,7 +221,9 @@ def generate(part: Any, stock: str | Stock | None = None, *, params: Mapping[str
     file's ``MATERIAL``, else none: the tool library's cutting data as it is); the tools'
     speeds, feeds and depths are limited to the material's ranges. ``allowance``: the
     finishing allowance ``(X on diameter, Z)`` in mm or ``"X,Z"`` (default: the material's,
-    else 0.4, 0.1 as in the manual's examples).
+    else 0.4, 0.1 as in the manual's examples). ``dialect``: the controller the program is
+    written for and read back as (``hnc21t``, ``fanuc0it``, ``haas``; default: the machine
+    file's ``controller``, else ``hnc21t``).
     """
     from .. import __version__
     from ..post import render
@@ -244,10 +259,11 @@ def generate(part: Any, stock: str | Stock | None = None, *, params: Mapping[str
     opts = Options(comp=comp, program_number=int(program_number), thread_cycle=thread_cycle,
                    face_cycle=face_cycle, allowance_x=ax / 2, allowance_z=az)
     plan = make_plan(prof, st, lib, mach, opts, name=name, params=pparams, version=__version__)
-    text = render(plan, templates=templates, number_format=number_format,
+    dia = dialect_of(dialect, mach)
+    text = render(plan, dialect=dia, templates=templates, number_format=number_format,
                   block_numbers=block_numbers)
-    tp = _interpret(text, mach, file)
-    prog = Program(text=text, plan=plan, toolpath=tp)
+    tp = _interpret(text, mach, file, dia)
+    prog = Program(text=text, plan=plan, toolpath=tp, dialect=dia)
     if tp is None:
         prog.warnings.append("the interpreter is not available: program not run")
         return prog

@@ -36,7 +36,8 @@ def _options(args: argparse.Namespace) -> dict[str, Any]:
                 thread_cycle=getattr(args, "thread_cycle", "g76") or "g76",
                 face_cycle=getattr(args, "face_cycle", "g81") or "g81",
                 material=getattr(args, "material", None),
-                allowance=getattr(args, "allowance", None))
+                allowance=getattr(args, "allowance", None),
+                dialect=getattr(args, "dialect", None))
 
 
 def user_template_error(e: HncError, templates: Any) -> HncError:
@@ -240,7 +241,8 @@ def _init_worker(opts: dict[str, Any] | None = None) -> None:
         try:
             from .api import warm
             warm(opts.get("tools"), opts.get("machine"), opts.get("templates"),
-                 opts.get("number_format", "plain"), opts.get("block_numbers", "every"))
+                 opts.get("number_format", "plain"), opts.get("block_numbers", "every"),
+                 opts.get("dialect"))
         except Exception:  # pragma: no cover - the rows report the real error
             pass
 

@@ -216,16 +216,16 @@ def clean(contour: Sequence[Segment]) -> list[Segment]:
 
 def to_blocks(contour: Sequence[Segment], first_axis: str, feed: float,
               ns: str, nf: str, start: Point | None = None) -> list[Block]:
-    """Program blocks for a contour: the first block is ``G00`` along ``first_axis`` ("x" or
-    "z") to the contour's first point, the rest G01/G02/G03 with end points; labels ``ns`` on
-    the first and ``nf`` on the last block."""
+    """Program blocks for a contour: the first block is a rapid along ``first_axis`` ("x" or
+    "z") to the contour's first point, the rest lines and arcs with end points; labels ``ns``
+    on the first and ``nf`` on the last block."""
     segs = clean(contour)
     if not segs:
         raise PlanError("empty contour")
     if start is not None:
         segs = _from_start_side(segs, start, first_axis)
     p0 = segs[0].start
-    blocks = [Block(0, x=p0[0] if first_axis == "x" else None,
+    blocks = [Block("rapid", x=p0[0] if first_axis == "x" else None,
                     z=p0[1] if first_axis == "z" else None, label=ns)]
     cur = _key(p0)
     fed = False
@@ -235,7 +235,7 @@ def to_blocks(contour: Sequence[Segment], first_axis: str, feed: float,
             continue
         if isinstance(s, Arc) and math.dist(s.start, s.end) >= 0.01:
             sweep = abs(math.degrees(s.sweep))
-            g = 2 if s.cw else 3
+            g = "cw" if s.cw else "ccw"
             if sweep <= 170.0:
                 b = Block(g, x=s.end[0], z=s.end[1], r=s.radius)
             else:
@@ -244,7 +244,7 @@ def to_blocks(contour: Sequence[Segment], first_axis: str, feed: float,
             bb = s.bbox()
             b.span = (bb[0], bb[2])
         else:
-            b = Block(1, x=s.end[0], z=s.end[1])
+            b = Block("line", x=s.end[0], z=s.end[1])
         if not fed:
             b.feed = feed
             fed = True

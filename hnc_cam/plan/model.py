@@ -1,5 +1,9 @@
 """What the planner produces and the templates read: blocks, operations, the plan.
 
+The plan is neutral: numbers and kinds only, no controller's letters, codes or template
+names. Each dialect's templates (``templates/<dialect>/``) write the words; the post
+(:mod:`hnc_cam.post`) chooses the template from the operation's kind.
+
 Positions are (x radius, z) in work coordinates with program zero on the part's right face;
 the templates write X as a diameter (filter ``dia``).
 """
@@ -16,14 +20,32 @@ def _n(v: float) -> str:
     return f"{float(v):.3f}".rstrip("0").rstrip(".")
 
 
+#: segment kinds of a contour block
+SEGMENT_KINDS = ("rapid", "line", "cw", "ccw")
+#: operation kinds (the post chooses a template per kind, see :func:`Operation.role`)
+KINDS = ("face", "rough", "finish", "groove", "thread")
+
+
+@dataclass
+class Spindle:
+    """A spindle speed: ``css`` (constant surface speed, m/min) or ``rpm``."""
+    mode: str
+    value: float
+
+    @property
+    def css(self) -> bool:
+        return self.mode == "css"
+
+
 @dataclass
 class Block:
-    """One motion block of a contour: G00/G01 with X and/or Z, or G02/G03 with R or I/K.
+    """One motion segment of a contour: ``kind`` rapid | line | cw | ccw (arcs with ``r`` or
+    ``i``/``k``, start to centre, radius values).
 
-    ``x``/``z`` None means the word is not written (a move along the other axis only, as the
-    ns block of a G71/G72 needs). ``label`` names the block for a P/Q reference.
+    ``x``/``z`` None means the axis does not move (a move along the other axis only, as the
+    ns block of a G71/G72 needs). ``label`` names the block for a cycle's reference to it.
     """
-    g: int
+    kind: str
     x: float | None = None
     z: float | None = None
     r: float | None = None
@@ -34,91 +56,235 @@ class Block:
     comment: str = ""
     #: the X range (radius) an arc sweeps through, where it is not at its end points
     span: tuple[float, float] | None = None
-    #: a spindle line written before the block (``G97 S..`` / ``G96 S..``), where the
-    #: contour crosses the diameter below which G96 would exceed the spindle limit
-    spindle: str = ""
+    #: a spindle change written before the block, where the contour crosses the diameter
+    #: below which the surface speed would exceed the spindle limit
+    spindle: Spindle | None = None
+
+    def __post_init__(self) -> None:
+        if self.kind not in SEGMENT_KINDS:
+            raise ValueError(f"block kind must be one of {SEGMENT_KINDS}, got {self.kind!r}")
 
     @property
-    def gcode(self) -> str:
-        return f"G{self.g:02d}"
+    def arc(self) -> bool:
+        return self.kind in ("cw", "ccw")
+
+
+@dataclass
+class FaceCut:
+    """Facing passes at Z ``levels`` (the operation's ``passes``) from the start X to
+    ``x_end`` (radius; past the centre by the nose radius on a bar). ``method``: ``cycle``
+    (one facing-cycle block per pass) or ``passes`` (plain moves). ``cap_x``/``cap_rpm``: the
+    radius inside which each pass runs at ``cap_rpm`` (the surface speed would need more)."""
+    method: str
+    x_end: float
+    cap_x: float | None = None
+    cap_rpm: float | None = None
+
+
+@dataclass
+class RoughCut:
+    """Stock removal along the ns..nf contour.
+
+    ``strategy``: ``turn`` (passes parallel to Z), ``face`` (parallel to X) or ``pattern``
+    (the contour repeated, shifted). ``side``: ``od`` or ``id``. ``pockets``: the contour
+    goes up and down in X (a cycle of type II). ``depth``: cut per pass (radius for turn,
+    Z for face); ``retract``: lift after each pass; ``allowance_x`` (radius, a magnitude: an
+    ``id`` contour leaves it inward) and ``allowance_z``: finishing stock. Pattern only:
+    ``relief_x`` (radius) / ``relief_z``, the first pass's distance from the last, and
+    ``count`` passes."""
+    strategy: str
+    side: str
+    pockets: bool
+    depth: float
+    retract: float
+    allowance_x: float
+    allowance_z: float = 0.0
+    relief_x: float = 0.0
+    relief_z: float = 0.0
+    count: int = 1
+
+    @property
+    def x_sign(self) -> int:
+        """+1 for an outside contour, -1 for a bore (the sign of the X allowance word)."""
+        return -1 if self.side == "id" else 1
+
+
+@dataclass
+class GrooveFinish:
+    z_right: float
+    z_left: float
+    x_bottom: float
+
+
+@dataclass
+class GrooveCut:
+    """Plunges at the Z positions of the operation's ``passes`` (the insert's left corner)
+    to ``x_bottom``, out to ``x_clear`` between them, a ``dwell`` (s) at the bottom; a wide
+    groove's finishing pass ``finish``."""
+    x_bottom: float
+    x_clear: float
+    dwell: float
+    finish: GrooveFinish | None = None
+
+
+@dataclass
+class ThreadCut:
+    """A thread from the start point to ``z_end`` at root ``x_root`` (radius).
+
+    ``method``: ``cycle`` (a multiple-pass threading cycle) or ``passes`` (one single-pass
+    cycle block per radius of the operation's ``passes``, the last repeated). ``height``:
+    thread depth (radius); ``first_depth``, ``min_depth``, ``finish_allowance`` (radius);
+    ``finish_passes``; ``runout_z``/``runout_x``: the run-out at the end (Z length, X rise,
+    radius; 0 = none); ``angle`` of the profile; ``starts`` and the spindle ``start_angles``."""
+    method: str
+    x_root: float
+    z_end: float
+    height: float
+    lead: float
+    angle: float
+    starts: int
+    start_angles: list[float]
+    first_depth: float
+    min_depth: float
+    finish_allowance: float
+    finish_passes: int = 1
+    runout_z: float = 0.0
+    runout_x: float = 0.0
 
 
 @dataclass
 class Operation:
-    """One step of the program, rendered by ``template``.
+    """One step of the program.
 
-    ``name``: face | rough | bore_rough | finish | bore_finish | groove | thread.
-    ``cycle``: the code that does the work (G81, G01, G71, G71E, G72, G73, G76, G82, contour).
-    ``start``: the cycle start point A (or the approach point of a contour).
-    ``words``: the cycle's parameter words (numbers, internal units; templates format them).
-    ``blocks``: the contour blocks (finish operations), ``ns``/``nf``: their first/last labels.
-    ``passes``: facing Z levels, groove plunge positions, G82 pass diameters ...
+    ``name``: face | rough | bore_rough | rough_zone | finish | bore_finish | profile |
+    groove | thread (what the step is for); ``kind``: face | rough | finish | groove | thread
+    (how it cuts; with the parameters in ``face``/``rough``/``groove``/``thread``).
+    ``start``: the cycle start point (or the approach point of a contour).
+    ``blocks``: contour segments (finishing, and a roughing tool's own semi-finishing pass),
+    ``ns``/``nf``: the labels of their first/last block (the contour a roughing cycle refers
+    to). ``passes``: facing Z levels, groove plunge positions, thread pass radii.
+    ``spindle``: ``css`` (``speed`` m/min) or ``rpm``; ``nose_comp``: none (the program
+    carries the tip path) | left | right (the control offsets the part contour).
     """
     name: str
-    cycle: str
-    template: str
+    kind: str
     tool: Tool
     reason: str
     start: Point
-    speed_mode: str = "G96"  # G96 (m/min) or G97 (rpm)
+    spindle: str = "css"
     speed: float = 0.0
-    feed: float = 0.0  # mm/rev (G95)
-    words: dict[str, Any] = field(default_factory=dict)
+    feed: float = 0.0  # mm/rev
     blocks: list[Block] = field(default_factory=list)
     ns: str = ""
     nf: str = ""
-    comp: int = 40  # 40 (cam / none), 41, 42 (control)
+    nose_comp: str = "none"
     passes: list[Any] = field(default_factory=list)
+    face: FaceCut | None = None
+    rough: RoughCut | None = None
+    groove: GrooveCut | None = None
+    thread: ThreadCut | None = None
     new_tool: bool = True
     #: False when the previous operation ran the same tool at the same speed: the spindle
-    #: line (G96/G97 S.. M03) is not repeated
+    #: is not set again
     set_spindle: bool = True
+    #: the operation ends at another speed than it started (a spindle limit inside it)
+    spindle_changed: bool = False
     contour: list[Segment] = field(default_factory=list)  # program geometry of the blocks
-    retract: list[Point] = field(default_factory=list)  # after the operation, G00 in order
+    retract: list[Point] = field(default_factory=list)  # after the operation, rapid in order
     notes: list[str] = field(default_factory=list)  # what the operation leaves undone, why
-    #: G00 moves to the start point, (x, z) with None for an axis that does not move; empty:
-    #: one move to ``start``
+    #: rapid moves to the start point, (x, z) with None for an axis that does not move;
+    #: empty: one move to ``start``
     approach: list[tuple[float | None, float | None]] = field(default_factory=list)
     #: the axis moved first to the tool-change point before this operation's tool change
     leave_first: str = "z"
+
+    def __post_init__(self) -> None:
+        if self.kind not in KINDS:
+            raise ValueError(f"operation kind must be one of {KINDS}, got {self.kind!r}")
+
+    @property
+    def css(self) -> bool:
+        return self.spindle == "css"
 
     @property
     def approach_moves(self) -> list[tuple[float | None, float | None]]:
         return self.approach or [self.start]
 
     @property
+    def role(self) -> str:
+        """What the post chooses the template by: face | rough_turn | rough_turn_pockets |
+        rough_face | rough_pattern | rough_bore | finish | groove | thread | thread_passes."""
+        if self.kind == "rough":
+            r = self.rough
+            if r.side == "id":
+                return "rough_bore"
+            if r.strategy == "turn":
+                return "rough_turn_pockets" if r.pockets else "rough_turn"
+            return f"rough_{r.strategy}"
+        if self.kind == "thread" and self.thread.method == "passes":
+            return "thread_passes"
+        return self.kind
+
+    # -- labels: the HNC-21T code that does the work, kept as the operation's name in
+    # summaries, family tables and reports
+    @property
+    def cycle(self) -> str:
+        if self.kind == "face":
+            return "G81" if self.face.method == "cycle" else "G01"
+        if self.kind == "rough":
+            r = self.rough
+            if r.strategy == "face":
+                return "G72"
+            if r.strategy == "pattern":
+                return "G73"
+            return "G71E" if r.pockets else "G71"
+        if self.kind == "thread":
+            return "G76" if self.thread.method == "cycle" else "G82"
+        if self.kind == "groove":
+            return "G01"
+        return "contour"
+
+    @property
+    def speed_mode(self) -> str:
+        return "G96" if self.css else "G97"
+
+    @property
+    def comp(self) -> int:
+        return {"none": 40, "left": 41, "right": 42}[self.nose_comp]
+
+    @property
     def note(self) -> str:
-        """The operator's comment for the operation (under 60 characters); the planner's
-        full reasoning is :attr:`reason` (``generate --explain``)."""
+        """The operator's comment for the operation, with the HNC-21T cycle names."""
+        cyc = {"G71E": "G71 II"}.get(self.cycle, self.cycle)
+        return self.describe(cyc)
+
+    def describe(self, cycle: str) -> str:
+        """The operator's comment for the operation (under 60 characters) naming the cycle
+        ``cycle`` as the dialect writes it; the planner's full reasoning is :attr:`reason`
+        (``generate --explain``)."""
         t = f"T{self.tool.number:02d}"
         f = f"F{_n(self.feed)}"
-        w = self.words
         if self.name == "face":
-            return f"{t} FACE {self.cycle} {len(self.passes)}X F{_n(self.feed)}"
+            return f"{t} FACE {cycle} {len(self.passes)}X F{_n(self.feed)}"
         if self.name in ("rough", "bore_rough"):
-            where = "BORE" if self.name == "bore_rough" else ("FACE" if self.cycle == "G72" else "OD")
-            cyc = {"G71E": "G71 II", "G73": "G73"}.get(self.cycle, self.cycle)
-            d = w.get("W") if self.cycle == "G72" else w.get("U")
-            extra = f" D{_n(d)}" if d is not None and self.cycle != "G73" else ""
-            return f"{t} ROUGH {where} {cyc}{extra} {f}"
+            r = self.rough
+            where = "BORE" if self.name == "bore_rough" else ("FACE" if r.strategy == "face" else "OD")
+            extra = f" D{_n(r.depth)}" if r.strategy != "pattern" else ""
+            return f"{t} ROUGH {where} {cycle}{extra} {f}"
         if self.name == "rough_zone":
             z = [b.z for b in self.blocks if b.z is not None]
             span = f" Z{_n(max(z))}..{_n(min(z))}" if z else ""
-            return f"{t} REST ROUGH{span} G71 II D{_n(w.get('U', 0))} {f}"
+            return f"{t} REST ROUGH{span} {cycle} D{_n(self.rough.depth)} {f}"
         if self.name in ("finish", "bore_finish"):
             return f"{t} FINISH {'BORE' if self.name == 'bore_finish' else 'OD'} {f}"
         if self.name == "profile":
             return f"{t} LEFT END CHAMFER {f}"
         if self.name == "groove":
-            return (f"{t} GROOVE Z{_n(self.start[1])} X{_n(2 * w.get('x_bottom', 0))} "
+            return (f"{t} GROOVE Z{_n(self.start[1])} X{_n(2 * self.groove.x_bottom)} "
                     f"{len(self.passes)}X {f}")
         if self.name == "thread":
-            return f"{t} THREAD LEAD {_n(w.get('F', self.feed))} S{_n(self.speed)}"
-        return f"{t} {self.name.upper()} {self.cycle}"
-
-    @property
-    def tool_word(self) -> str:
-        return f"T{self.tool.number:02d}{self.tool.register:02d}"
+            return f"{t} THREAD LEAD {_n(self.thread.lead)} S{_n(self.speed)}"
+        return f"{t} {self.name.upper()} {cycle}"
 
 
 @dataclass

@@ -58,7 +58,8 @@ from ..geometry.intersect import vertical_hits
 from ..tooling import Machine, Stock, Tool, ToolLibrary
 from . import analysis as an
 from . import contour as ct
-from .model import Operation, Plan
+from .model import (FaceCut, GrooveCut, GrooveFinish, Operation, Plan, RoughCut, Spindle,
+                    ThreadCut)
 from .tools import (PARTIAL_PROFILE_PITCH, back_reach, can_square_shoulder, cuts_pitch, describe,
                     thread_pitch_range, thread_tools, turning_tools)
 
@@ -177,24 +178,25 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
         levels[-1] = 0.0
         # past the centre by the nose radius, so that the nose reaches the axis
         x_end = -t.nose_radius if stock.kind != "tube" else max(0.0, stock.bore / 2 - opts.clearance)
-        cyc = "G81" if opts.face_cycle == "g81" else "G01"
-        words: dict[str, Any] = {"x_end": x_end}
+        method = "cycle" if opts.face_cycle == "g81" else "passes"
+        cut = FaceCut(method=method, x_end=x_end)
         # the HNC-21T's G96 has no clamp word: where the surface speed would need more than
         # the machine's max rpm, the centre of each pass runs G97 at that rpm (G01 passes)
         lim = rpm_limit(t, machine)
         r_cap = t.vc_rough * 1000.0 / (2 * math.pi * lim)
         cap_note = ""
         if max(x_end, 0.0) < r_cap - 1e-9 < r_stock:
-            cyc = "G01"
-            words["cap"] = {"x": r_cap, "rpm": lim}
+            cut.method = "passes"
+            cut.cap_x, cut.cap_rpm = r_cap, lim
             cap_note = (f"; G96 S{_fmt(t.vc_rough)} needs more than {_fmt(lim)} rpm "
                         f"inside diameter {_fmt(2 * r_cap)}: G97 S{_fmt(lim)} there")
         ops.append(Operation(
-            name="face", cycle=cyc, template="face.j2", tool=t,
+            name="face", kind="face", tool=t,
             reason=(f"stock has {_fmt(face_stock)} mm face stock: facing to Z0 in {n} "
-                    f"{cyc} pass{'es' if n > 1 else ''} of at most {_fmt(t.depth)} mm" + cap_note),
+                    f"{'G81' if cut.method == 'cycle' else 'G01'} pass{'es' if n > 1 else ''} "
+                    f"of at most {_fmt(t.depth)} mm" + cap_note),
             start=(x_a, face_stock + opts.z_clear), speed=t.vc_rough, feed=t.feed_rough,
-            passes=levels, words=words))
+            passes=levels, face=cut))
         z_face = 0.0
     z_a = z_face + opts.z_clear
 
@@ -223,7 +225,7 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
                                 params=dict(params or {})))
 
     for op in ops:
-        if op.blocks and op.name in ("finish", "bore_finish", "profile") and op.speed_mode == "G96":
+        if op.blocks and op.name in ("finish", "bore_finish", "profile") and op.css:
             _cap_contour(op, rpm_limit(op.tool, machine))
         plan.notes.extend(op.notes)
         # a start behind the stock's face, outside it: X first, then Z (a combined rapid's
@@ -249,8 +251,8 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
     for op in ops:
         if prev is not None and prev.tool.number == op.tool.number:
             op.new_tool = False
-            if (prev.speed_mode, prev.speed) == (op.speed_mode, op.speed) and \
-                    not prev.words.get("spindle_changed"):
+            if (prev.spindle, prev.speed) == (op.spindle, op.speed) and \
+                    not prev.spindle_changed:
                 op.set_spindle = False
         prev = op
     plan.operations = ops
@@ -272,23 +274,23 @@ def _cap_contour(op: Operation, limit: float) -> None:
     vc = op.speed
     r_c = vc * 1000.0 / (2 * math.pi * limit)
     x, z = abs(op.start[0]), op.start[1]
-    mode = "G96" if x >= r_c - 1e-9 else "G97"
-    if mode == "G97":
-        op.speed_mode, op.speed = "G97", limit
+    mode = "css" if x >= r_c - 1e-9 else "rpm"
+    if mode == "rpm":
+        op.spindle, op.speed = "rpm", limit
     first = mode
     for b in op.blocks:
         nx = abs(b.x) if b.x is not None else x
         lo = min(x, nx)
         if b.span is not None:
             lo = min(lo, min(abs(b.span[0]), abs(b.span[1])) if b.span[0] * b.span[1] > 0 else 0.0)
-        need = "G97" if lo < r_c - 1e-9 else "G96"
+        need = "rpm" if lo < r_c - 1e-9 else "css"
         if need != mode:
-            b.spindle = f"G97 S{_fmt(limit)}" if need == "G97" else f"G96 S{_fmt(vc)}"
+            b.spindle = Spindle("rpm", limit) if need == "rpm" else Spindle("css", vc)
             mode = need
         x = nx
     if mode != first:
-        op.words["spindle_changed"] = True
-    if any(b.spindle for b in op.blocks) or first == "G97":
+        op.spindle_changed = True
+    if any(b.spindle for b in op.blocks) or first == "rpm":
         op.reason += (f"; G96 S{_fmt(vc)} needs more than {_fmt(limit)} rpm inside diameter "
                       f"{_fmt(2 * r_c)}: G97 S{_fmt(limit)} there")
 
@@ -410,18 +412,18 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
     deep = min((s.bbox()[1] for s in contour if s.bbox()[0] < r_stock - 1e-6), default=0.0)
     n72 = math.ceil(max(0.0, -deep) / rougher.depth - 1e-9)
     if stock.kind == "offset":
-        cycle, tmpl = "G73", "g73.j2"
+        strategy = "pattern"
         reason = (f"near-net blank (stock {stock.spec}): G73 repeats the contour "
                   f"offset by the blank allowance")
         base_dir = (1.0, 0.0)
     elif not zoned and radial_extent > length and n72 < n71:
-        cycle, tmpl = "G72", "g72.j2"
+        strategy = "face"
         reason = (f"face-dominated: radial extent {_fmt(radial_extent)} mm > length "
                   f"{_fmt(length)} mm and G72 needs {n72} passes parallel to X where G71 "
                   f"needs {n71}")
         base_dir = (opts.allowance_x, opts.allowance_z)
     else:
-        cycle, tmpl = "G71", "g71.j2"
+        strategy = "turn"
         reason = ("outside contour monotonic in X: G71 type I" if not zoned else
                   f"G71 type I on the outside envelope ({len(kept)} undercut zone"
                   f"{'s' if len(kept) > 1 else ''} bridged, roughed after), then one "
@@ -440,41 +442,40 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
         delta = rougher.nose_radius
     # the finishing contour is the roughing cycle's ns..nf unless the roughing runs its own
     ns, nf = ("", "") if zoned else ("od_ns", "od_nf")
-    if cycle == "G72":
+    if strategy == "face":
         prog_run = [s.reversed() for s in reversed(prog)]
-        first_axis, comp = "z", 41
+        first_axis, comp = "z", "left"
     else:
-        prog_run, first_axis, comp = prog, "x", 42
+        prog_run, first_axis, comp = prog, "x", "right"
     blocks = ct.to_blocks(prog_run, first_axis, finisher.feed_finish, ns, nf,
                           start=(x_a, z_a))
     if opts.comp == "cam":
-        comp = 40
+        comp = "none"
     start = (x_a, z_a)
     # the cycle starts on the stock: G71 at the stock's diameter (its first level one full
     # depth in), G72 on the stock's face (no pass in front of it)
-    if cycle == "G71":
+    if strategy == "turn":
         rough_start = (r_stock, z_a)
-    elif cycle == "G72":
+    elif strategy == "face":
         rough_start = (x_a, z_a - opts.z_clear)
     else:
         rough_start = start
     rough_ops: list[Operation] = []
     if not zoned:
         ax, az = _allowance(contour, delta, base_dir, opts, what=f"part {name} outside")
-        words: dict[str, Any] = {"U": rougher.depth, "R": opts.retract, "X": ax, "Z": az,
-                                 "E": ax, "W": rougher.depth}
-        if cycle == "G73":
+        cut = RoughCut(strategy=strategy, side="od", pockets=False, depth=rougher.depth,
+                       retract=opts.retract, allowance_x=ax, allowance_z=az)
+        if strategy == "pattern":
             a = stock.allowance
-            # the face was faced first: the passes step in X only (W0), so no pass climbs the
-            # face with the insert's back
-            words.update(U=a, W=0.0, R=max(1, math.ceil(a / rougher.depth - 1e-9)))
-        if cycle == "G72":
-            words.update(W=rougher.depth)
-        rough_ops.append(Operation(name="rough", cycle=cycle, template=tmpl, tool=rougher,
+            # the face was faced first: the passes step in X only (relief Z 0), so no pass
+            # climbs the face with the insert's back
+            cut.relief_x, cut.relief_z = a, 0.0
+            cut.count = max(1, math.ceil(a / rougher.depth - 1e-9))
+        rough_ops.append(Operation(name="rough", kind="rough", tool=rougher,
                                    reason=reason, start=rough_start, speed=rougher.vc_rough,
-                                   feed=rougher.feed_rough, words=words, ns=ns, nf=nf))
+                                   feed=rougher.feed_rough, rough=cut, ns=ns, nf=nf))
     else:
-        rough_ops.append(_semi_op("rough", "G71", rougher, envelope, opts, rough_start, reason,
+        rough_ops.append(_semi_op("rough", rougher, envelope, opts, rough_start, reason,
                                   x_a, z_a, "env", overrun))
         for i, p in enumerate(kept):
             tools = _by_rigidity([t for t in lib.tools if t.kind == "turn"
@@ -487,16 +488,17 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
                                 f"{p.max_descent + 2:.0f} deg")
             rough_ops.append(_zone_op(p, tools[0], opts, r_stock, f"z{i + 1}", name))
     last = prog_run[-1].end
-    if cycle == "G72":
+    if strategy == "face":
         retract = [(x_a, z_a)]
     else:
         retract = [(x_a, last[1]), (x_a, z_a)]
-    finish = Operation(name="finish", cycle="contour", template="finish.j2", tool=finisher,
+    finish = Operation(name="finish", kind="finish", tool=finisher,
                        reason=(f"finish the outside contour with {describe(finisher)}"
                                + (" (tip path of this tool, G40)" if opts.comp == "cam"
-                                  else f" (G{comp} from register {finisher.register})")),
+                                  else f" (G{41 if comp == 'left' else 42} from register "
+                                       f"{finisher.register})")),
                        start=start, speed=finisher.vc_finish, feed=finisher.feed_finish,
-                       blocks=blocks, ns=ns, nf=nf, comp=comp, contour=prog_run,
+                       blocks=blocks, ns=ns, nf=nf, nose_comp=comp, contour=prog_run,
                        retract=_retract(retract, blocks))
     return rough_ops, finish, groove_ops
 
@@ -513,7 +515,7 @@ def _by_rigidity(tools: list[Tool]) -> list[Tool]:
     return sorted(tools, key=lambda t: (-t.insert.nose_angle, "rough" not in t.uses))
 
 
-def _semi_op(name: str, cycle: str, t: Tool, chain: list[Segment], opts: Options,
+def _semi_op(name: str, t: Tool, chain: list[Segment], opts: Options,
              start: Point, reason: str, x_a: float, z_a: float, tag: str,
              overrun: float = OVERRUN) -> Operation:
     """G71 type I over ``chain`` (monotone) with the tool's own semi-finishing contour as
@@ -524,10 +526,10 @@ def _semi_op(name: str, cycle: str, t: Tool, chain: list[Segment], opts: Options
     ns, nf = f"{tag}_ns", f"{tag}_nf"
     blocks = ct.to_blocks(path, "x", t.feed_rough, ns, nf, start=start)
     last = path[-1].end
-    words = {"U": t.depth, "R": opts.retract, "X": SEMI_X, "Z": SEMI_Z, "E": SEMI_X,
-             "W": t.depth}
-    return Operation(name=name, cycle=cycle, template="g71.j2", tool=t, reason=reason,
-                     start=start, speed=t.vc_rough, feed=t.feed_rough, words=words, ns=ns,
+    cut = RoughCut(strategy="turn", side="od", pockets=False, depth=t.depth,
+                   retract=opts.retract, allowance_x=SEMI_X, allowance_z=SEMI_Z)
+    return Operation(name=name, kind="rough", tool=t, reason=reason,
+                     start=start, speed=t.vc_rough, feed=t.feed_rough, rough=cut, ns=ns,
                      nf=nf, blocks=blocks, contour=path,
                      retract=_retract([(x_a, last[1]), (x_a, z_a)], blocks))
 
@@ -557,15 +559,16 @@ def _zone_op(p: an.Pocket, t: Tool, opts: Options, r_stock: float, tag: str,
     ns, nf = f"{tag}_ns", f"{tag}_nf"
     blocks = ct.to_blocks(path, "x", t.feed_rough, ns, nf, start=start)
     # the ns block ends on the semi-finished surface: fed, not rapid (G01 is allowed there)
-    blocks[0].g, blocks[0].feed = 1, t.feed_rough
-    words = {"U": t.depth, "R": opts.retract, "E": SEMI_X}
+    blocks[0].kind, blocks[0].feed = "line", t.feed_rough
+    cut = RoughCut(strategy="turn", side="od", pockets=True, depth=t.depth,
+                   retract=opts.retract, allowance_x=SEMI_X)
     last = path[-1].end
     reason = (f"rest-rough {_pocket_text(p)} with {describe(t)} (reaches "
               f"{back_reach(t):.0f} deg): G71 type II over this zone, then its semi-finishing "
               f"pass")
-    return Operation(name="rough_zone", cycle="G71E", template="g71_type2.j2", tool=t,
+    return Operation(name="rough_zone", kind="rough", tool=t,
                      reason=reason, start=start, speed=t.vc_rough, feed=t.feed_rough,
-                     words=words, ns=ns, nf=nf, blocks=blocks, contour=path,
+                     rough=cut, ns=ns, nf=nf, blocks=blocks, contour=path,
                      retract=_retract([(x_start, min(last[1] + 0.8, start[1])),
                                        (x_start, start[1])], blocks))
 
@@ -633,11 +636,11 @@ def _end_pocket_op(p: an.Pocket, t: Tool, opts: Options, x_a: float, name: str) 
     path.insert(0, Line((p0[0] + 0.5, p0[1]), p0))
     blocks = ct.to_blocks(path, "x", t.feed_finish, "", "", start=(x_a, z_in))
     return Operation(
-        name="profile", cycle="contour", template="finish.j2", tool=t,
+        name="profile", kind="finish", tool=t,
         reason=(f"{_pocket_text(p)} at the left end: {n} pass{'es' if n > 1 else ''} with "
                 f"{describe(t)}, which reaches {back_reach(t):.0f} deg, past the end into the "
                 f"chuck-side stock and back (tip path, G40)"),
-        start=(x_a, z_in), speed=t.vc_finish, feed=t.feed_finish, blocks=blocks, comp=40,
+        start=(x_a, z_in), speed=t.vc_finish, feed=t.feed_finish, blocks=blocks, nose_comp="none",
         contour=path, retract=[(x_a, path[-1].end[1]), (x_a, z_in)])
 
 
@@ -689,17 +692,17 @@ def _groove_op(t: Tool, z_l: float, z_r: float, x_b: float, level: float,
     capped = rpm > max_rpm
     rpm = min(max_rpm, rpm)
     dwell = round(t.dwell_rev * 60.0 / rpm, 2)
-    words = {"x_bottom": x_b + fa, "x_clear": level + 0.6, "dwell": max(dwell, 0.05)}
+    cut = GrooveCut(x_bottom=x_b + fa, x_clear=level + 0.6, dwell=max(dwell, 0.05))
     if fa > 0:
-        words["finish"] = {"z_right": z_r - w, "z_left": z_l, "x_bottom": x_b}
+        cut.finish = GrooveFinish(z_right=z_r - w, z_left=z_l, x_bottom=x_b)
     return Operation(
-        name="groove", cycle="G01", template="groove.j2", tool=t,
+        name="groove", kind="groove", tool=t,
         reason=(f"square groove Z{_fmt(z_r)}..Z{_fmt(z_l)} to diameter {_fmt(2 * x_b)}: walls "
                 f"steeper than any turning insert reaches, plunged with {describe(t)} in "
                 f"{len(pos)} plunge{'s' if len(pos) > 1 else ''}"
                 + (", then one finishing pass on the walls and bottom" if fa > 0 else "")),
-        start=(x_a, pos[0]), speed_mode="G97" if capped else "G96",
-        speed=rpm if capped else t.vc_finish, feed=t.feed_finish, passes=pos, words=words)
+        start=(x_a, pos[0]), spindle="rpm" if capped else "css",
+        speed=rpm if capped else t.vc_finish, feed=t.feed_finish, passes=pos, groove=cut)
 
 
 # ------------------------------------------------------------------------------------------
@@ -759,34 +762,34 @@ def _plan_bore(chain: list[Segment], stock: Stock, lib: ToolLibrary, opts: Optio
     if opts.comp == "cam":
         prog = ct.tip_path(base, fin_t.nose_radius, fin_t.tip, bore=True)
         delta = rough_t.nose_radius - fin_t.nose_radius
-        comp = 40
+        comp = "none"
     else:
         prog = base
         delta = rough_t.nose_radius
-        comp = 41
+        comp = "left"
     base_dir = (opts.allowance_x, opts.allowance_z) if monotonic else (1.0, 0.0)
     ax, az = _allowance(norm, delta, base_dir, opts, what=f"part {name} bore")
     ns, nf = "id_ns", "id_nf"
     blocks = ct.to_blocks(prog, "x", fin_t.feed_finish, ns, nf, start=(x_a, z_a))
-    cycle = "G71" if monotonic else "G71E"
     start = (x_a, z_a)
     rough_start = (rb, z_a)  # on the stock's hole: the first level one full depth in
     rough = Operation(
-        name="bore_rough", cycle=cycle, template="bore.j2", tool=rough_t,
+        name="bore_rough", kind="rough", tool=rough_t,
         reason=(f"tube stock {stock.spec}: bore roughed with {describe(rough_t)}, "
                 + ("G71 type I with a negative X allowance" if monotonic
                    else "G71 type II with a negative E (bore undercuts)")),
         start=rough_start, speed=rough_t.vc_rough, feed=rough_t.feed_rough, ns=ns, nf=nf,
-        words={"U": rough_t.depth, "R": opts.retract, "X": -ax, "Z": az, "E": -ax},
+        rough=RoughCut(strategy="turn", side="id", pockets=not monotonic, depth=rough_t.depth,
+                       retract=opts.retract, allowance_x=ax, allowance_z=az),
         notes=notes)
     last = prog[-1].end
     finish = Operation(
-        name="bore_finish", cycle="contour", template="finish.j2", tool=fin_t,
+        name="bore_finish", kind="finish", tool=fin_t,
         reason=(f"finish the bore with {describe(fin_t)}"
                 + (" (tip path of this tool, G40)" if opts.comp == "cam"
                    else f" (G41 from register {fin_t.register})")),
         start=start, speed=fin_t.vc_finish, feed=fin_t.feed_finish, blocks=blocks, ns=ns,
-        nf=nf, comp=comp, contour=prog, retract=_retract([(x_a, last[1]), (x_a, z_a)], blocks))
+        nf=nf, nose_comp=comp, contour=prog, retract=_retract([(x_a, last[1]), (x_a, z_a)], blocks))
     return [rough, finish]
 
 
@@ -954,21 +957,22 @@ def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stoc
     # HNC-21T's encoder-following spindle, n <= 1200 / lead - 80
     rpm = min(t.rpm or 500.0, rpm_limit(t, machine), max(50.0, 1200.0 / lead - 80.0))
     q = round(min(0.5, max(0.1, depth * 0.4)), 3)
-    words: dict[str, Any] = {
-        "C": 1, "R": run_r, "E": run_e, "A": th.angle, "X": r_root, "Z": z_end, "K": depth,
-        "U": 0.05, "V": 0.05, "Q": q, "F": lead, "starts": th.starts,
-        "angles": [360.0 * i / th.starts for i in range(th.starts)],
-    }
+    cut = ThreadCut(method="cycle", x_root=r_root, z_end=z_end, height=depth, lead=lead,
+                    angle=th.angle, starts=th.starts,
+                    start_angles=[360.0 * i / th.starts for i in range(th.starts)],
+                    first_depth=q, min_depth=0.05, finish_allowance=0.05, finish_passes=1,
+                    runout_z=run_r, runout_x=run_e)
     if opts.thread_cycle == "g82":
         npass = max(3, math.ceil((depth / q) ** 2))
         passes = [r_crest - sgn * depth * math.sqrt(i / npass) for i in range(1, npass + 1)]
         passes.append(passes[-1])  # spring pass
-        cycle, tmpl = "G82", "g82.j2"
+        cut.method = "passes"
+        how = "G82"
     else:
         passes = []
-        cycle, tmpl = "G76", "g76.j2"
+        how = "G76"
     return Operation(
-        name="thread", cycle=cycle, template=tmpl, tool=t,
-        reason=(f"{label}: {cycle}, depth {_fmt(depth)} mm ("
+        name="thread", kind="thread", tool=t,
+        reason=(f"{label}: {how}, depth {_fmt(depth)} mm ("
                 f"{'0.5413' if th.internal else '0.6134'} x pitch), with {describe(t)}"),
-        start=(x_a, z_a), speed_mode="G97", speed=rpm, feed=lead, words=words, passes=passes)
+        start=(x_a, z_a), spindle="rpm", speed=rpm, feed=lead, thread=cut, passes=passes)

@@ -1,17 +1,23 @@
-"""Rendering: a plan becomes HNC-21T program text through the Jinja templates.
+"""Rendering: a plan becomes program text through the Jinja templates of a dialect.
 
 Python builds no program text here: numbers, words and blocks come from the templates in the
-top-level ``templates/`` folder (shipped in the wheel as the package ``hnc_cam._templates``),
-formatting from the filters in :mod:`hnc_cam.post.filters`.
+top-level ``templates/<dialect>/`` folders (shipped in the wheel as the package
+``hnc_cam._templates``), formatting from the filters in :mod:`hnc_cam.post.filters`.
 
-A user folder (``--templates DIR``) is searched first: a file there replaces the default of
-the same name, so a user can change only ``header.j2`` or only ``g76.j2``.
+The plan is neutral (:mod:`hnc_cam.plan.model`); each dialect's ``program.j2`` includes one
+template per operation, chosen by the operation's role (:attr:`Operation.role`). Templates
+are looked up in this order: the user folder's ``<dialect>/`` subfolder, the user folder
+itself (``--templates DIR``: a file there replaces the default of the same name, so a user
+can change only ``header.j2``), the dialect's bundled folder, then the folder of the
+dialect it falls back to (Haas: only the files that differ, the rest from FANUC 0i-T).
 
-Templates (one per operation): ``program.j2`` (the whole program), ``header.j2``,
+HNC-21T templates (``templates/hnc21t/``): ``program.j2`` (the whole program), ``header.j2``,
 ``footer.j2``, ``tool_change.j2``, ``face.j2``, ``g71.j2``, ``g71_type2.j2``, ``g72.j2``,
 ``g73.j2``, ``bore.j2`` (ID roughing), ``finish.j2`` (the ns..nf contour, OD and ID),
 ``contour.j2`` (the contour blocks, included by ``finish.j2``), ``spindle.j2`` (G96/G97
 with M03, included by every operation), ``groove.j2``, ``g76.j2``, ``g82.j2``.
+FANUC 0i-T (``templates/fanuc0it/``) names its operation templates by role
+(``rough_turn.j2``, ``thread.j2``, ...); ``templates/haas/`` holds the Haas one-block cycles.
 """
 from __future__ import annotations
 
@@ -22,31 +28,77 @@ from typing import Any
 
 from ..errors import PlanError
 from .filters import (BLOCK_NUMBERING, NUMBER_FORMATS, comment, fmt_dia, fmt_num, label,
-                      number_blocks, progno, ref)
+                      micrometres, number_blocks, progno, ref, whole)
 
-__all__ = ["render", "environment", "default_template_dir", "NUMBER_FORMATS", "BLOCK_NUMBERING"]
+__all__ = ["render", "environment", "default_template_dir", "template_dirs", "NUMBER_FORMATS",
+           "BLOCK_NUMBERING", "DEFAULT_DIALECT"]
+
+DEFAULT_DIALECT = "hnc21t"
 
 
 def default_template_dir() -> Path:
-    """The bundled templates: ``hnc_cam._templates`` when installed, else the repository's
-    top-level ``templates/`` folder."""
+    """The bundled templates (one folder per dialect): ``hnc_cam._templates`` when
+    installed, else the repository's top-level ``templates/`` folder."""
     try:
         p = Path(str(resources.files("hnc_cam._templates")))
-        if (p / "program.j2").is_file():
+        if (p / DEFAULT_DIALECT / "program.j2").is_file():
             return p
     except (ModuleNotFoundError, TypeError, ValueError):
         pass
     p = Path(__file__).resolve().parents[2] / "templates"
-    if (p / "program.j2").is_file():
+    if (p / DEFAULT_DIALECT / "program.j2").is_file():
         return p
     raise PlanError("the bundled templates are missing (no hnc_cam._templates package and no "
                     "templates/ folder beside the package)")
 
 
-@lru_cache(maxsize=16)
+def _dialect(name: str):
+    """The dialect value of ``name`` (:func:`hnc_cam.dialect.get`); an unknown name is a
+    PlanError listing the known ones."""
+    try:
+        from .. import dialect
+    except ImportError:  # the registry is not in this tree yet: the three bundled folders
+        from types import SimpleNamespace
+        known = {"hnc21t": None, "fanuc0it": None, "haas": "fanuc0it"}
+        if name not in known:
+            raise PlanError(f"unknown dialect {name!r} (known: {', '.join(known)})") from None
+        return SimpleNamespace(name=name, templates=name, template_fallback=known[name])
+    try:
+        return dialect.get(name)
+    except (KeyError, ValueError) as e:
+        msg = e.args[0] if e.args else str(e)
+        raise PlanError(str(msg)) from None
+
+
+def template_dirs(dialect: str = DEFAULT_DIALECT) -> list[Path]:
+    """The bundled folders searched for ``dialect``: its own, then its fallback's."""
+    root = default_template_dir()
+    d = _dialect(dialect)
+    out = [root / d.templates]
+    seen = {d.name}
+    fb = d.template_fallback
+    while fb and fb not in seen:
+        seen.add(fb)
+        f = _dialect(fb)
+        out.append(root / f.templates)
+        fb = f.template_fallback
+    return out
+
+
+def _coordinate_format(dialect: str, number_format: str) -> str:
+    """A dialect that reads a word without a decimal point in least increments (FANUC:
+    ``X20`` is 0.020 mm) gets a point on every whole number (``plain`` becomes ``point``)."""
+    d = _dialect(dialect)
+    if number_format == "plain" and d.name != DEFAULT_DIALECT:
+        return "point"
+    return number_format
+
+
+@lru_cache(maxsize=32)
 def environment(user_dir: str | None = None, number_format: str = "plain",
-                block_numbers: str = "every"):
-    """The Jinja environment: user folder first, then the defaults (ChoiceLoader)."""
+                block_numbers: str = "every", dialect: str = DEFAULT_DIALECT):
+    """The Jinja environment of ``dialect``: the user folder first, then the defaults
+    (ChoiceLoader, in the order of the module docstring)."""
     import jinja2
 
     if number_format not in NUMBER_FORMATS:
@@ -55,34 +107,45 @@ def environment(user_dir: str | None = None, number_format: str = "plain",
     if block_numbers not in BLOCK_NUMBERING:
         raise PlanError(f"block numbering must be one of {', '.join(BLOCK_NUMBERING)}, "
                         f"got {block_numbers!r}")
+    dirs = template_dirs(dialect)
+    fmt = _coordinate_format(dialect, number_format)
     loaders = []
     if user_dir is not None:
         d = Path(user_dir)
         if not d.is_dir():
             raise PlanError(f"templates folder {user_dir}: not a directory")
+        sub = d / _dialect(dialect).templates
+        if sub.is_dir():
+            loaders.append(jinja2.FileSystemLoader(str(sub)))
         loaders.append(jinja2.FileSystemLoader(str(d)))
-    loaders.append(jinja2.FileSystemLoader(str(default_template_dir())))
+    loaders += [jinja2.FileSystemLoader(str(p)) for p in dirs]
     env = jinja2.Environment(loader=jinja2.ChoiceLoader(loaders), trim_blocks=True,
                              lstrip_blocks=True, keep_trailing_newline=True,
                              undefined=jinja2.StrictUndefined, autoescape=False)
-    env.filters["num"] = lambda v: fmt_num(v, number_format)
-    env.filters["dia"] = lambda v: fmt_dia(v, number_format)
+    env.filters["num"] = lambda v: fmt_num(v, fmt)
+    env.filters["dia"] = lambda v: fmt_dia(v, fmt)
+    env.filters["plain"] = lambda v: fmt_num(v, "plain")
+    env.filters["whole"] = whole
+    env.filters["um"] = micrometres
     env.filters["progno"] = progno
     env.filters["comment"] = comment
     env.filters["label"] = label
     env.filters["ref"] = ref
     env.filters["blocks"] = lambda text: number_blocks(text, block_numbers)
-    env.globals["number_format"] = number_format
+    env.globals["number_format"] = fmt
     env.globals["block_numbering"] = block_numbers
+    env.globals["dialect"] = dialect
     return env
 
 
-def render(plan: Any, *, templates: str | Path | None = None, number_format: str = "plain",
-           block_numbers: str = "every", template: str = "program.j2") -> str:
-    """Render ``plan`` (a :class:`hnc_cam.plan.model.Plan`) to program text."""
+def render(plan: Any, *, dialect: str = DEFAULT_DIALECT, templates: str | Path | None = None,
+           number_format: str = "plain", block_numbers: str = "every",
+           template: str = "program.j2") -> str:
+    """Render ``plan`` (a :class:`hnc_cam.plan.model.Plan`) to ``dialect``'s program text."""
     import jinja2
 
-    env = environment(None if templates is None else str(templates), number_format, block_numbers)
+    env = environment(None if templates is None else str(templates), number_format,
+                      block_numbers, dialect)
     try:
         return env.get_template(template).render(plan=plan)
     except jinja2.TemplateNotFound as e:
@@ -125,7 +188,7 @@ def blame_user_template(templates: str | Path | None, block: str, col: int) -> s
     candidates = [word]
     d = Path(templates)
     try:
-        files = sorted(d.glob("*.j2"))
+        files = sorted(d.glob("*/*.j2")) + sorted(d.glob("*.j2"))
     except OSError:
         return None
     for cand in candidates:

@@ -6,6 +6,9 @@
   ``"zero"`` writes ``20.0``. ``-0`` is written ``0``.
 * ``dia``: a radius value written as a diameter (X words, the G71 X allowance).
 * ``progno``: the program number line ``%nnnn`` (4 digits, more when the number needs them).
+* ``whole``: a rounded whole number (S, T, counts); ``um``: mm written in micrometres without a
+  point (FANUC's G76 P/Q words).
+* ``plain``: a number in the plain format whatever the number format option says.
 * ``comment``: ``(text)`` with the characters the control cannot take in a comment replaced:
   parentheses become brackets, ``%`` (program start) becomes ``pct``, non-ASCII becomes ``?``.
 * ``label`` / ``ref``: a block that a cycle's P/Q word refers to carries a label, and the
@@ -13,7 +16,7 @@
   ``program.j2``) turns both into block numbers.
 
 Block numbering (:func:`number_blocks`): ``"every"`` numbers every block N1, N2, ... (comment
-lines, blank lines and the ``%`` line are not blocks); ``"pq"`` numbers only the blocks that a
+lines, blank lines, the ``%`` line and a FANUC ``O`` program number line are not blocks); ``"pq"`` numbers only the blocks that a
 P/Q word refers to (N1, N2, ... in program order); ``"none"`` is refused when a P/Q word needs
 a number.
 """
@@ -53,6 +56,20 @@ def fmt_dia(radius: float, style: str = "plain") -> str:
     return fmt_num(2.0 * float(radius), style)
 
 
+def whole(value: float) -> str:
+    """A whole number (S, T, M, a count), rounded: ``S2865`` for 2864.8."""
+    v = float(value)
+    if not math.isfinite(v):
+        raise ValueError(f"cannot write {value!r} in a program")
+    return str(int(round(v)))
+
+
+def micrometres(mm: float) -> str:
+    """A length in mm written in micrometres without a decimal point (FANUC's G76 P/Q and
+    G74/G75 P/Q words): ``1.5`` -> ``1500``."""
+    return whole(float(mm) * 1000.0)
+
+
 def progno(number: int) -> str:
     n = int(number)
     if not 0 <= n <= 99999999:
@@ -83,9 +100,15 @@ _LABEL_RE = re.compile(f"{_LABEL}([^{_LABEL}]*){_LABEL}")
 _REF_RE = re.compile(f"{_REF}([^{_REF}]*){_REF}")
 
 
+_PROGRAM_NUMBER = re.compile(r"O\d")
+
+
 def _is_block(line: str) -> bool:
+    """A line that gets a block number: not a comment, the ``%`` line or a FANUC program
+    number line ``O1234 (NAME)``."""
     s = line.strip()
-    return bool(s) and not s.startswith("(") and not s.startswith("%") and not s.startswith(";")
+    return bool(s) and not s.startswith("(") and not s.startswith("%") and not s.startswith(";") \
+        and not _PROGRAM_NUMBER.match(s)
 
 
 def number_blocks(text: str, mode: str = "every", start: int = 1, step: int = 1) -> str:
