@@ -423,7 +423,7 @@ def flank_shifts(depths: list[tuple[float, bool]], angle: float, a: Point, c: Po
 def thread_passes(ctx: Any, a: Point, c: Point, passes: list[tuple[float, float]], *,
                   height: float, taper: float, lead: float, start_angle: float,
                   tool_angle: float, runout: Point = (0.0, 0.0), chamfer: Point = (0.0, 0.0),
-                  axes_return: bool = False) -> None:
+                  axes_return: bool = False, shift_end: bool = True) -> None:
     """The multiple-pass threading engine (HNC G76, FANUC and Haas G76).
 
     ``c`` is the root end point (radius x), ``height`` the thread height K, ``taper`` the
@@ -433,7 +433,8 @@ def thread_passes(ctx: Any, a: Point, c: Point, passes: list[tuple[float, float]
     (length along Z, pull-out in X, radius) ends the thread inside that end: the straight
     thread stops the length before it and a second thread leg pulls out to
     (x_t + s·pull-out, C.z + h). ``runout`` (dx, dz) is a further thread leg after the end.
-    Then back to A: one rapid, or with ``axes_return`` rapid in X to A.x, then in Z."""
+    Then back to A: one rapid, or with ``axes_return`` rapid in X to A.x, then in Z.
+    Without ``shift_end`` only the pass start is shifted by h: every pass ends on C.z."""
     s = 1 if a[0] > c[0] else -1
     length = abs(c[1] - a[1])
     dirz = 1.0 if c[1] > a[1] else -1.0
@@ -442,7 +443,7 @@ def thread_passes(ctx: Any, a: Point, c: Point, passes: list[tuple[float, float]
         x_end = c[0] + s * (height - t)
         legs.rapid((a[0] - s * t, a[1] + h))
         legs.rapid((x_end + taper, a[1] + h))
-        end = (x_end, c[1] + h)
+        end = (x_end, c[1] + h if shift_end else c[1])
         if chamfer[0] > _TOL and length > _TOL:
             frac = min(chamfer[0] / length, 1.0)
             legs.thread((x_end + taper * frac, end[1] - dirz * min(chamfer[0], length)), lead,
