@@ -77,7 +77,8 @@ def program_header(path: str) -> tuple[dict[str, str] | None, str | None]:
     stock = None
     for n, raw in enumerate(head.decode("utf-8", "replace").splitlines()):
         line = raw.strip()
-        if not line or n == 0 and line.startswith(("%", "O")):
+        # the program's start: HNC's %nnnn line; FANUC's % line, then O1234 (NAME)
+        if not line or n < 2 and (line.startswith("%") or re.match(r"O\d", line)):
             continue
         if not line.startswith("("):
             break

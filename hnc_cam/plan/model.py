@@ -173,6 +173,9 @@ class Operation:
     start: Point
     spindle: str = "css"
     speed: float = 0.0
+    #: the spindle limit for this operation's tool (rpm): the lower of the machine's and the
+    #: tool's; a dialect with a clamp word writes it before a constant surface speed
+    max_rpm: float = 0.0
     feed: float = 0.0  # mm/rev
     blocks: list[Block] = field(default_factory=list)
     ns: str = ""
@@ -316,6 +319,24 @@ class Plan:
 
     def summary(self) -> str:
         return ", ".join(f"{op.name} {op.cycle}" for op in self.operations)
+
+    def contour_owner(self, op: Operation) -> Operation:
+        """The operation whose blocks are ``op``'s ns..nf contour: ``op`` itself when it has
+        blocks, else the one with blocks labelled ``op.ns`` (the finishing contour a roughing
+        cycle refers to)."""
+        if op.blocks or not op.ns:
+            return op
+        for o in self.operations:
+            if o.blocks and o.ns == op.ns:
+                return o
+        raise ValueError(f"no operation has the contour labelled {op.ns!r}")
+
+    def roughed(self, op: Operation) -> bool:
+        """True when a roughing operation before ``op`` refers to ``op``'s contour (a dialect
+        whose roughing cycle needs its contour right after it writes it there, and finishes
+        with a cycle that runs it again)."""
+        return bool(op.ns) and any(o is not op and o.kind == "rough" and not o.blocks
+                                   and o.ns == op.ns for o in self.operations)
 
     def explain(self) -> str:
         """The planner's reasoning, one paragraph per operation (``generate --explain``)."""

@@ -225,6 +225,7 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
                                 params=dict(params or {})))
 
     for op in ops:
+        op.max_rpm = rpm_limit(op.tool, machine)
         if op.blocks and op.name in ("finish", "bore_finish", "profile") and op.css:
             _cap_contour(op, rpm_limit(op.tool, machine))
         plan.notes.extend(op.notes)
