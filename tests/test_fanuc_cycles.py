@@ -570,6 +570,21 @@ def test_alarms_on_words(code, words, msg):
         run(code, words, dia(46, 3), profile={(1, 3): prof})
 
 
+def test_runaway_levels_are_bounded():
+    prof = path((46, 3), ("rapid", 0, 3, "X"), ("feed", 44, -62))
+    with pytest.raises(NCError, match=r"depth of cut 0\.001: about 23000 pass levels"):
+        run(71, {"P": 1, "Q": 2}, dia(46, 3), store={71: {"depth": 0.001}},
+            profile={(1, 2): prof})
+    with pytest.raises(NCError, match=r"G71 D0\.001: about"):
+        run(71, {"P": 1, "Q": 2, "D": 0.001}, dia(46, 3), table=fc.HAAS_CYCLES,
+            profile={(1, 2): prof})
+    with pytest.raises(NCError, match="cycle_passes"):
+        run(73, {"P": 1, "Q": 2, "D": 20000.0}, dia(46, 3), table=fc.HAAS_CYCLES,
+            profile={(1, 2): prof})
+    with pytest.raises(NCError, match="passes"):
+        run(76, {"X": 16.0, "Z": -20.0, "P": 1000.0, "Q": 1.0, "F": 1.5}, dia(22, 5))
+
+
 def test_bad_machine_setting_alarms():
     with pytest.raises(NCError, match="g71_depth"):
         run(71, {"P": 1, "Q": 3}, dia(46, 3), settings={"g71_depth": "deep"},

@@ -43,7 +43,7 @@ Alarms (at the cycle block; profile problems name the profile block's line)
 """
 from __future__ import annotations
 
-from typing import Any, NoReturn
+from typing import Any, NoReturn, Optional
 
 from ..geometry.primitives import Arc
 from ..geometry.roughing import RoughingError, RoughPlan, pattern_repeat, rough_turn
@@ -116,10 +116,13 @@ def _max_passes(ctx: Any) -> int:
     return int(getattr(ctx, "max_passes", 10_000))
 
 
-def level_bound(ctx: Any, start, segs, allowance, depth: float, face: bool, letter: str) -> None:
+def level_bound(ctx: Any, start, segs, allowance, depth: float, face: bool,
+                letter: Optional[str]) -> None:
     """Alarm when the depth of cut is so small against the profile's extent along the level
     axis that the cycle would take more levels than the machine's [limits] cycle_passes
-    (counted before planning, so that planning never runs away)."""
+    (counted before planning, so that planning never runs away). ``letter``: the word of
+    the block that gave the depth, or None when it came from elsewhere (an earlier block,
+    the machine)."""
     k = 1 if face else 0
     far = 0.0
     for sg in segs:
@@ -131,8 +134,8 @@ def level_bound(ctx: Any, start, segs, allowance, depth: float, face: bool, lett
     levels = far / depth
     limit = _max_passes(ctx)
     if levels > limit:
-        ctx.alarm(f"G{ctx.code} {letter}{depth:g}: about {levels:.0f} pass levels over "
-                  f"{far:.3f} mm, more than the machine's limit of {limit} ([limits] cycle_passes)",
+        ctx.alarm(f"G{ctx.code} {letter or 'depth of cut '}{depth:g}: about {levels:.0f} pass "
+                  f"levels over {far:.3f} mm, more than the machine's limit of {limit} ([limits] cycle_passes)",
                   letter)
 
 

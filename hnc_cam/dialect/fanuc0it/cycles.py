@@ -355,8 +355,8 @@ def _stock_removal(ctx: Any, face: bool, depth: Optional[float] = None,
     allowance = (du, dw)
     passes_allowance = (du + extra[0], dw + extra[1])
     start = ctx.pos
-    letter = "D" if ctx.has("D") else None
-    rough.level_bound(ctx, start, segs, passes_allowance, depth, face, letter or "P")
+    rough.level_bound(ctx, start, segs, passes_allowance, depth, face,
+                      "D" if ctx.has("D") else None)
     try:
         plan = rough_turn(start, segs, motions, depth=depth, retract=retract,
                           allowance=passes_allowance, face=face, pockets=type2,
