@@ -93,3 +93,32 @@ def test_bad_template_folder_and_syntax(tmp_path):
     (tmp_path / "g71.j2").write_text("{% if %}\n")
     with pytest.raises(PlanError, match="g71.j2"):
         render(_plan("g71"), templates=tmp_path)
+
+
+def test_template_lookup_order_per_dialect(tmp_path):
+    """user folder/<dialect>/, then the user folder, then the dialect's folder, then its
+    fallback's (Haas: FANUC's templates except the one-block cycles)."""
+    p = _plan("g71")
+    (tmp_path / "footer.j2").write_text("M30\n")
+    (tmp_path / "fanuc0it").mkdir()
+    (tmp_path / "fanuc0it" / "footer.j2").write_text("M05\nM30\n")
+    hnc = render(p, templates=tmp_path)
+    assert hnc.splitlines()[-1].endswith(" M30") and " M05" not in hnc.splitlines()[-2]
+    fanuc = render(p, dialect="fanuc0it", templates=tmp_path)
+    assert [ln.split(" ", 1)[1] for ln in fanuc.splitlines()[-3:-1]] == ["M05", "M30"]
+    haas = render(p, dialect="haas", templates=tmp_path)
+    assert fanuc.splitlines()[-2].endswith(" M30") and haas.splitlines()[-2].endswith(" M30")
+    # haas's own file wins over FANUC's; the rest is FANUC's
+    assert "G71 U" in fanuc and "G71 U" not in haas and " D1.5 " in haas
+    assert haas.splitlines()[:2] == fanuc.splitlines()[:2] == ["%", "O0001 (shaft)"]
+    with pytest.raises(PlanError, match="fanuc0it"):
+        render(p, dialect="nosuch")
+
+
+def test_fanuc_numbers_carry_a_point_whatever_the_format():
+    p = _plan("g71")
+    plain = render(p, dialect="fanuc0it")
+    assert render(p, dialect="fanuc0it", number_format="point") == plain
+    assert "G00 G40 Z80.\n" in plain and "X100.\n" in plain
+    zero = render(p, dialect="fanuc0it", number_format="zero")
+    assert "Z80.0\n" in zero and "T0101\n" in zero and "S180 " in zero
