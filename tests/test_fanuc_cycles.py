@@ -596,3 +596,55 @@ def test_tables():
     assert set(fc.HAAS_CYCLES) == {71, 72, 73, 76}
     assert fc.MODAL_CYCLES == frozenset({90, 92, 94})
     assert cycles_simple.thread_passes and cycles_rough.emit
+
+
+# --------------------------------------------------------------------------- any words
+
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+_values = st.one_of(st.sampled_from([0.0, 1.0, -1.0, 0.5, 2.0, 3.0, 1000.0, 0.004, 11060.0,
+                                     60.0, 99.0, 1e9, -1e9]),
+                    st.floats(-1e4, 1e4, allow_nan=False))
+_words = st.dictionaries(st.sampled_from(list("XZUWPQRDIKFA")), _values, max_size=3)
+
+
+_GOOD = {71: {"P": 1, "Q": 3, "U": 0.4, "W": 0.1}, 72: {"P": 1, "Q": 3, "U": 0.4},
+         73: {"P": 1, "Q": 3, "U": 0.4}, 74: {"X": 20.0, "Z": -10.0, "P": 1000.0, "Q": 2000.0},
+         75: {"X": 20.0, "Z": -10.0, "P": 1000.0, "Q": 2000.0},
+         76: {"X": 16.0, "Z": -20.0, "P": 1000.0, "Q": 400.0, "F": 1.5},
+         90: {"X": 20.0, "Z": -20.0, "F": 1.0}, 92: {"X": 20.0, "Z": -20.0, "F": 1.0},
+         94: {"X": 20.0, "Z": -20.0, "F": 1.0}, 1071: {"P": 1, "Q": 3, "D": 1.0},
+         1072: {"P": 1, "Q": 3, "D": 1.0}, 1073: {"P": 1, "Q": 3, "D": 3.0, "I": 2.0},
+         1076: {"X": 16.0, "Z": -20.0, "K": 1.0, "D": 0.3, "F": 1.5}}
+
+
+@settings(max_examples=400, deadline=None)
+@given(code=st.sampled_from(sorted(fc.CYCLES) + [1071, 1072, 1073, 1076]), words=_words,
+       first=_words, pos=st.tuples(st.floats(0.5, 50), st.floats(-50, 50)))
+def test_any_words_give_moves_or_an_alarm(code, words, first, pos):
+    """Whatever the words (and an earlier first block), a cycle either moves or alarms with
+    an NCError; it never raises anything else and never exceeds its bounds."""
+    table = fc.HAAS_CYCLES if code > 1000 else fc.CYCLES
+    base = _GOOD.get(code, _GOOD.get(code % 1000, {}))
+    words = {**base, **words}
+    code %= 1000
+    if code == 72:
+        prof = path((2 * pos[0], pos[1]), ("rapid", 2 * pos[0], pos[1] - 10, "Z"),
+                    ("feed", 10, pos[1] - 10), ("feed", 8, pos[1] - 2), ("feed", 8, pos[1] + 1))
+    else:
+        prof = path((2 * pos[0], pos[1]), ("rapid", 0, pos[1], "X"),
+                    ("feed", pos[0], pos[1] - 5), ("feed", 1.8 * pos[0], pos[1] - 65))
+    store: dict = {}
+    try:
+        run(code, first, pos, table=table, store=store, max_passes=500, moves_left=20_000)
+    except NCError:
+        pass
+    try:
+        ctx = run(code, words, pos, table=table, store=store, max_passes=500, moves_left=20_000,
+                  profile={(1, 3): prof, (1, 2): prof[:2]})
+    except NCError:
+        return
+    assert len(ctx.moves) <= 20_000 * 3
+    for m in ctx.moves:
+        assert all(math.isfinite(v) for v in m[1])
