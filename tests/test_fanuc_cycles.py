@@ -437,6 +437,36 @@ def test_g74_peck_drill_positions():
     assert rapids == [-2, -7, -12, -17, 2]
 
 
+def test_g74_face_groove_columns_in_x():
+    """G74 from (X20, Z1) to X40 Z-6 with P2500 (2.5 radius shift) Q2000: columns at X20,
+    X25, X30, X35, X40 (the last exactly on X); pecks to Z-1, -3, -5, -6 in each."""
+    ctx = run(74, {"X": 40.0, "Z": -6.0, "P": 2500.0, "Q": 2000.0, "F": 0.05}, dia(20, 1),
+              store={74: {"return": 0.5}})
+    cols: dict = {}
+    for m in ctx.moves:
+        if m[0] == "feed":
+            cols.setdefault(round(m[1][0] * 2, 6), []).append(m[1][1])
+    assert list(cols) == [20, 25, 30, 35, 40]
+    assert all(v == [-1, -3, -5, -6] for v in cols.values())
+    assert ("rapid", dia(20, -0.5)) in ctx.moves  # the return e after the first peck
+    assert ctx.moves[-1] == ("rapid", dia(20, 1))
+
+
+def test_g75_one_column_relief_keeps_its_sign():
+    ctx = run(75, {"X": 30.0, "P": 3000.0, "R": -0.1, "F": 0.05}, dia(40, -15),
+              store={74: {"return": 0.0}})
+    assert ctx.moves == [("feed", dia(34, -15)), ("feed", dia(30, -15)),
+                         ("feed", dia(30, -15.1)), ("rapid", dia(40, -15.1)),
+                         ("rapid", dia(40, -15))]
+
+
+def test_haas_rough_allowance_into_the_part_alarms():
+    prof = path((46, 3), ("rapid", 0, 3, "X"), ("feed", 10, -2), ("feed", 44, -62))
+    with pytest.raises(NCError, match="allowance of the last pass"):
+        run(71, {"P": 1, "Q": 3, "U": 0.4, "D": 2.0, "I": -0.3}, dia(46, 3),
+            table=fc.HAAS_CYCLES, profile={(1, 3): prof})
+
+
 def test_peck_alarms():
     with pytest.raises(NCError, match="peck depth"):
         run(74, {"Z": -20.0, "F": 0.1}, dia(0, 2))
