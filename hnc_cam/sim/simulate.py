@@ -65,6 +65,7 @@ from ..geometry import Arc
 from ..nc.toolpath import Move, Toolpath
 from ..tooling import Machine, Stock, ToolLibrary, load_machine
 from .region import chuck_zone, clean, diff, inter, polygons, stock_region, union as union_of
+from .area import clip_below, envelope, front_bands, overlap_areas, region_edges, ring_edges
 from .tool import CHORD, ToolShape, sweep_hulls, tool_shape
 
 FEED_KINDS = ("line", "arc", "thread")
@@ -76,6 +77,9 @@ TOUCH_THICK = 5e-4
 RAPID_DEPTH = 0.1
 #: consecutive moves united and removed together
 BATCH = 48
+#: tool outlines of at most this many vertices are taken out a batch at a time with the
+#: exact overlap areas of :mod:`hnc_cam.sim.area`; larger ones one overlay per move
+PAIR_VERTS = 400
 
 _lib_difference = shapely.lib.difference
 _lib_area = shapely.lib.area
@@ -285,13 +289,20 @@ class _Sweeper:
         run = self.run(moves)
         return list(run.sweeps), [run.path(k) for k in range(len(moves))]
 
-    def run(self, moves: list[Move]) -> "_Run":
+    def run(self, moves: list[Move], bands: bool = False, prev: tuple = (None, None)) -> "_Run":
         """The swept regions of a run of moves and the quads swept by their leading
-        non-cutting sides, built with one vectorised call per tool shape."""
+        non-cutting sides, built with one vectorised call per tool shape.
+
+        ``bands``: also the front bands of every straight piece whose tool outline has at most
+        :data:`PAIR_VERTS` vertices (:func:`hnc_cam.sim.area.front_bands`; the whole hull where
+        the piece's start placement was not swept by the move before: a tool change, a jump,
+        the first move). ``prev``: (tool shape, end point) of the move before the run."""
         n = len(moves)
         sweeps = np.full(n, None, dtype=object)
         groups: dict[tuple, tuple[ToolShape, list[int], list[int]]] = {}  # lines, arcs
         memo: dict[tuple, ToolShape] = {}
+        cont = np.zeros(n, dtype=bool)  # start placement swept by the move before
+        prev_shape, prev_end = prev
         for k, m in enumerate(moves):
             kind = m.kind
             if kind == "dwell":
@@ -300,22 +311,30 @@ class _Sweeper:
             shape = memo.get(mk)
             if shape is None:
                 shape = memo[mk] = self.shape(m)
+            if shape is prev_shape and m.start == prev_end:
+                cont[k] = True
+            prev_shape, prev_end = shape, m.end
             g = groups.get(shape.key)
             if g is None:
                 g = groups[shape.key] = (shape, [], [])
             (g[2] if kind == "arc" else g[1]).append(k)
         quads, quad_owner = [], []
+        band_parts: list[tuple] = []
+        outlines: list[np.ndarray] = []
+        band_ok = np.zeros(n, dtype=bool)
         for shape, lines, arcs in groups.values():
             P = np.array([(moves[k].start[1], moves[k].start[0]) for k in lines],
                          dtype=float).reshape(-1, 2)
             Q = np.array([(moves[k].end[1], moves[k].end[0]) for k in lines],
                          dtype=float).reshape(-1, 2)
             own = np.array(lines, dtype=np.int64)
+            first = np.ones(len(lines), dtype=bool)
             if arcs:
                 paths = [self.path_points(moves[k]) for k in arcs]
                 P = np.concatenate([P, *(p[:-1] for p in paths)])
                 Q = np.concatenate([Q, *(p[1:] for p in paths)])
                 own = np.concatenate([own, *(np.full(len(p) - 1, k) for k, p in zip(arcs, paths))])
+                first = np.concatenate([first, *(np.arange(len(p) - 1) == 0 for p in paths)])
             hulls = sweep_hulls(shape.outline, P, Q)
             nl = len(lines)
             if nl:
@@ -325,6 +344,14 @@ class _Sweeper:
                 e = s0 + len(p) - 1
                 sweeps[k] = hulls[s0] if e - s0 == 1 else union_of(hulls[s0:e])
                 s0 = e
+            if bands and len(shape.outline) <= PAIR_VERTS and len(own):
+                covered = ~first | cont[own]
+                K = _ccw_outline(shape)
+                rings, i_min, i_max = front_bands(K, P, Q, ~covered)
+                band_parts.append((rings, own, P, Q, covered, i_min, i_max,
+                                   np.full(len(own), len(outlines))))
+                outlines.append(K)
+                band_ok[own] = True
             if shape.non_cutting:
                 feed = np.array([moves[k].kind in FEED_KINDS for k in own], dtype=bool)
                 a, b, nrm = _sides(shape)
@@ -343,20 +370,123 @@ class _Sweeper:
             qo = qo[order]
         else:
             qp, qo = np.zeros(0, dtype=object), np.zeros(0, dtype=np.int64)
-        return _Run(moves, sweeps, qp, qo)
+        run = _Run(moves, sweeps, qp, qo)
+        run.last = (prev_shape, prev_end)
+        run.band_ok = band_ok
+        if band_parts:
+            width = max(r.shape[1] for r, *_ in band_parts)
+            rings = np.concatenate([np.concatenate([r, np.repeat(r[:, -1:], width - r.shape[1], axis=1)],
+                                                   axis=1) for r, *_ in band_parts])
+            cols = [np.concatenate([bp[i] for bp in band_parts]) for i in range(1, 8)]
+            order = np.argsort(cols[0], kind="stable")
+            run.band_rings = rings[order]
+            (run.band_own, run.piece_a, run.piece_b, run.piece_covered, run.piece_min,
+             run.piece_max, run.piece_shape) = (c[order] for c in cols)
+            run.outlines = outlines
+        return run
+
+
+def _ccw_outline(shape: ToolShape) -> np.ndarray:
+    K = np.asarray(shape.outline, dtype=float)
+    if float(np.sum(K[:, 0] * np.roll(K[:, 1], -1) - np.roll(K[:, 0], -1) * K[:, 1])) < 0:
+        K = K[::-1]
+    return K
 
 
 class _Run:
     """Sweeps of a run of consecutive moves (index k in the run) and the parallelograms
-    ``quads`` swept by leading non-cutting sides, sorted by their move ``quad_owner``."""
+    ``quads`` swept by leading non-cutting sides, sorted by their move ``quad_owner``; with
+    bands, the front bands of the pieces of the moves where ``band_ok`` (sorted by move)."""
 
     def __init__(self, moves: list[Move], sweeps: np.ndarray, quads: np.ndarray,
                  quad_owner: np.ndarray):
         self.moves, self.sweeps, self.quads, self.quad_owner = moves, sweeps, quads, quad_owner
+        self.last: tuple = (None, None)
+        self.band_ok = np.zeros(len(moves), dtype=bool)
+        # the straight pieces of the moves where band_ok, in program order: their front bands
+        # (closed rings), move, ends, whether the start placement was swept before, the
+        # extreme vertices of the outline across the motion, the outline
+        self.band_rings = np.zeros((0, 2, 2))
+        self.band_own = np.zeros(0, dtype=np.int64)
+        self.piece_a = self.piece_b = np.zeros((0, 2))
+        self.piece_covered = np.zeros(0, dtype=bool)
+        self.piece_min = self.piece_max = self.piece_shape = np.zeros(0, dtype=np.int64)
+        self.outlines: list[np.ndarray] = []
 
     def path(self, k: int) -> np.ndarray:
         m = self.moves[k]
         return np.zeros((0, 2)) if m.kind == "dwell" else _Sweeper.path_points(m)
+
+    def band_areas(self, region: np.ndarray, k0: int, k1: int) -> np.ndarray:
+        """Upper bounds of what each move k0 <= k < k1 removes from the region (edges of
+        :func:`hnc_cam.sim.area.region_edges`) when the moves before it in the run have
+        already been taken out of it: the overlap of the region with the move's front bands
+        (exact as soon as the bounds of a batch add up to what it removed as a whole). The
+        bands are first cut at the highest point of the region over their Z range (nothing
+        above it can meet the region)."""
+        lo, hi = np.searchsorted(self.band_own, [k0, k1])
+        out = np.zeros(k1 - k0)
+        if hi <= lo or not len(region):
+            return out
+        rings = self.band_rings[lo:hi]
+        z0, z1 = rings[:, :, 0].min(), rings[:, :, 0].max()
+        ez = region[:, [0, 2]]
+        over = (ez.min(axis=1) <= z1) & (ez.max(axis=1) >= z0)
+        if not over.any():
+            return out
+        X = float(region[over][:, [1, 3]].max())
+        x0 = rings[:, :, 1].min(axis=1)
+        keep = np.flatnonzero(x0 < X)
+        if not len(keep):
+            return out
+        a = overlap_areas(region, ring_edges(clip_below(rings[keep], X)), x0[keep])
+        out += np.bincount(self.band_own[lo:hi][keep] - k0, weights=a, minlength=k1 - k0)
+        # where the outline's extreme vertices change from one piece to the next, the band
+        # reaches back into the piece before's hull beside the start placement: that part
+        # is taken off the bound (it stays an upper bound)
+        j = np.arange(max(lo, 1), hi)
+        sw = j[self.piece_covered[j] & (self.piece_shape[j] == self.piece_shape[j - 1])
+               & ((self.piece_min[j] != self.piece_min[j - 1])
+                  | (self.piece_max[j] != self.piece_max[j - 1]))]
+        sw = sw[x0[sw - lo] < X]
+        for i in sw.tolist():
+            K = self.outlines[int(self.piece_shape[i])]
+            prev = sweep_hulls(K, self.piece_a[i - 1], self.piece_b[i - 1])[0]
+            both = inter(shapely.Polygon(self.band_rings[i]), prev)
+            if both.is_empty:
+                continue
+            e = region_edges(both)
+            out[self.band_own[i] - k0] -= overlap_areas(region, e[None], x0[i - lo:i - lo + 1])[0]
+        return out
+
+    def envelopes(self, k0: int, k1: int) -> list[BaseGeometry] | None:
+        """Polygons inside the union of the sweeps of the moves k0 <= k < k1 (where
+        band_ok): per run of pieces with one outline, continuous, with the same extreme
+        vertices, its :func:`hnc_cam.sim.area.envelope`, and the outline where a run starts
+        (unless the batch's first piece continues from a placement already swept). None when an envelope is not a simple polygon."""
+        lo, hi = np.searchsorted(self.band_own, [k0, k1])
+        if hi <= lo:
+            return []
+        cov = self.piece_covered[lo:hi]
+        sh, mn, mx = self.piece_shape[lo:hi], self.piece_min[lo:hi], self.piece_max[lo:hi]
+        brk = np.ones(hi - lo, dtype=bool)
+        brk[1:] = ~cov[1:] | (sh[1:] != sh[:-1]) | (mn[1:] != mn[:-1]) | (mx[1:] != mx[:-1])
+        starts = np.flatnonzero(brk).tolist() + [hi - lo]
+        A, B = self.piece_a[lo:hi], self.piece_b[lo:hi]
+        rings = []
+        extra = []
+        for r0, r1 in zip(starts[:-1], starts[1:]):
+            K = self.outlines[int(sh[r0])]
+            pts = np.concatenate([A[r0:r0 + 1], B[r0:r1]])
+            rings.append(envelope(K, int(mn[r0]), int(mx[r0]), pts))
+            if r0 > 0 or not cov[r0]:
+                # the whole outline where a run starts: the envelopes on either side hold
+                # only its parts behind and ahead of their own chords
+                extra.append(np.concatenate([K, K[:1]]) + A[r0])
+        polys = [shapely.Polygon(r) for r in rings]
+        if not all(shapely.is_valid(polys)):
+            return None
+        return polys + [shapely.Polygon(r) for r in extra]
 
     def non_cutting_candidates(self, local: BaseGeometry, k0: int, k1: int) -> set[int]:
         """Moves k0 <= k < k1 whose leading non-cutting sides pass through ``local`` (prepared;
@@ -445,10 +575,13 @@ def simulate(toolpath: Toolpath, stock: Stock | BaseGeometry, machine: Machine |
 
     # the loop makes many short-lived objects and no reference cycles: the cyclic collector
     # would only rescan the toolpath's moves, more of them the longer the program
+    edges_of: list = [None, None]  # (material, its edges): recomputed when the material changes
+    prev: tuple = (None, None)
     with _gc_paused():
         for c0 in range(0, n, CHUNK):
             cm = moves[c0:c0 + CHUNK]
-            run = sweeper.run(cm)
+            run = sweeper.run(cm, bands=True, prev=prev)
+            prev = run.last
             has = np.flatnonzero(shapely.is_empty(run.sweeps) == False)  # noqa: E712 (None -> False)
             has = has[run.sweeps[has] != None]  # noqa: E711
             if len(has):
@@ -465,53 +598,139 @@ def simulate(toolpath: Toolpath, stock: Stock | BaseGeometry, machine: Machine |
                 bb = boxes[c0 + idx]
                 if not _boxes_meet(material, bb):
                     continue
-                # the material the batch can meet: inside the convex hull of its sweeps, grown by
-                # SEAM so that the zone's boundary lies off every sweep (an overlay, not GEOS's
-                # rectangle clip, which can return a wrong region for a valid polygon)
-                hull = shapely.convex_hull(shapely.geometrycollections(geoms))
-                zone = shapely.buffer(hull, SEAM, join_style="mitre")
-                local0 = inter(material, zone)
-                if local0.is_empty:
-                    continue
-                shapely.prepare(local0)
-                # the local material only shrinks: a sweep that misses it now misses it later too
-                hit = shapely.intersects(local0, geoms)
-                nc_hit = run.non_cutting_candidates(local0, b0, b1)
-                shapely.destroy_prepared(local0)
-                local = local0
-                local_area = _lib_area(local)
-                for k, g in zip(idx[hit].tolist(), geoms[hit].tolist()):
-                    after = _difference(local, g)
-                    after_area = _lib_area(after)
-                    a = local_area - after_area
-                    if a > 1e-12:
-                        removed_area[c0 + k] = a
-                        if a > TOUCH_AREA:
-                            m = cm[k]
-                            nc = k in nc_hit
-                            if nc or _checked(m):
-                                _check_move(m, local, g, sweeper.shape(m), run.path(k),
-                                            toolpath, issues, notes, nc)
-                        local, local_area = after, after_area
-                if local is local0:
-                    continue
-                # the material outside the zone is untouched; both pieces meet on the zone's boundary
-                # at the same nodes (one noding of the material with the zone for both overlays)
-                material = _drop_specks(union_of([diff(material, zone), local]))
-                # pieces cut loose from the chucked end fall off
-                parts = polygons(material)
-                if len(parts) > 1 and chuck is not None:
-                    keep = [p for p in parts if p.intersects(chuck)]
-                    lost = [p for p in parts if not p.intersects(chuck)]
-                    if lost:
-                        fallen.extend(lost)
-                        material = clean(shapely.union_all(keep)) if keep else Polygon()
+                if run.band_ok[idx].all():
+                    got = _batch_by_bands(material, edges_of, run, c0, b0, b1, idx, geoms,
+                                          removed_area, sweeper, toolpath, issues, notes)
+                    if got is not None:
+                        if got is not material:
+                            material = _settle(got, chuck, fallen)
+                        continue
+                got = _batch_by_moves(material, run, c0, b0, b1, idx, geoms, removed_area,
+                                      sweeper, toolpath, issues, notes)
+                if got is not material:
+                    material = _settle(got, chuck, fallen)
 
     issues.sort(key=lambda i: i.line)
     return Machined(material=material, stock=start_region, toolpath=toolpath, issues=issues,
                     removed_area=removed_area, sweep_bounds=boxes, shapes=dict(sweeper.shapes),
                     thread_spans=_thread_spans(moves, machine), fallen=fallen, machine=machine,
                     notes=notes)
+
+
+def _settle(material: BaseGeometry, chuck: BaseGeometry | None,
+            fallen: list[BaseGeometry]) -> BaseGeometry:
+    """The material after a batch: rounding specks dropped, pieces cut loose from the chucked
+    end fallen off (into ``fallen``)."""
+    material = _drop_specks(material)
+    parts = polygons(material)
+    if len(parts) > 1 and chuck is not None:
+        keep = [p for p in parts if p.intersects(chuck)]
+        lost = [p for p in parts if not p.intersects(chuck)]
+        if lost:
+            fallen.extend(lost)
+            material = clean(shapely.union_all(keep)) if keep else Polygon()
+    return material
+
+
+def _batch_by_bands(material, edges_of, run: "_Run", c0, b0, b1, idx, geoms, removed_area,
+                    sweeper, toolpath, issues, notes):
+    """Take a batch out of the material with one overlay, each move's share from
+    :meth:`_Run.band_areas`.
+
+    The bands give upper bounds: each at least what its move removes after the moves before
+    it, so they add up to at least what the whole batch removes, which is at least what the
+    envelopes (:meth:`_Run.envelopes`, inside the union of the sweeps) take out of the
+    material. When the bounds add up to what the envelopes take out (to ``1e-10 + 1e-13 *
+    area`` mm^2), all of these are equal: every bound is the move's exact removal and the
+    material minus the envelopes is the material minus the sweeps. Returns the material after
+    the batch (``material`` itself when the batch removed nothing), or None when the bounds
+    do not add up (the batch is then taken move by move)."""
+    if edges_of[0] is not material:
+        edges_of[0], edges_of[1] = material, region_edges(material)
+    ub = run.band_areas(edges_of[1], b0, b1)
+    if not len(ub) or float(ub.max()) <= 1e-12:
+        return material  # no move removed more than this: nothing (as move by move)
+    env = run.envelopes(b0, b1)
+    if env is None:
+        return None
+    after = _difference(material, env[0] if len(env) == 1 else union_of(env))
+    a0 = _lib_area(material)
+    total = a0 - _lib_area(after)
+    tol = 1e-10 + 1e-13 * a0
+    if abs(float(ub.sum()) - total) > tol or float(ub.min()) < -tol:
+        return None
+    ks = np.flatnonzero(ub > 1e-12)
+    removed_area[c0 + b0 + ks] = ub[ks]
+    touch = ks[ub[ks] > TOUCH_AREA] + b0
+    if len(touch):
+        nc_hit: set[int] = set()
+        lo, hi = np.searchsorted(run.quad_owner, [b0, b1])
+        if hi > lo:
+            shapely.prepare(material)
+            nc_hit = run.non_cutting_candidates(material, b0, b1)
+            shapely.destroy_prepared(material)
+        for k in touch.tolist():
+            m = run.moves[k]
+            nc = k in nc_hit
+            if nc or _checked(m):
+                g = run.sweeps[k]
+                before = [run.sweeps[j] for j in idx.tolist() if j < k]
+                _check_move(m, _local_before(material, g, before), g, sweeper.shape(m),
+                            run.path(k), toolpath, issues, notes, nc)
+    return after
+
+
+def _local_before(material: BaseGeometry, g: BaseGeometry, before: list) -> BaseGeometry:
+    """The material round the sweep ``g`` (within SEAM of it) once the sweeps ``before`` (the
+    moves before it in its batch) are taken out."""
+    zone = shapely.buffer(g, SEAM, join_style="mitre")
+    local = inter(material, zone)
+    if before and not local.is_empty:
+        near = [h for h in before if h is not None and shapely.intersects(h, zone)]
+        if near:
+            local = diff(local, union_of(near))
+    return local
+
+
+def _batch_by_moves(material, run: "_Run", c0, b0, b1, idx, geoms, removed_area, sweeper,
+                    toolpath, issues, notes):
+    """Take a batch out of the material move after move (one overlay per move that meets the
+    material, within the batch's zone). Returns the material after it (``material`` itself
+    when the batch removed nothing)."""
+    # the material the batch can meet: inside the convex hull of its sweeps, grown by SEAM so
+    # that the zone's boundary lies off every sweep (an overlay, not GEOS's rectangle clip,
+    # which can return a wrong region for a valid polygon)
+    hull = shapely.convex_hull(shapely.geometrycollections(geoms))
+    zone = shapely.buffer(hull, SEAM, join_style="mitre")
+    local0 = inter(material, zone)
+    if local0.is_empty:
+        return material
+    shapely.prepare(local0)
+    # the local material only shrinks: a sweep that misses it now misses it later too
+    hit = shapely.intersects(local0, geoms)
+    nc_hit = run.non_cutting_candidates(local0, b0, b1)
+    shapely.destroy_prepared(local0)
+    local = local0
+    local_area = _lib_area(local)
+    cm = run.moves
+    for k, g in zip(idx[hit].tolist(), geoms[hit].tolist()):
+        after = _difference(local, g)
+        after_area = _lib_area(after)
+        a = local_area - after_area
+        if a > 1e-12:
+            removed_area[c0 + k] = a
+            if a > TOUCH_AREA:
+                m = cm[k]
+                nc = k in nc_hit
+                if nc or _checked(m):
+                    _check_move(m, local, g, sweeper.shape(m), run.path(k),
+                                toolpath, issues, notes, nc)
+            local, local_area = after, after_area
+    if local is local0:
+        return material
+    # the material outside the zone is untouched; both pieces meet on the zone's boundary at
+    # the same nodes (one noding of the material with the zone for both overlays)
+    return union_of([diff(material, zone), local])
 
 
 @contextmanager
