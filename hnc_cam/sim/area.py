@@ -60,10 +60,7 @@ def front_bands(outline: np.ndarray, a: np.ndarray, b: np.ndarray,
     m, n = len(K), len(a)
     if n == 0:
         return np.zeros((0, 2, 2)), np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
-    d = b - a
-    nrm = np.column_stack([-d[:, 1], d[:, 0]])
-    s = nrm @ K.T
-    i_min, i_max = np.argmin(s, axis=1), np.argmax(s, axis=1)
+    i_min, i_max = extremes(K, a, b)
     c = np.mod(i_max - i_min, m)  # front chain: i_min .. i_max counter-clockwise, c + 1 vertices
     width = max(2 * int(c.max()) + 3, m + 3)
     t = np.arange(width)[None, :]
@@ -87,6 +84,42 @@ def front_bands(outline: np.ndarray, a: np.ndarray, b: np.ndarray,
     on_b = np.where(w, hull_b, use_b)
     ring = K[idx] + np.where(on_b[:, :, None], b[:, None, :], a[:, None, :])
     return ring, i_min, i_max
+
+
+def extremes(outline: np.ndarray, a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Indices of the vertices of K extreme to the right and to the left of each piece's
+    motion a_i -> b_i (the ends of its front chain)."""
+    d = b - a
+    s = np.column_stack([-d[:, 1], d[:, 0]]) @ np.asarray(outline, dtype=float).T
+    return np.argmin(s, axis=1), np.argmax(s, axis=1)
+
+
+def polygon_edges(geoms) -> np.ndarray:
+    """Edges (n, P, 5) of polygonal geometries (rows z0 x0 z1 x1 s as :func:`region_edges`,
+    padded with zero rows)."""
+    n = len(geoms)
+    if n == 0:
+        return np.zeros((0, 1, 5))
+    parts, pidx = shapely.get_parts(shapely.orient_polygons(np.asarray(geoms, dtype=object),
+                                                            exterior_cw=False), return_index=True)
+    rings, ridx = shapely.get_rings(parts, return_index=True)
+    coords, cidx = shapely.get_coordinates(rings, return_index=True)
+    same = cidx[1:] == cidx[:-1]
+    e = _with_sign_all(coords[:-1][same], coords[1:][same])
+    owner = pidx[ridx[cidx[:-1][same]]]
+    if not len(owner):
+        return np.zeros((n, 1, 5))
+    order = np.argsort(owner, kind="stable")
+    owner, e = owner[order], e[order]
+    cnt = np.bincount(owner, minlength=n)
+    out = np.zeros((n, max(int(cnt.max()), 1), 5))
+    pos = np.arange(len(owner)) - np.repeat(np.cumsum(cnt) - cnt, cnt)
+    out[owner, pos] = e
+    return out
+
+
+def _with_sign_all(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    return np.column_stack([a, b, -np.sign(b[:, 0] - a[:, 0])])
 
 
 def clip_below(rings: np.ndarray, X: float) -> np.ndarray:
@@ -113,6 +146,22 @@ def clip_below(rings: np.ndarray, X: float) -> np.ndarray:
     pos = np.where(pos < 0, first[:, None], pos)
     out = np.take_along_axis(slots, pos[:, :, None], axis=1)
     return np.concatenate([out, np.take_along_axis(slots, first[:, None, None], axis=1)], axis=1)
+
+
+def clip_outline(outline: np.ndarray, X: float) -> np.ndarray | None:
+    """The convex outline (ccw) cut to x <= X, or None when less than a polygon is left."""
+    K = np.asarray(outline, dtype=float)
+    if K[:, 1].max() <= X:
+        return K
+    r = clip_below(np.concatenate([K, K[:1]])[None], X)[0][:-1]
+    keep = np.ones(len(r), dtype=bool)
+    keep[1:] = np.any(r[1:] != r[:-1], axis=1)
+    r = r[keep]
+    if len(r) > 1 and np.all(r[0] == r[-1]):
+        r = r[:-1]
+    if len(r) < 3:
+        return None
+    return r
 
 
 def ring_edges(rings: np.ndarray) -> np.ndarray:

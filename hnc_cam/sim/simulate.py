@@ -65,7 +65,8 @@ from ..geometry import Arc
 from ..nc.toolpath import Move, Toolpath
 from ..tooling import Machine, Stock, ToolLibrary, load_machine
 from .region import chuck_zone, clean, diff, inter, polygons, stock_region, union as union_of
-from .area import clip_below, envelope, front_bands, overlap_areas, region_edges, ring_edges
+from .area import (clip_below, clip_outline, envelope, extremes, front_bands, overlap_areas, polygon_edges,
+                   region_edges, ring_edges)
 from .tool import CHORD, ToolShape, sweep_hulls, tool_shape
 
 FEED_KINDS = ("line", "arc", "thread")
@@ -75,8 +76,11 @@ AIR_AREA = 1e-5
 TOUCH_AREA = 1e-4
 TOUCH_THICK = 5e-4
 RAPID_DEPTH = 0.1
-#: consecutive moves united and removed together
-BATCH = 48
+#: consecutive moves taken out of the material together
+BATCH = 256
+#: consecutive moves taken out move by move within one zone of material (where a batch's
+#: bounds do not add up)
+MOVE_BATCH = 48
 #: tool outlines of at most this many vertices are taken out a batch at a time with the
 #: exact overlap areas of :mod:`hnc_cam.sim.area`; larger ones one overlay per move
 PAIR_VERTS = 400
@@ -347,8 +351,8 @@ class _Sweeper:
             if bands and len(shape.outline) <= PAIR_VERTS and len(own):
                 covered = ~first | cont[own]
                 K = _ccw_outline(shape)
-                rings, i_min, i_max = front_bands(K, P, Q, ~covered)
-                band_parts.append((rings, own, P, Q, covered, i_min, i_max,
+                i_min, i_max = extremes(K, P, Q)
+                band_parts.append((own, P, Q, covered, i_min, i_max,
                                    np.full(len(own), len(outlines))))
                 outlines.append(K)
                 band_ok[own] = True
@@ -374,12 +378,8 @@ class _Sweeper:
         run.last = (prev_shape, prev_end)
         run.band_ok = band_ok
         if band_parts:
-            width = max(r.shape[1] for r, *_ in band_parts)
-            rings = np.concatenate([np.concatenate([r, np.repeat(r[:, -1:], width - r.shape[1], axis=1)],
-                                                   axis=1) for r, *_ in band_parts])
-            cols = [np.concatenate([bp[i] for bp in band_parts]) for i in range(1, 8)]
+            cols = [np.concatenate([bp[i] for bp in band_parts]) for i in range(7)]
             order = np.argsort(cols[0], kind="stable")
-            run.band_rings = rings[order]
             (run.band_own, run.piece_a, run.piece_b, run.piece_covered, run.piece_min,
              run.piece_max, run.piece_shape) = (c[order] for c in cols)
             run.outlines = outlines
@@ -403,10 +403,9 @@ class _Run:
         self.moves, self.sweeps, self.quads, self.quad_owner = moves, sweeps, quads, quad_owner
         self.last: tuple = (None, None)
         self.band_ok = np.zeros(len(moves), dtype=bool)
-        # the straight pieces of the moves where band_ok, in program order: their front bands
-        # (closed rings), move, ends, whether the start placement was swept before, the
-        # extreme vertices of the outline across the motion, the outline
-        self.band_rings = np.zeros((0, 2, 2))
+        # the straight pieces of the moves where band_ok, in program order: their move, ends,
+        # whether the start placement was swept before, the extreme vertices of the outline
+        # across the motion, the outline
         self.band_own = np.zeros(0, dtype=np.int64)
         self.piece_a = self.piece_b = np.zeros((0, 2))
         self.piece_covered = np.zeros(0, dtype=bool)
@@ -428,35 +427,62 @@ class _Run:
         out = np.zeros(k1 - k0)
         if hi <= lo or not len(region):
             return out
-        rings = self.band_rings[lo:hi]
-        z0, z1 = rings[:, :, 0].min(), rings[:, :, 0].max()
+        p0 = max(lo - 1, 0)  # with the piece before (a change of extreme vertices at lo)
+        A, B, sh = self.piece_a[p0:hi], self.piece_b[p0:hi], self.piece_shape[p0:hi]
+        kx = np.array([K[:, 1].min() for K in self.outlines])[sh]
+        kz0 = np.array([K[:, 0].min() for K in self.outlines])[sh]
+        kz1 = np.array([K[:, 0].max() for K in self.outlines])[sh]
+        z0 = float((np.minimum(A[:, 0], B[:, 0]) + kz0).min())
+        z1 = float((np.maximum(A[:, 0], B[:, 0]) + kz1).max())
         ez = region[:, [0, 2]]
         over = (ez.min(axis=1) <= z1) & (ez.max(axis=1) >= z0)
         if not over.any():
             return out
+        # nothing of the region over the pieces' Z range lies above X: a piece's sweep below X
+        # is that of the outline's part below X - (the piece's lowest end), so the bands are
+        # built for that part of the outline (a few vertices of a sampled nose) and cut at X
         X = float(region[over][:, [1, 3]].max())
-        x0 = rings[:, :, 1].min(axis=1)
-        keep = np.flatnonzero(x0 < X)
-        if not len(keep):
-            return out
-        a = overlap_areas(region, ring_edges(clip_below(rings[keep], X)), x0[keep])
-        out += np.bincount(self.band_own[lo:hi][keep] - k0, weights=a, minlength=k1 - k0)
-        # where the outline's extreme vertices change from one piece to the next, the band
-        # reaches back into the piece before's hull beside the start placement: that part
-        # is taken off the bound (it stays an upper bound)
-        j = np.arange(max(lo, 1), hi)
-        sw = j[self.piece_covered[j] & (self.piece_shape[j] == self.piece_shape[j - 1])
-               & ((self.piece_min[j] != self.piece_min[j - 1])
-                  | (self.piece_max[j] != self.piece_max[j - 1]))]
-        sw = sw[x0[sw - lo] < X]
-        for i in sw.tolist():
-            K = self.outlines[int(self.piece_shape[i])]
-            prev = sweep_hulls(K, self.piece_a[i - 1], self.piece_b[i - 1])[0]
-            both = inter(shapely.Polygon(self.band_rings[i]), prev)
-            if both.is_empty:
+        low = np.minimum(A[:, 1], B[:, 1])
+        x0 = low + kx  # lowest point of each piece's sweep
+        cov = self.piece_covered[p0:hi]
+        edges, owners, sw_rings, sw_prev, sw_own, sw_x = [], [], [], [], [], []
+        for s_ in np.unique(sh).tolist():
+            js = np.flatnonzero(sh == s_)
+            K = clip_outline(self.outlines[s_], X - float(low[js].min()))
+            if K is None:
                 continue
-            e = region_edges(both)
-            out[self.band_own[i] - k0] -= overlap_areas(region, e[None], x0[i - lo:i - lo + 1])[0]
+            rings, imin, imax = front_bands(K, A[js], B[js], ~cov[js])
+            inb = (js + p0 >= lo) & (x0[js] < X)
+            if inb.any():
+                edges.append(ring_edges(clip_below(rings[inb], X)))
+                owners.append(js[inb])
+            # where the extreme vertices change from one piece to the next, the band reaches
+            # back into the piece before's hull beside the start placement: that part is taken
+            # off the bound (it stays an upper bound)
+            prev_same = np.zeros(len(js), dtype=bool)
+            prev_same[1:] = js[1:] == js[:-1] + 1
+            sw = (prev_same & cov[js] & inb
+                  & ((imin != np.roll(imin, 1)) | (imax != np.roll(imax, 1))))
+            if sw.any():
+                w = np.flatnonzero(sw)
+                sw_rings.append(shapely.polygons(rings[w]))
+                sw_prev.append(sweep_hulls(K, A[js[w] - 1], B[js[w] - 1]))
+                sw_own.append(js[w])
+        if not edges:
+            return out
+        if len(edges) > 1:
+            width = max(e.shape[1] for e in edges)
+            edges = [np.pad(e, ((0, 0), (0, width - e.shape[1]), (0, 0))) for e in edges]
+        ks = np.concatenate(owners)
+        a = overlap_areas(region, np.concatenate(edges), x0[ks])
+        out += np.bincount(self.band_own[p0 + ks] - k0, weights=a, minlength=k1 - k0)
+        if sw_own:
+            both = shapely.intersection(np.concatenate(sw_rings), np.concatenate(sw_prev))
+            ss = np.concatenate(sw_own)
+            nz = np.flatnonzero(shapely.area(both) > 0)
+            if len(nz):
+                sub = overlap_areas(region, polygon_edges(both[nz]), x0[ss[nz]])
+                np.subtract.at(out, self.band_own[p0 + ss[nz]] - k0, sub)
         return out
 
     def envelopes(self, k0: int, k1: int) -> list[BaseGeometry] | None:
@@ -605,10 +631,17 @@ def simulate(toolpath: Toolpath, stock: Stock | BaseGeometry, machine: Machine |
                         if got is not material:
                             material = _settle(got, chuck, fallen)
                         continue
-                got = _batch_by_moves(material, run, c0, b0, b1, idx, geoms, removed_area,
-                                      sweeper, toolpath, issues, notes)
-                if got is not material:
-                    material = _settle(got, chuck, fallen)
+                step = min(batch, MOVE_BATCH)
+                for s0 in range(b0, b1, step):
+                    s1 = min(s0 + step, b1)
+                    lo, hi = np.searchsorted(has, [s0, s1])
+                    if hi <= lo or material.is_empty:
+                        continue
+                    sub = has[lo:hi]
+                    got = _batch_by_moves(material, run, c0, s0, s1, sub, run.sweeps[sub],
+                                          removed_area, sweeper, toolpath, issues, notes)
+                    if got is not material:
+                        material = _settle(got, chuck, fallen)
 
     issues.sort(key=lambda i: i.line)
     return Machined(material=material, stock=start_region, toolpath=toolpath, issues=issues,
