@@ -678,3 +678,252 @@ def test_any_words_give_moves_or_an_alarm(code, words, first, pos):
     assert len(ctx.moves) <= 20_000 * 3
     for m in ctx.moves:
         assert all(math.isfinite(v) for v in m[1])
+
+
+# --------------------------------------------------------------------------- end to end
+
+
+def fanuc(text: str, dialect: str = "fanuc0it", machine=None):
+    """Run ``text`` through the interpreter under ``dialect`` (skips while the interpreter
+    does not take a dialect)."""
+    import inspect
+
+    from hnc_cam import nc
+    if "dialect" not in inspect.signature(nc.run).parameters:
+        pytest.skip("the interpreter does not take a dialect yet")
+    return nc.run(text, machine, dialect=dialect)
+
+
+def op_moves(tp, op):
+    return [m for m in tp.moves if m.op == op]
+
+
+def has_end(moves, p, kind=None, tol=1e-6):
+    return any(near(m.end, p, tol) and (kind is None or m.kind == kind) for m in moves)
+
+
+O9007 = """%
+O9007
+N10 G54 G00 X80. Z80.
+N20 M03 S400
+N30 G01 X46. Z3. F0.2
+N35 G71 U1.5 R1.
+N40 G71 P50 Q130 U0.4 W0.1 F0.3
+N50 G00 X0.
+N60 G01 X10. Z-2.
+N70 Z-20.
+N80 G02 U10. W-5. R5.
+N90 G01 W-10.
+N100 G03 U14. W-7. R7.
+N110 G01 Z-52.
+N120 U10. W-10.
+N130 W-20.
+N135 G70 P50 Q130
+N140 X50.
+N150 G00 X80. Z80.
+N160 M05
+N170 M30
+%
+"""
+
+
+def test_e2e_o9007_g71_then_g70():
+    tp = fanuc(O9007)
+    g71 = op_moves(tp, "G71")
+    assert near(g71[0].start, dia(46, 3)) and near(g71[-1].end, dia(46, 3))
+    assert has_end(g71, dia(43, -60.5), "line") and has_end(g71, dia(45, -59.5), "rapid")
+    assert has_end(g71, dia(1.0, 2.8), "line") and has_end(g71, dia(44.4, -81.9))
+    assert all(m.feed == pytest.approx(0.3 * m.spindle) for m in g71 if m.kind != "rapid")
+    # the profile blocks N50..N130 (lines 8..16) run only inside the cycles: after the G71
+    # the program goes on with G70 (line 17), which runs them and returns to A
+    g70 = [m for m in tp.moves if m.op != "G71" and 8 <= m.line <= 17]
+    assert g70 and min(tp.moves.index(m) for m in g70) > tp.moves.index(g71[-1])
+    assert has_end(g70, dia(44, -82))
+    assert len([m for m in g70 if near(m.end, dia(10, -2))]) == 1  # once, not also after G71
+    assert near(g70[-1].end, dia(46, 3))
+    after = [m for m in tp.moves if m.line == 18]  # N140 X50.
+    assert after and near(after[0].start, dia(46, 3)) and near(after[-1].end, dia(50, 3))
+
+
+def test_e2e_g71_pass_ends_equal_hnc(manual):
+    """The HNC program 3327 is O9007's profile in HNC's one-block G71: the roughing moves
+    are the same."""
+    from hnc_cam.nc import run_file
+    hnc = [m for m in run_file(str(manual("3327.nc"))).moves if m.op == "G71"]
+    fan = op_moves(fanuc(O9007), "G71")
+    assert len(hnc) == len(fan)
+    for a, b in zip(hnc, fan):
+        assert a.kind == b.kind and near(a.start, b.start, 1e-9) and near(a.end, b.end, 1e-9)
+
+
+def test_e2e_g72_type_i():
+    tp = fanuc("""%
+O0002
+T0101
+G99 G97 S600 M03
+G00 X82.0 Z2.0
+G72 W2.0 R1.0
+G72 P10 Q20 U0.4 W0.2 F0.2
+N10 G00 Z-10.0
+G01 X50.0
+X30.0 Z-5.0
+N20 Z2.0
+G70 P10 Q20
+G00 X100.0 Z100.0
+M30
+%
+""")
+    g72 = op_moves(tp, "G72")
+    assert has_end(g72, dia(30.4, 0), "line") and has_end(g72, dia(32.4, 1), "rapid")
+    assert has_end(g72, dia(35.2, -6), "line") and has_end(g72, dia(43.2, -8), "line")
+    assert near(g72[-1].end, dia(82, 2))
+
+
+def test_e2e_g73():
+    tp = fanuc("""%
+O0003
+M03 S1000
+T0101
+G0 X70. Z2.
+G73 U5. W0 R4
+G73 P10 Q11 U0.2 W0.1 F0.1
+N10 G01 X50. Z0
+G3 X40. Z-15. R22.
+G2 Z-45. R25.
+N11 G1 Z-50.
+G70 P10 Q11
+G0 X100. Z200.
+T0100
+M30
+%
+""")
+    g73 = op_moves(tp, "G73")
+    for p in (dia(60.2, 0.1), dia(50.2, 0.1), dia(50.2, -49.9), dia(40.2, -49.9)):
+        assert has_end(g73, p, tol=2e-4), p
+    assert near(g73[-1].end, dia(70, 2))
+
+
+def test_e2e_g76_m68x6():
+    tp = fanuc("""%
+O0004
+G97 S200 M03
+G00 X80.0 Z130.0
+G76 P011060 Q100 R200
+G76 X60640 Z25000 P3680 Q1800 F6.0
+G00 X100.0
+M30
+%
+""")
+    th = [m for m in op_moves(tp, "G76") if m.kind == "thread"]
+    assert len(th) == 10 and all(m.lead == 6.0 for m in th)
+    xs = [round(m.end[0] * 2, 3) for m in th[::2]]
+    assert xs == [64.4, 62.909, 61.765, 61.04, 60.64]
+    assert all(m.end[1] == pytest.approx(31.0) for m in th[::2])
+    assert all(m.end[1] == pytest.approx(25.0) for m in th[1::2])
+
+
+def test_e2e_g75_g74():
+    tp = fanuc("""%
+O0005
+G97 S500 M03
+G00 X62.0 Z-20.0
+G75 R0.5
+G75 X40.0 Z-30.0 P2000 Q2500 F0.1
+G00 X100.0
+G00 X0 Z2.0
+G74 R1.0
+G74 Z-20.0 Q5000 F0.1
+M30
+%
+""")
+    g75 = op_moves(tp, "G75")
+    bottoms = sorted({round(m.end[1], 6) for m in g75 if m.kind == "line"
+                      and abs(m.end[0] - 20.0) < 1e-9})
+    assert bottoms == [-30, -27.5, -25, -22.5, -20]
+    assert near(g75[-1].end, dia(62, -20))
+    g74 = op_moves(tp, "G74")
+    assert [round(m.end[1], 6) for m in g74 if m.kind == "line"] == [-3, -8, -13, -18, -20]
+
+
+def test_e2e_fresh_id_g71_and_g90_g92():
+    """A bore roughed by G71 (U negative), an OD taper by G90 and a thread by G92 passes."""
+    tp = fanuc("""%
+O0101 (BORE, TAPER, THREAD)
+G99 G97 S800 M03
+G00 X18. Z2.
+G71 U1. R0.5
+G71 P1 Q5 U-0.4 W0.1 F0.2
+N1 G00 X40.
+N2 G01 Z-10.
+N3 X30. Z-15.
+N4 Z-30.
+N5 X18.
+G00 X52. Z2.
+G90 X48. Z-30. R-1.5 F0.25
+X46.
+X44.
+G00 X32. Z4.
+G92 X29.2 Z-20. F1.5
+X28.6
+X28.2
+X28.05
+G00 X100. Z100.
+M30
+%
+""")
+    g71 = op_moves(tp, "G71")
+    assert has_end(g71, dia(20, -29.9), "line") and has_end(g71, dia(34, -12.7), "line")
+    g90 = op_moves(tp, "G90")
+    taper_ends = [m for m in g90 if m.kind == "line" and m.end[1] == pytest.approx(-30.0)
+                  and m.start[1] == pytest.approx(2.0)]
+    assert [round(m.end[0] * 2, 6) for m in taper_ends] == [48, 46, 44]
+    assert [round(m.start[0] * 2, 6) for m in taper_ends] == [45, 43, 41]
+    th = [m for m in op_moves(tp, "G92") if m.kind == "thread"]
+    assert [round(m.end[0] * 2, 6) for m in th] == [29.2, 28.6, 28.2, 28.05]
+    assert all(m.end[1] == pytest.approx(-20.0) and m.lead == 1.5 for m in th)
+
+
+def test_e2e_fresh_g72_type_ii_and_wide_groove():
+    tp = fanuc("""%
+O0102
+G99 G97 S600 M03
+G00 X82. Z2.
+G72 W1. R0.5
+G72 P1 Q6 U0.2 W0.1 F0.2
+N1 G00 Z-10. U0
+N2 G01 X60.
+N3 X50. Z-4.
+N4 X40. Z-8.
+N5 X30.
+N6 Z2.
+G00 X52. Z-12.
+G75 R0.3
+G75 U-10. W-7.2 P1500 Q2500 R0.2 F0.08
+G00 X100. Z100.
+M30
+%
+""")
+    g72 = op_moves(tp, "G72")
+    assert any(m.kind == "line" and m.end[1] < -4.5 and 15 < m.end[0] < 25 for m in g72)
+    g75 = op_moves(tp, "G75")
+    bottoms = [round(m.end[1], 6) for m in g75 if m.kind == "line" and abs(m.end[0] - 21) < 1e-9]
+    assert bottoms == [-12, -11.8, -14.5, -14.3, -17, -16.8, -19.2, -19.0]
+
+
+def test_e2e_haas_one_block_g71():
+    text = O9007.replace("N35 G71 U1.5 R1.\nN40 G71 P50 Q130 U0.4 W0.1 F0.3",
+                         "N35 (ONE BLOCK)\nN40 G71 P50 Q130 U0.4 W0.1 D1.5 F0.3")
+    try:
+        haas = op_moves(fanuc(text, dialect="haas"), "G71")
+    except NCError as e:  # pragma: no cover - depends on the machine's retract setting
+        raise AssertionError(e)
+    fan = op_moves(fanuc(O9007), "G71")
+    assert has_end(haas, dia(43, -60.5), "line")
+    # the default retract (1.0) equals O9007's R1.: the same moves
+    assert [(m.kind, m.end) for m in haas] == [(m.kind, m.end) for m in fan]
+
+
+def test_e2e_alarm_has_the_place():
+    with pytest.raises(NCError) as e:
+        fanuc("%\nO0103\nG00 X46. Z3.\nG71 U1.5 R1.\nG71 P50 U0.4 W0.1 F0.3\nM30\n%\n")
+    assert e.value.line == 5 and "PS0061" in str(e.value)
