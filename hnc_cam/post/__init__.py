@@ -57,18 +57,16 @@ def _dialect(name: str):
     PlanError listing the known ones."""
     try:
         from .. import dialect
-        dialect.get  # noqa: B018
-    except (ImportError, AttributeError):  # no registry yet: the three bundled folders
+        return dialect.get(name)
+    except (KeyError, ValueError) as e:
+        msg = e.args[0] if e.args else str(e)
+        raise PlanError(str(msg)) from None
+    except (ImportError, AttributeError):  # a registry without this dialect's module yet
         from types import SimpleNamespace
         known = {"hnc21t": None, "fanuc0it": None, "haas": "fanuc0it"}
         if name not in known:
             raise PlanError(f"unknown dialect {name!r} (known: {', '.join(known)})") from None
         return SimpleNamespace(name=name, templates=name, template_fallback=known[name])
-    try:
-        return dialect.get(name)
-    except (KeyError, ValueError) as e:
-        msg = e.args[0] if e.args else str(e)
-        raise PlanError(str(msg)) from None
 
 
 def template_dirs(dialect: str = DEFAULT_DIALECT) -> list[Path]:
