@@ -52,7 +52,7 @@ import gc
 import math
 from contextlib import contextmanager
 from dataclasses import dataclass, field
-from typing import Any, Iterable
+from typing import Any, Callable, Iterable
 from ..units import fmt_cycle_time
 
 import numpy as np
@@ -573,13 +573,19 @@ def _drop_specks(g: BaseGeometry) -> BaseGeometry:
 
 
 def simulate(toolpath: Toolpath, stock: Stock | BaseGeometry, machine: Machine | None = None,
-             tools: ToolLibrary | None = None, model=None, batch: int = BATCH) -> Machined:
+             tools: ToolLibrary | None = None, model=None, batch: int = BATCH,
+             snapshots: Iterable[int] = (),
+             on_snapshot: Callable[[int, BaseGeometry], None] | None = None) -> Machined:
     """Remove material from ``stock`` along ``toolpath`` and run the checks.
 
     ``stock``: a :class:`hnc_cam.tooling.Stock` (``offset:A`` needs ``model``, a
     :class:`hnc_cam.geometry.TurnedProfile`) or a shapely region in (z, x).
     ``machine``: offset registers for the tool outlines (default: the bundled machine filled from
     the default tool library); ``tools``: a tool library whose registers override the machine's.
+    ``snapshots``/``on_snapshot``: ``on_snapshot(k, material)`` is called, in increasing k, with
+    the material on the machine after the first k moves for every k of ``snapshots`` (0 <= k
+    <= number of moves; others are ignored): the same region the simulation goes on from
+    (fallen pieces gone), so the last one is ``Machined.material``. See :func:`material_after`.
     """
     machine = _resolve_machine(machine, tools)
     start_region = clean(stock_region(stock, model))
@@ -603,6 +609,8 @@ def simulate(toolpath: Toolpath, stock: Stock | BaseGeometry, machine: Machine |
     # would only rescan the toolpath's moves, more of them the longer the program
     edges_of: list = [None, None]  # (material, its edges): recomputed when the material changes
     prev: tuple = (None, None)
+    stops = sorted({int(k) for k in snapshots if 0 <= int(k) <= n}) if on_snapshot else []
+    si = 0  # next snapshot
     with _gc_paused():
         for c0 in range(0, n, CHUNK):
             cm = moves[c0:c0 + CHUNK]
@@ -612,10 +620,14 @@ def simulate(toolpath: Toolpath, stock: Stock | BaseGeometry, machine: Machine |
             has = has[run.sweeps[has] != None]  # noqa: E711
             if len(has):
                 boxes[c0 + has] = shapely.bounds(run.sweeps[has])
-            for b0 in range(0, len(cm), batch):
+            cuts = sorted({*range(0, len(cm), batch), len(cm),
+                           *(k - c0 for k in stops[si:] if c0 < k < c0 + len(cm))})
+            for b0, b1 in zip(cuts[:-1], cuts[1:]):
+                while si < len(stops) and stops[si] <= c0 + b0:
+                    on_snapshot(stops[si], material)
+                    si += 1
                 if material.is_empty:
-                    break
-                b1 = min(b0 + batch, len(cm))
+                    continue
                 lo, hi = np.searchsorted(has, [b0, b1])
                 if hi <= lo:
                     continue
@@ -643,6 +655,9 @@ def simulate(toolpath: Toolpath, stock: Stock | BaseGeometry, machine: Machine |
                     if got is not material:
                         material = _settle(got, chuck, fallen)
 
+    while si < len(stops):
+        on_snapshot(stops[si], material)
+        si += 1
     issues.sort(key=lambda i: i.line)
     return Machined(material=material, stock=start_region, toolpath=toolpath, issues=issues,
                     removed_area=removed_area, sweep_bounds=boxes, shapes=dict(sweeper.shapes),
@@ -764,6 +779,19 @@ def _batch_by_moves(material, run: "_Run", c0, b0, b1, idx, geoms, removed_area,
     # the material outside the zone is untouched; both pieces meet on the zone's boundary at
     # the same nodes (one noding of the material with the zone for both overlays)
     return union_of([diff(material, zone), local])
+
+
+def material_after(machined: Machined, moves: Iterable[int]) -> list[tuple[int, BaseGeometry]]:
+    """The material on the machine after the first k moves of ``machined``'s toolpath, for each
+    k of ``moves`` (0 <= k <= number of moves), as ``[(k, region), ...]`` in increasing k: the
+    toolpath simulated again from ``machined.stock`` with ``machined.machine``
+    (:func:`simulate` with ``snapshots``), so each region is exactly the simulation's state
+    there, fallen pieces gone; k = 0 gives the stock, the last move the final material. What
+    the first k moves removed is ``machined.stock`` minus that region."""
+    out: list[tuple[int, BaseGeometry]] = []
+    simulate(machined.toolpath, machined.stock, machined.machine, snapshots=moves,
+             on_snapshot=lambda k, g: out.append((k, g)))
+    return out
 
 
 @contextmanager
