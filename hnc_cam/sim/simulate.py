@@ -839,18 +839,39 @@ def first_contact(local: BaseGeometry, shape: ToolShape, path: np.ndarray) -> tu
     if len(path) < 2:
         return None
     hulls = sweep_hulls(shape.outline, path[:-1], path[1:])
-    for k, h in enumerate(hulls):
-        if not _touches(inter(local, h)):
+    try:
+        areas = shapely.area(shapely.intersection(local, hulls))
+    except shapely.errors.GEOSException:
+        areas = np.array([inter(local, h).area for h in hulls])
+    K = _ccw_outline(shape)
+    m = len(K)
+    for k in np.flatnonzero(areas > TOUCH_AREA).tolist():
+        near = inter(local, hulls[k])  # the material the piece meets: all its stretches need
+        if not _touches(near):
             continue
         p, q = path[k], path[k + 1]
+        # the hull of a stretch p -> p + t (q - p): the same vertices of K at either end for
+        # every t > 0 (the ring of sweep_hulls)
+        nrm = np.array([p[1] - q[1], q[0] - p[0]])
+        sv = K @ nrm
+        i_min, i_max = int(np.argmin(sv)), int(np.argmax(sv))
+        c = (i_max - i_min) % m
+        t = np.arange(m + 2)
+        fwd = t <= c
+        base = K[(i_min + np.where(fwd, t, t - 1)) % m]
+
+        def stretch(u: float) -> BaseGeometry:
+            ring = base + np.where(fwd[:, None], p + u * (q - p), p)
+            return Polygon(np.concatenate([ring, ring[:1]]))
+
         lo, hi = 0.0, 1.0
         for _ in range(20):
             mid = (lo + hi) / 2
-            if _touches(inter(local, sweep_hulls(shape.outline, p, p + mid * (q - p))[0])):
+            if _touches(inter(near, stretch(mid))):
                 hi = mid
             else:
                 lo = mid
-        rem = inter(local, sweep_hulls(shape.outline, p, p + hi * (q - p))[0])
+        rem = inter(near, stretch(hi))
         if rem.is_empty:
             return None
         a = rem.centroid

@@ -90,7 +90,8 @@ def sweep_hulls(outline: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray
     vertices per move. A zero-length move gives K itself (with a repeated vertex).
     """
     K = np.asarray(outline, dtype=float)
-    if float(np.sum(K[:, 0] * np.roll(K[:, 1], -1) - np.roll(K[:, 0], -1) * K[:, 1])) < 0:
+    z, x = K[:, 0], K[:, 1]
+    if float(z[:-1] @ x[1:] - z[1:] @ x[:-1] + z[-1] * x[0] - z[0] * x[-1]) < 0:
         K = K[::-1]  # clockwise given: the ring below needs counter-clockwise order
     a = np.asarray(a, dtype=float).reshape(-1, 2)
     b = np.asarray(b, dtype=float).reshape(-1, 2)
