@@ -27,6 +27,7 @@ AND OR``, ``("call", NAME, [args])``, ``("ar", index_node)``.
 """
 from __future__ import annotations
 
+import bisect
 import math
 import re
 from dataclasses import dataclass, field
@@ -38,12 +39,18 @@ from .lexer import FAST_SCAN, FUNCTIONS, clean, printable, tokenize
 
 # statement kinds
 HDR, IF, ELSE, ENDIF, WHILE, ENDW, OTHER = "hdr", "if", "else", "endif", "while", "endw", "x"
+#: kinds of other dialects' control statements: an unconditional or conditional jump to a
+#: block number (``GOTO n``, ``IF [c] GOTO n``) and a conditional assignment
+#: (``IF [c] THEN #i = e``) that never jumps
+GOTO, IFTHEN = "goto", "ifthen"
 _CONTROL = {"IF": IF, "ELSE": ELSE, "ENDIF": ENDIF, "WHILE": WHILE, "ENDW": ENDW}
 #: digits of a program number after ``%``/``O`` (a longer run is not a header)
 PROGRAM_NUMBER_DIGITS = 10
 #: line ends: CR LF, a lone CR and a lone LF each end a line (as the controller and editors read
 #: a file); a lone CR is never part of a block
 _EOL = re.compile(r"\r\n|\r|\n")
+#: the block number a statement starts with (after blanks and a block-delete slash)
+_LABEL = re.compile(r"[\s/]*+N\s*+(\d{1,10})(?![\d.])")
 
 
 @dataclass
@@ -60,6 +67,10 @@ class Source:
     jump: dict[int, int] = field(default_factory=dict)  # IF/ELSE/WHILE/ENDW -> target
     bad: dict[int, str] = field(default_factory=dict)  # unmatched IF/ELSE/.../ENDW -> alarm
     main: tuple[int, int] = (0, 0)
+    #: (line, col, message): warnings the interpreter gives once when the run starts
+    notes: list[tuple[int, int, str]] = field(default_factory=list)
+    #: block number -> statements numbered so, ascending (built on the first GOTO)
+    _labels: Optional[dict[int, list[int]]] = field(default=None, repr=False, compare=False)
 
     def block_text(self, line: int) -> str:
         """The block at ``line`` as an alarm echoes it: stripped, bounded and escaped
@@ -71,6 +82,29 @@ class Source:
     def alarm(self, message: str, stmt: int, col: int = 0) -> NCError:
         line = self.lineno[stmt] if 0 <= stmt < len(self.lineno) else 0
         return NCError(message, line, col, self.block_text(line), self.file)
+
+    def find_label(self, n: int, span: tuple[int, int], after: int) -> Optional[int]:
+        """The statement numbered ``N n`` inside the program ``span`` (first, end): the first
+        one from statement ``after`` to the span's end, else the first from the span's start
+        (the search order of a ``GOTO``); None when the program has no such block."""
+        labels = self._labels
+        if labels is None:
+            labels = self._labels = {}
+            for i, t in enumerate(self.text):
+                m = _LABEL.match(t)
+                if m is not None:
+                    labels.setdefault(int(m.group(1)), []).append(i)
+        found = labels.get(n)
+        if not found:
+            return None
+        a, b = span
+        j = bisect.bisect_left(found, max(after, a))
+        if j < len(found) and found[j] < b:
+            return found[j]
+        j = bisect.bisect_left(found, a)
+        if j < len(found) and found[j] < b:
+            return found[j]
+        return None
 
     def span_of(self, stmt: int) -> tuple[int, int]:
         for a, b in self.spans:
@@ -225,13 +259,18 @@ def load(text: str, file: str = "<program>", line_limit: Optional[int] = None) -
 @dataclass
 class Parsed:
     """One parsed statement. ``kind`` is ``block``, ``assign``, ``if``, ``while``, ``else``,
-    ``endif`` or ``endw``. Blocks have ``words`` [(letter, float | Expr, col)];
-    assignments ``assigns`` [(target: int | Expr, value: Expr, col)]; IF/WHILE ``cond``."""
+    ``endif``, ``endw``, ``goto`` or ``ifthen``. Blocks have ``words``
+    [(letter, float | Expr, col)]; assignments ``assigns`` [(target: int | Expr, value: Expr,
+    col)]; IF/WHILE/IFTHEN ``cond`` (a GOTO's is None when unconditional, a bare ``DO`` loop's
+    too); a GOTO the block number it jumps to as ``target``; an assignment to a macro alarm
+    variable the comment text of its block as ``message``."""
     kind: str
     n: Optional[int] = None
     words: list = field(default_factory=list)
     assigns: list = field(default_factory=list)
     cond: Optional[Expr] = None
+    target: Optional[Expr] = None
+    message: str = ""
 
 
 def fast_words(text: str) -> Optional[list[tuple[str, str, str]]]:
