@@ -43,11 +43,12 @@ def _machine(args: argparse.Namespace):
     return load_machine(getattr(args, "machine", None), tools)
 
 
-def _toolpath(path: str, machine):
-    """Run the program; the tool starts at the machine's reference point (converted into the
-    active work system by the interpreter, as `hnc-cam run` does)."""
+def _toolpath(path: str, machine, dialect: str | None = None):
+    """Run the program (read as ``dialect``: default the machine's controller, else HNC); the
+    tool starts at the machine's reference point (converted into the active work system by
+    the interpreter, as `hnc-cam run` does)."""
     from .nc.interp import run_file
-    return run_file(path, machine, start="reference")
+    return run_file(path, machine, start="reference", dialect=dialect)
 
 
 def _model(path: str, params: list[str] | dict[str, str], args: argparse.Namespace | None = None):
@@ -144,7 +145,7 @@ def simulate_command(args: argparse.Namespace) -> int:
         raise HncError("--set needs --model")
     if args.model:  # the offset:A blank, and the model outline in the plot
         model = _model(args.model, args.params, args).profile
-    tp = _toolpath(args.program, machine)
+    tp = _toolpath(args.program, machine, getattr(args, "dialect", None))
     for w in tp.warnings:
         print(f"{tp.file}:{w.line}: warning: {w.message}", file=sys.stderr)
     m = simulate(tp, stock, machine, model=model)
@@ -164,7 +165,7 @@ def verify_command(args: argparse.Namespace) -> int:
     machine = _machine(args)
     stock = _stock(args.stock)
     loaded = _model(args.model, args.params, args)
-    tp = _toolpath(args.program, machine)
+    tp = _toolpath(args.program, machine, getattr(args, "dialect", None))
     for w in tp.warnings:
         print(f"{tp.file}:{w.line}: warning: {w.message}", file=sys.stderr)
     m = simulate(tp, stock, machine, model=loaded.profile)

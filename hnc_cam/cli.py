@@ -94,6 +94,13 @@ def _add_gen_options(p: argparse.ArgumentParser) -> None:
                    "each operation on stderr")
 
 
+def _add_dialect(p: argparse.ArgumentParser) -> None:
+    from .dialect import names
+    p.add_argument("--dialect", choices=names(), metavar="NAME",
+                   help=f"controller dialect: {', '.join(names())} (default: the machine file's "
+                        f"controller, else hnc21t)")
+
+
 def _add_report(p: argparse.ArgumentParser, junit: bool) -> None:
     p.add_argument("--report", metavar="FILE.html", help="write the HTML report (backplot, "
                    "program, step-through, setup sheet)")
@@ -113,6 +120,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("program")
     p.add_argument("--machine", metavar="FILE")
     p.add_argument("--json", metavar="OUT", help="write the toolpath as JSON (- = stdout)")
+    _add_dialect(p)
     p.set_defaults(func=("hnc_cam.nc.command", "run_command"))
 
     p = sub.add_parser("simulate", help="remove material along a program's toolpath")
@@ -126,6 +134,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--tools", metavar="FILE")
     p.add_argument("--json", metavar="OUT")
     p.add_argument("--plot", metavar="OUT", help="PNG or SVG")
+    _add_dialect(p)
     p.set_defaults(func=("hnc_cam.check", "simulate_command"))
 
     p = sub.add_parser("verify", help="simulate a program and compare the result with the model")
@@ -143,6 +152,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", metavar="OUT")
     p.add_argument("--plot", metavar="OUT")
     _add_report(p, junit=True)
+    _add_dialect(p)
     p.set_defaults(func=("hnc_cam.check", "verify_command"))
 
     p = sub.add_parser("generate", help="plan and write an HNC-21T program for a part")
@@ -152,6 +162,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_profile_options(p)
     p.add_argument("-o", "--output", metavar="OUT", help="program file (default: stdout)")
     _add_report(p, junit=False)
+    _add_dialect(p)
     p.set_defaults(func=("hnc_cam.plan.command", "generate_command"))
 
     p = sub.add_parser("family", help="one program per row of a CSV table")
@@ -166,6 +177,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_gen_options(p)
     _add_profile_options(p)
     _add_report(p, junit=True)
+    _add_dialect(p)
     p.set_defaults(func=("hnc_cam.plan.command", "family_command"))
 
     p = sub.add_parser("tools", help="tool libraries: import from other CAM systems")

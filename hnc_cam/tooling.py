@@ -20,7 +20,7 @@ import re
 from dataclasses import dataclass, field, replace
 from importlib import resources
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any, Mapping, Optional
 
 from .errors import StockError, ToolError
 from .schema import Key, check_table, key_line, parse_toml, read_toml
@@ -212,6 +212,13 @@ class Machine:
     call_limit: int = 1_000_000  # subprogram entries (M98/G65 calls and their L repetitions)
     program_bytes: int = 64 * 1024 * 1024  # size of a program file or text
     line_chars: int = 65_536  # characters in one line
+    #: the controller's dialect (``hnc_cam.dialect`` name); None = hnc21t
+    controller: Optional[str] = None
+    #: FANUC parameter 3401#0: "standard" (X20 = 0.020 mm) or "calculator" (X20 = 20 mm)
+    decimal_point: str = "standard"
+    block_delete: bool = False  # the block-delete switch: "/" blocks skipped when on
+    #: [parameters]: the control's parameters a dialect's cycles read (e.g. g71_depth = 2.0)
+    parameters: dict[str, Any] = field(default_factory=dict)
 
     def register(self, number: int) -> Register:
         """Offset register ``number``; one absent from the table is a sharp point."""
@@ -292,7 +299,10 @@ _XZ = {"x": Key("float"), "z": Key("float")}
 #: one line ``FILE:LINE: ...`` with a did-you-mean
 MACHINE_FILE_SCHEMA = {
     "": {"use_tool_library": Key("bool"), "machine": Key("table"), "work_offsets": Key("table"),
-         "register": Key("any"), "m_codes": Key("table"), "limits": Key("table")},
+         "register": Key("any"), "m_codes": Key("table"), "limits": Key("table"),
+         "controller": Key("str", choices=("hnc21t", "fanuc0it", "haas")),
+         "decimal_point": Key("str", choices=("standard", "calculator")),
+         "block_delete": Key("bool"), "parameters": Key("table")},
     "machine": {"name": Key("str"), "rapid_x": Key("float", lo=0, lo_open=True, unit="mm/min"),
                 "rapid_z": Key("float", lo=0, lo_open=True, unit="mm/min"),
                 "reference": Key("table"), "max_rpm": Key("float", lo=0, lo_open=True, unit="rpm"),
@@ -351,6 +361,19 @@ def _check_machine_file(data: Mapping[str, Any], where: str, text: str) -> None:
         for i, r in enumerate(regs):
             check_table(r, S["register"], where, text=text, table="register", index=i,
                         error=ToolError, label=f"register[{i}]")
+
+
+def _parameters(tbl: Any, where: str, text: str) -> dict[str, Any]:
+    """The ``[parameters]`` table: name -> a number or true/false (the dialect's cycles say
+    which names they read and check the values)."""
+    out: dict[str, Any] = {}
+    for k, v in (tbl or {}).items():
+        if not isinstance(v, (bool, int, float)):
+            n = key_line(text, "parameters", str(k))
+            raise ToolError(f"{where}{':' + str(n) if n else ''}: parameters.{k} must be a number "
+                            f"or true/false, got {v!r}")
+        out[str(k)] = v
+    return out
 
 
 def _m_codes(tbl: Any, where: str) -> dict[int, str]:
@@ -427,7 +450,11 @@ def load_machine(path: str | Path | None = None, tools: "ToolLibrary | None" = N
     for k in ("rapid_x", "rapid_z", "max_rpm", "default_feed"):
         if getattr(mach, k) <= 0:
             raise ToolError(f"{where}: {k} must be positive")
-    mach = replace(mach, m_codes=_m_codes(data.get("m_codes"), where), **_limits(data.get("limits"), where))
+    mach = replace(mach, m_codes=_m_codes(data.get("m_codes"), where), **_limits(data.get("limits"), where),
+                   controller=data.get("controller"),
+                   decimal_point=data.get("decimal_point", base.decimal_point),
+                   block_delete=data.get("block_delete", base.block_delete),
+                   parameters=_parameters(data.get("parameters"), where, text))
     regs: dict[int, Register] = {}
     use_lib = data.get("use_tool_library", True)
     if use_lib:

@@ -98,23 +98,11 @@ _hypot = math.hypot
 _atan2 = math.atan2
 _TWO_PI = 2.0 * math.pi
 
-# modal groups of table 3.2 (17 = G96/G97, which the table lists without a group number)
-G_GROUP: dict[int, int] = {
-    0: 1, 1: 1, 2: 1, 3: 1, 32: 1, 80: 1, 81: 1, 82: 1,
-    4: 0, 28: 0, 29: 0, 52: 0, 53: 0, 65: 0, 92: 0,
-    71: 6, 72: 6, 73: 6, 76: 6,
-    20: 8, 21: 8,
-    40: 9, 41: 9, 42: 9,
-    54: 11, 55: 11, 56: 11, 57: 11, 58: 11, 59: 11,
-    90: 13, 91: 13,
-    94: 14, 95: 14,
-    36: 16, 37: 16,
-    96: 17, 97: 17,
-}
-#: M codes of the CNC itself (manual 3.1.1); every other M code is the PLC's and must be listed
-#: with its meaning in the machine file's [m_codes] (``Machine.m_codes``)
-M_CNC = frozenset({0, 2, 30, 98, 99})
-CYCLE_MOTION = frozenset({32, 80, 81, 82})
+# the HNC-21T tables (table 2.1 ranges, table 3.2 groups, 3.1.1 M codes) live with its dialect
+from ..dialect.hnc21t.codes import CYCLE_MOTION, G_GROUP, M_CNC  # noqa: E402,F401
+from ..dialect.hnc21t.codes import RANGES as _RANGES  # noqa: E402
+from ..dialect.hnc21t.codes import UNKNOWN_LETTERS as _UNKNOWN_LETTERS  # noqa: E402
+
 _BASE_LETTERS = frozenset("NGMFSTXZUW")
 _AXIS = frozenset("XZUW")
 _LENGTH_LIMIT = 99999.999
@@ -125,21 +113,12 @@ _MAX_LEVEL = 8
 _ARC_R_SLACK = 1e-3
 _ARC_END_TOL = 0.01
 
-# word value ranges of table 2.1
-_RANGES: dict[str, tuple[float, float, bool]] = {  # letter -> (min, max, integer)
-    "G": (0, 99, True), "M": (0, 99, True), "N": (0, 4294967295, True), "T": (0, 9999, True),
-    "F": (0, 24000, False), "S": (0, 9999, False), "D": (0, 99, True),
-    "P": (-4294967295, 4294967295, False), "L": (0, 4294967295, True),
-}
-_UNKNOWN_LETTERS = {"H": "H is not an HNC-21T address (table 2.1)",
-                    "O": "O is a program header, not a word inside a block",
-                    "Y": "this lathe has no Y axis"}
-
-
 _SHAPES: dict = {}  # letters of a plain block -> (letters, extra, axes, uw), shared
 _GS = [(0,), (1,), (2,), (3,)]
 
 
+_GOTO = getattr(P, "GOTO", "goto")
+_IFTHEN = getattr(P, "IFTHEN", "ifthen")
 _VACANT50 = [None] * 50
 _ZERO50 = [0] * 50
 
@@ -180,12 +159,24 @@ _new_blk = object.__new__
 
 
 class Asg:
-    __slots__ = ("stmt", "line", "items")
+    __slots__ = ("stmt", "line", "items", "message")
 
-    def __init__(self, stmt: int, line: int, items: list):
+    def __init__(self, stmt: int, line: int, items: list, message: str = ""):
         self.stmt = stmt
         self.line = line
         self.items = items  # [(target int | Expr, Expr, col)]
+        self.message = message  # the comment of a #3000/#3006 assignment (FANUC)
+
+
+class Goto:
+    """``GOTO n`` / ``IF [c] GOTO n``: jump to block N n of the current program."""
+    __slots__ = ("stmt", "line", "target", "cond")
+
+    def __init__(self, stmt: int, line: int, target: Expr, cond: Optional[Expr]):
+        self.stmt = stmt
+        self.line = line
+        self.target = target
+        self.cond = cond
 
 
 class Cond:
@@ -198,8 +189,8 @@ class Cond:
         self.tail = tail  # IF cond #n=expr: assignments run when the condition holds
 
 
-def _range_error(letter: str, v: float) -> Optional[str]:
-    r = _RANGES.get(letter)
+def _range_error(letter: str, v: float, ranges: dict = _RANGES) -> Optional[str]:
+    r = ranges.get(letter)
     if r is None:
         if not abs(v) <= _LENGTH_LIMIT:
             return f"value out of range: {letter}{v:g} (limit ±99999.999, table 2.1)"
@@ -228,9 +219,23 @@ class Interp:
 
     def __init__(self, src: P.Source, machine: Machine | None = None, *,
                  step_limit: int | None = None, start: tuple[float, float] | str = "reference",
-                 diameter: bool | None = None):
+                 diameter: bool | None = None, dialect: Any = None):
         self.src = src
         self.m = machine if machine is not None else load_machine(None)
+        from .. import dialect as _dialects
+        d = self.dialect = _dialects.get(dialect if dialect is not None else _dialects.DEFAULT)
+        self.syntax = getattr(src, "syntax", None) or d.syntax()
+        self.g_group = {k[1]: c.group for k, c in d.codes.items() if k[0] == "G"}
+        self.m_cnc = d.m_cnc
+        self.ranges = d.ranges
+        self.unknown = d.unknown_letters
+        self.cycle_motion = d.cycle_motion
+        #: cycles whose later blocks keep the words they leave out (HNC G80-G82, FANUC G90/G92/G94)
+        self.modal_cycles = frozenset(c for c in d.cycle_motion if c != 32)
+        self.cycles: Optional[dict] = None  # the dialect's cycle table, loaded on first use
+        self.store: dict = {}  # cycles' values kept across blocks (first-block values)
+        self.resume: Optional[int] = None  # statement to continue with after a cycle
+        self.params = dict(getattr(self.m, "parameters", {}) or {})
         self.limit = int(step_limit if step_limit is not None else self.m.step_limit)
         self.move_limit = int(getattr(self.m, "move_limit", 500_000))
         self.call_limit = int(getattr(self.m, "call_limit", 1_000_000))
@@ -322,33 +327,41 @@ class Interp:
         line = src.lineno[i]
         k = src.kind[i]
         if k is P.OTHER:
-            fw = P.fast_words(text)
+            fw = self.syntax.fast_words(text)
             if fw is not None:
                 b = self._compile_plain(i, line, text, fw)
                 if b is not None:
                     return b
         block = src.block_text(line)
         if k != P.OTHER:
-            p = P.parse_statement(text, line, src.file, block)
-            if p.kind in (P.IF, P.WHILE):
+            p = self.syntax.parse_statement(text, line, src.file, block)
+            if p.kind in (P.IF, P.WHILE, _IFTHEN):
                 return Cond(i, line, p.cond, Asg(i, line, p.assigns) if p.assigns else None)
+            if p.kind == _GOTO:
+                return Goto(i, line, p.target, p.cond)
             return None
         b = Blk(i, line, text)
         if fw is not None:
             words = [(L, float(v), 0) for L, v, _ in fw]
         else:
-            p = P.parse_statement(text, line, src.file, block)
+            p = self.syntax.parse_statement(text, line, src.file, block)
             if p.kind == "assign":
-                return Asg(i, line, p.assigns)
+                return Asg(i, line, p.assigns, getattr(p, "message", ""))
+            if p.kind == _GOTO:
+                return Goto(i, line, p.target, p.cond)
+            if p.kind == _IFTHEN:
+                return Cond(i, line, p.cond, Asg(i, line, p.assigns) if p.assigns else None)
             words = p.words
         gs: list = []
         ms: list = []
         dyn: list = []
         w = b.words
         letters = set()
+        unknown = self.unknown
+        ranges = self.ranges
         for L, v, col in words:
-            if L in _UNKNOWN_LETTERS:
-                raise self.alarm(f"unknown word {L}: {_UNKNOWN_LETTERS[L]}", line,
+            if L in unknown:
+                raise self.alarm(f"unknown word {L}: {unknown[L]}", line,
                                  col or P.word_col(text, L))
             if isinstance(v, Expr):
                 if L not in ("G", "M"):
@@ -357,7 +370,7 @@ class Interp:
                 dyn.append((L, v, col))
                 letters.add(L)
                 continue
-            err = _range_error(L, v)
+            err = _range_error(L, v, ranges)
             if err:
                 raise self.alarm(err, line, col or P.word_col(text, L))
             if L == "G":
@@ -610,6 +623,8 @@ class Interp:
         OTHER, IF, WHILE, ELSE, ENDIF, ENDW = P.OTHER, P.IF, P.WHILE, P.ELSE, P.ENDIF, P.ENDW
         block = self._block
         steps = self.steps
+        for line, col, msg in getattr(src, "notes", ()) or ():
+            self.warn(line, msg)
         try:
             while True:
                 if pc >= end or kinds[pc] == P.HDR:
@@ -645,6 +660,8 @@ class Interp:
                             pc, end = self._call(c, pc, end)
                         elif r == 2:  # M99
                             pc, end = self._return(c.line)
+                        elif r == 4:  # a cycle resumes after its profile, a jump of the dialect
+                            pc, end = self._jump(pc, end)
                         else:
                             raise _Halt
                     else:
@@ -656,7 +673,7 @@ class Interp:
                         if pc in src.bad:
                             raise src.alarm(src.bad[pc], pc, 1)
                         c = comp[pc] = self._compile(pc)
-                    if self._eval(c.expr, c.line) != 0.0:
+                    if c.expr is None or self._eval(c.expr, c.line) != 0.0:
                         if c.tail is not None:
                             self._assign(c.tail)
                         pc += 1
@@ -673,6 +690,23 @@ class Interp:
                         if pc in src.bad:
                             raise src.alarm(src.bad[pc], pc, 1)
                         comp[pc] = self._compile(pc) or True
+                    pc += 1
+                elif k == _GOTO:
+                    c = comp[pc]
+                    if c is None:
+                        if pc in src.bad:
+                            raise src.alarm(src.bad[pc], pc, 1)
+                        c = comp[pc] = self._compile(pc)
+                    self.steps = steps
+                    pc = self._goto(c, pc)
+                elif k == _IFTHEN:
+                    c = comp[pc]
+                    if c is None:
+                        if pc in src.bad:
+                            raise src.alarm(src.bad[pc], pc, 1)
+                        c = comp[pc] = self._compile(pc)
+                    if self._eval(c.expr, c.line) != 0.0 and c.tail is not None:
+                        self._assign(c.tail)
                     pc += 1
                 else:  # pragma: no cover
                     pc += 1
@@ -706,6 +740,28 @@ class Interp:
             return (f"{msg}: the main program is empty (the next header, on line {src.lineno[e]}, "
                     f"starts a subprogram)")
         return msg
+
+    def _goto(self, c: "Goto", pc: int) -> int:
+        """``GOTO n`` / ``IF [c] GOTO n``: the statement of block N n in the current program
+        (searched forward from the GOTO, then from the program's start), or the next
+        statement when the condition does not hold."""
+        if c.cond is not None and self._eval(c.cond, c.line) == 0.0:
+            return pc + 1
+        v = self._eval(c.target, c.line)
+        col = c.target.col if c.target is not None else 0
+        n = round(v)
+        if abs(v - n) > 1e-9 or not 1 <= n <= 99999:
+            raise self.alarm(f"GOTO {v:g}: the sequence number must be an integer 1-99999", c.line, col)
+        i = self.src.find_label(n, self.cur_span, pc + 1)
+        if i is None:
+            raise self.alarm(f"GOTO {n}: no block N{n} in this program", c.line, col)
+        return i
+
+    def _jump(self, pc: int, end: int) -> tuple[int, int]:
+        """Where a block that asked for a jump continues (``self.resume``: a statement)."""
+        r = self.resume
+        self.resume = None
+        return (pc + 1 if r is None else r), end
 
     def _assign(self, c: Asg) -> None:
         for target, e, col in c.items:
@@ -810,7 +866,7 @@ class Interp:
         ms = list(b.ms)
         for L, e, col in b.dyn:
             v = self._eval(e, b.line)
-            err = _range_error(L, v)
+            err = _range_error(L, v, self.ranges)
             if err:
                 raise self.alarm(err, b.line, col)
             if L == "G":
@@ -852,14 +908,55 @@ class Interp:
             w, gs, ms = self._dyn(b)
         else:
             w, gs, ms = b.words, b.gs, b.ms
-        # G codes
+        g00, g06, comp_cmd = self._gcodes(b, gs)
+        is_call = g00 == 65 or 98 in ms
+        if b.extra and not is_call:
+            self._check_letters(b, g00, g06)
+        # F S T
+        if not is_call:
+            if "F" in w:
+                self.F = w["F"] * self.unit
+            if "S" in w:
+                self._spindle_word(b, w["S"])
+            if "T" in w:
+                self._tword(b, w["T"])
+        elif "T" in w or "F" in w or "S" in w:
+            pass  # arguments of the call
+        # M before
+        flow = -1  # the program-flow M code of the block (M00 is 0)
+        m_cnc = self.m_cnc
+        for mc in ms:
+            if mc in m_cnc:
+                if flow >= 0:
+                    raise self.balarm(b, f"M{flow:02d} and M{mc:02d} in one block", "M")
+                flow = mc
+                continue
+            meaning = self.mcodes.get(mc)
+            if meaning is None:
+                self._unknown_m(b, mc)
+            elif meaning == "spindle_cw":
+                self.sdir = 3
+            elif meaning == "spindle_ccw":
+                self.sdir = 4
+            elif meaning == "coolant_on":
+                self.coolant = True
+        return self._block_rest(b, w, ms, g00, g06, comp_cmd, is_call, flow)
+
+    def _unknown_m(self, b: Blk, mc: int) -> None:
+        raise self.balarm(b, f"unknown M code M{mc:02d} (table 3.1): this machine's PLC does not "
+                             f"list it; declare it in the machine file's [m_codes] table with its "
+                             f"meaning, e.g. M{mc:02d} = \"other\"", "M", mc)
+
+    def _gcodes(self, b: Blk, gs: tuple) -> tuple[int, int, int]:
+        """Apply the block's modal G codes (table 3.2); returns the one-shot code (group 00),
+        the compound cycle (group 06) and the compensation command (group 09), 0 if none."""
         g00 = 0
         g06 = 0
         seen = 0
         comp_cmd = 0
         motion = -1
         for g in gs:
-            grp = G_GROUP.get(g)
+            grp = self.g_group.get(g)
             if grp is None:
                 raise self.balarm(b, f"unknown G code G{g:02d} (table 3.2)", "G", g)
             bit = 1 << grp
@@ -892,38 +989,12 @@ class Interp:
             if motion != self.motion:
                 self.cyc_code = 0
             self.motion = motion
-        is_call = g00 == 65 or 98 in ms
-        if b.extra and not is_call:
-            self._check_letters(b, g00, g06)
-        # F S T
-        if not is_call:
-            if "F" in w:
-                self.F = w["F"] * self.unit
-            if "S" in w:
-                self._spindle_word(b, w["S"])
-            if "T" in w:
-                self._tword(b, w["T"])
-        elif "T" in w or "F" in w or "S" in w:
-            pass  # arguments of the call
-        # M before
-        flow = -1  # the program-flow M code of the block (M00 is 0)
-        for mc in ms:
-            if mc in M_CNC:
-                if flow >= 0:
-                    raise self.balarm(b, f"M{flow:02d} and M{mc:02d} in one block", "M")
-                flow = mc
-                continue
-            meaning = self.mcodes.get(mc)
-            if meaning is None:
-                raise self.balarm(b, f"unknown M code M{mc:02d} (table 3.1): this machine's PLC does not "
-                                     f"list it; declare it in the machine file's [m_codes] table with its "
-                                     f"meaning, e.g. M{mc:02d} = \"other\"", "M", mc)
-            if meaning == "spindle_cw":
-                self.sdir = 3
-            elif meaning == "spindle_ccw":
-                self.sdir = 4
-            elif meaning == "coolant_on":
-                self.coolant = True
+        return g00, g06, comp_cmd
+
+    def _block_rest(self, b: Blk, w: dict, ms: tuple, g00: int, g06: int, comp_cmd: int,
+                    is_call: bool, flow: int):
+        """The block after its modal codes, F S T and before-motion M codes: compensation
+        change, the call / one-shot code / cycle / motion, the after-motion M codes, flow."""
         # compensation mode change (flush happens before the block's move)
         if comp_cmd and comp_cmd != self.comp:
             self._comp_command(b, comp_cmd)
@@ -942,7 +1013,7 @@ class Interp:
             self.last_g00 = g00
             self._nonmodal(b, g00, w)
         elif g06:
-            self._cycle(g06, b, w)
+            result = self._cycle(g06, b, w)
         elif b.axes:
             if g00 == 53:
                 self.last_g00 = 53
@@ -956,7 +1027,7 @@ class Interp:
             else:
                 if g00 == 53:
                     raise self.balarm(b, "G53 cannot be used with a cycle", "G")
-                self._cycle(m, b, w)
+                result = self._cycle(m, b, w)
         # G40 without a (non-zero) move: compensation stays pending ("cancel") and ends with
         # the next move, which goes from the last compensated point to its programmed end
         # M after
@@ -982,7 +1053,7 @@ class Interp:
 
     def _check_letters(self, b: Blk, g00: int, g06: int) -> None:
         m = self.motion
-        if g06 or (m in CYCLE_MOTION and b.axes and not g00):
+        if g06 or (m in self.cycle_motion and b.axes and not g00):
             return
         ok: set = set()
         if g00 == 4:
@@ -1598,20 +1669,31 @@ class Interp:
             raise self.balarm(b, f"G{code} in G20 (inch) is not supported: program cycles in mm (G21)", "G")
         self._flush_comp("cycle", b.line)
         words = {k: v for k, v in w.items() if k not in ("S", "T")}
-        if code in (80, 81, 82):
+        if code in self.modal_cycles:
             if self.cyc_code == code:
                 merged = dict(self.cyc_words)
                 merged.update(words)
                 words = merged
             self.cyc_code = code
             self.cyc_words = words
-        from . import cycles
+        table = self.cycles
+        if table is None:
+            try:
+                table = self.cycles = dict(self.dialect.cycle_table())
+            except ImportError:
+                table = None
+            if not table:
+                raise self.balarm(b, f"G{code} not yet supported ({self.dialect.title} cycle module "
+                                     f"missing)", "G")
+        handler = table.get(code)
+        if handler is None:
+            raise self.balarm(b, f"G{code:02d} is not a cycle of {self.dialect.title}", "G")
         ctx = CycleCtx(self, code, b, words)
         save_motion = self.motion
         save_comp = self.comp_mode
         self.comp_mode = ""  # cycle moves are emitted as the cycle computes them (see module doc)
         try:
-            cycles.execute(code, ctx)
+            handler(ctx)
         except NCError:
             raise
         except ImportError as e:
@@ -1626,6 +1708,8 @@ class Interp:
             # G40 is done (the cycle began with the move back to the programmed point)
             self.comp_mode = {"normal": "start", "cancel": ""}.get(save_comp, save_comp)
         self.motion = save_motion
+        if self.resume is not None:
+            return 4
         return None
 
     # -- compound cycle profile (dry run) ------------------------------------------------------
@@ -1777,6 +1861,25 @@ class CycleCtx:
         it._emit_thread(x0, z0, it.x, it.z, lead, angle, thread_angle, self.line)
 
     @property
+    def store(self) -> dict:
+        """One dict per run, kept across blocks (a cycle's first-block values)."""
+        return self._it.store
+
+    def setting(self, key: str, default):
+        """A parameter of the machine file's ``[parameters]`` table, else ``default``."""
+        return self._it.params.get(key, default)
+
+    def resume_after(self, nf: int) -> None:
+        """After this cycle, execution continues with the statement after block N ``nf``
+        (of the current program; searched forward from the cycle block)."""
+        it = self._it
+        i = it.src.find_label(int(nf), it.cur_span, self._b.stmt + 1) if hasattr(it.src, "find_label") \
+            else None
+        if i is None:
+            self.alarm(f"block N{int(nf)} (Q) not found in this program", "Q")
+        it.resume = i + 1
+
+    @property
     def max_passes(self) -> int:
         """The machine's limit of passes of one cycle block ([limits] cycle_passes)."""
         return int(getattr(self._it.m, "pass_limit", 10_000))
@@ -1803,7 +1906,7 @@ class CycleCtx:
 
 def run(text: str, machine: Machine | None = None, *, file: str = "<program>",
         step_limit: int | None = None, start: tuple[float, float] | str = "reference",
-        diameter: bool | None = None) -> Toolpath:
+        diameter: bool | None = None, dialect: Any = None) -> Toolpath:
     """Interpret program ``text`` and return its toolpath; raises :class:`NCError` on an alarm.
 
     ``step_limit`` (default: the machine's) bounds the statements executed; the machine's
@@ -1812,7 +1915,10 @@ def run(text: str, machine: Machine | None = None, *, file: str = "<program>",
     machine's reference point, as after homing (what ``hnc-cam run`` and ``simulate`` use), so
     the API and the command give the same toolpath and cycle time; pass ``start=(0, 0)`` to
     start on the work zero. ``diameter`` is the power-on G36/G37 state (default: the
-    machine's ``diameter_mode`` when it has one, else G36).
+    machine's ``diameter_mode`` when it has one, else G36). ``dialect`` is a name of
+    :func:`hnc_cam.dialect.names` or a :class:`~hnc_cam.dialect.Dialect` (default: the machine
+    file's ``controller``, else ``hnc21t``); after an alarm of the HNC reader on a file that
+    looks like another dialect's, the alarm says which (:func:`hnc_cam.dialect.sniff`).
 
     An alarm's message and block are one printable line: the block is an excerpt of at most
     120 characters, control characters are written as escapes (``\\x1b``)."""
@@ -1825,8 +1931,18 @@ def run(text: str, machine: Machine | None = None, *, file: str = "<program>",
         if len(text) > limit:
             raise NCError(f"program too large: {len(text)} characters (the machine's limit is {limit}, "
                           f"[limits] program_bytes)", 1, 1, "", file)
-        src = P.load(text, file, int(getattr(m, "line_chars", 65_536)))
-        return Interp(src, m, step_limit=step_limit, start=start, diameter=diameter).run()
+        d = _dialect_of(dialect, m, file)
+        syntax = d.syntax(calculator=getattr(m, "decimal_point", "standard") == "calculator",
+                          block_delete=bool(getattr(m, "block_delete", False)))
+        src = syntax.load(text, file, int(getattr(m, "line_chars", 65_536)))
+        cls = d.executor() if d.executor is not None else Interp
+        try:
+            return cls(src, m, step_limit=step_limit, start=start, diameter=diameter,
+                       dialect=d).run()
+        except NCError as e:
+            if d.name == "hnc21t":
+                _hint(e, text)
+            raise
     except NCError as e:
         _tidy(e)
         raise
@@ -1835,6 +1951,27 @@ def run(text: str, machine: Machine | None = None, *, file: str = "<program>",
     finally:
         if enabled:
             gc.enable()
+
+
+def _dialect_of(dialect: Any, machine: Machine, file: str):
+    """The Dialect value: the one asked for, else the machine's ``controller``, else HNC."""
+    from .. import dialect as dialects
+    name = dialect if dialect is not None else (getattr(machine, "controller", None) or dialects.DEFAULT)
+    try:
+        return dialects.get(name)
+    except ValueError as e:
+        raise NCError(str(e.args[0]), 0, 0, "", file) from None
+
+
+def _hint(e: NCError, text: str) -> None:
+    """Add to an alarm of the HNC reader which dialect the file looks like, if it does."""
+    if "FANUC" in str(e.message):
+        return
+    from ..dialect import sniff
+    h = sniff(text)
+    if h:
+        e.message = f"{e.message}: {h}"
+        e.args = (e.message,)
 
 
 def _tidy(e: NCError) -> None:
