@@ -32,7 +32,9 @@ import math
 from typing import Any, Sequence
 
 from ..errors import PartError
-from ..geometry.primitives import Arc, Line, Point, Segment, cross, dist, left_normal
+from ..geometry.corner import CornerError
+from ..geometry.corner import corner as _corner
+from ..geometry.primitives import Arc, Line, Point, Segment, dist
 
 
 class SketchError(PartError, ValueError):
@@ -139,32 +141,21 @@ def corner(l1: Line, l2: Line, kind: str, size: float,
     """Trim the corner l1.end == l2.start with a chamfer ("C", equal legs) or a fillet ("R").
     Returns (l1 trimmed, l2 trimmed, the corner segment). ``names``: the parameters to blame
     when it does not fit."""
-    d1, d2 = l1.direction, l2.direction
     c = l1.end
     what = "chamfer" if kind == "C" else "fillet"
     where = f"(r={_g(c[0])}, z={_g(c[1])})"
     blame = f" (parameters {names})" if names else ""
-    turn = cross(d1, d2)
-    if abs(turn) < 1e-12:
-        raise SketchError(f"no corner for a {what} at {where}: the lines are collinear{blame}")
-    if kind == "C":
-        t = size
-    else:
-        phi = math.acos(max(-1.0, min(1.0, d1[0] * d2[0] + d1[1] * d2[1])))
-        t = size * math.tan(phi / 2)
+    try:
+        k = _corner(l1.start, c, l2.end, kind, size)
+    except CornerError:
+        raise SketchError(f"no corner for a {what} at {where}: the lines are collinear{blame}") from None
+    t = k.trim
     if t >= l1.length - 1e-12 or t >= l2.length - 1e-12:
         raise SketchError(f"{what} {_g(size)} at {where} does not fit: it needs {_g(t)} mm of "
                           f"each line but they are {_g(l1.length)} and {_g(l2.length)} mm long "
                           f"(what is left of them after the neighbouring corners){blame}")
-    p1 = (c[0] - d1[0] * t, c[1] - d1[1] * t)
-    p2 = (c[0] + d2[0] * t, c[1] + d2[1] * t)
-    if kind == "C":
-        mid: Segment = Line(p1, p2)
-    else:
-        n = left_normal(d1)
-        s = 1.0 if turn > 0 else -1.0  # turning left: the centre is on the left
-        centre = (p1[0] + s * n[0] * size, p1[1] + s * n[1] * size)
-        mid = Arc(p1, p2, centre, cw=turn < 0)
+    p1, p2 = k.start, k.end
+    mid: Segment = k.segment()
     return Line(l1.start, p1), Line(p2, l2.end), mid
 
 

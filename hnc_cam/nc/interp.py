@@ -87,7 +87,9 @@ import math
 from typing import Any, Optional
 
 from ..errors import NCError
-from ..geometry import Arc, Line, cross
+from ..geometry import Arc, Line
+from ..geometry.corner import CornerError
+from ..geometry.corner import corner as _corner
 from ..tooling import Machine, Register, load_machine
 from . import parser as P
 from .lexer import printable
@@ -1182,27 +1184,20 @@ class Interp:
         if l1 < 1e-9:  # a chamfer/round of the block before took all of this segment
             raise self.alarm(f"chamfer/round {kind}{size:g} is longer than the segment (nothing is "
                              f"left of it after the previous chamfer/round)", line, col)
-        u1 = ((gx - ax) / l1, (gz - az) / l1)
-        u2 = ((x2 - gx) / l2, (z2 - gz) / l2)
-        cr = cross(u1, u2)
-        dot = u1[0] * u2[0] + u1[1] * u2[1]
-        if abs(cr) < 1e-12:
-            if dot > 0:
+        try:
+            k = _corner((ax, az), (gx, gz), (x2, z2), kind, size)
+        except CornerError as ce:
+            if ce.reason == "straight":
                 return gx, gz  # collinear: nothing to round
             raise self.alarm(f"chamfer/round {kind}{size:g}: the next line turns back on this one", line, col)
-        if kind == "C":
-            t = size
-        else:
-            theta = math.atan2(abs(cr), dot)  # turning angle
-            t = size * math.tan(theta / 2.0)
+        t = k.trim
         if l1 < t - 1e-9:
             raise self.alarm(f"chamfer/round {kind}{size:g} is longer than the segment "
                              f"({l1:.3f} mm; needs {t:.3f})", line, col)
         if l2 < t - 1e-9:
             raise self.alarm(f"chamfer/round {kind}{size:g} is longer than the next segment "
                              f"({l2:.3f} mm; needs {t:.3f})", line, col)
-        bx, bz = gx - u1[0] * t, gz - u1[1] * t
-        cx_, cz_ = gx + u2[0] * t, gz + u2[1] * t
+        (bx, bz), (cx_, cz_) = k.start, k.end
         saveF, saveop = self.F, self.op
         self.F = F
         self.op = "G01"
@@ -1210,14 +1205,7 @@ class Interp:
         if kind == "C":
             self._emit_line(False, bx, bz, cx_, cz_, line)
         else:
-            # centre: from B along the normal toward the inside of the turn
-            if cr > 0:  # turning counter-clockwise: centre on the left
-                nx, nz = u1[1], -u1[0]
-                cw = False
-            else:
-                nx, nz = -u1[1], u1[0]
-                cw = True
-            self._emit_arc(bx, bz, cx_, cz_, bx + nx * size, bz + nz * size, cw, line)
+            self._emit_arc(bx, bz, cx_, cz_, k.center[0], k.center[1], k.cw, line)
         self.F, self.op = saveF, saveop
         return cx_, cz_
 
