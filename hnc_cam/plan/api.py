@@ -182,8 +182,7 @@ def _interpret(text: str, machine: Machine, file: str, dialect: str = "hnc21t"):
     except ImportError:
         return None
     try:
-        kw = {} if dialect == "hnc21t" else {"dialect": dialect}
-        return run(text, machine=machine, file=file, start="reference", **kw)
+        return run(text, machine=machine, file=file, start="reference", dialect=dialect)
     except NCError as e:
         raise PlanError(f"internal error: the generated program raises an alarm in the "
                         f"interpreter (a generator bug, please report): {e.one_line()}") from e
