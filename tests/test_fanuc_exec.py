@@ -1,0 +1,264 @@
+"""The FANUC 0i-T executor (hnc_cam.dialect.fanuc0it.codes): positions, times and alarms.
+
+The first part runs the FANUC executor behind the HNC reader (the program texts are read by
+``hnc_cam.nc.parser``: ``%n`` headers, plain words), so what is asserted is the execution of
+the codes, calls and memory, whatever the FANUC reader does; the second part runs FANUC
+texts (``%`` / ``O`` framing, decimal points, GOTO, ``,C``) through the FANUC reader and the
+``hnc-cam run --dialect fanuc0it`` command.
+"""
+from __future__ import annotations
+
+import dataclasses
+import importlib.util
+import math
+import subprocess
+import sys
+
+import pytest
+
+from hnc_cam import dialect, nc
+from hnc_cam.dialect.hnc21t import HncSyntax
+from hnc_cam.errors import NCError
+
+EXEC = dataclasses.replace(dialect.get("fanuc0it"), syntax_factory=HncSyntax)
+HAAS_EXEC = dataclasses.replace(dialect.get("haas"), syntax_factory=HncSyntax)
+
+
+def run(text, **kw):
+    kw.setdefault("start", (0.0, 0.0))
+    return nc.run(text, dialect=kw.pop("dialect", EXEC), **kw)
+
+
+def ends(tp, kinds=("rapid", "line", "arc")):
+    return [tuple(round(v, 6) for v in m.end) for m in tp.moves if m.kind in kinds]
+
+
+def alarm(text, **kw):
+    with pytest.raises(NCError) as e:
+        run(text, **kw)
+    return e.value
+
+
+# ------------------------------------------------------------------------------ motion
+
+
+def test_x_is_a_diameter_and_u_w_are_incremental():
+    tp = run("%1\nG00 X40 Z2\nG01 U-10 W-12 F0.2\nX50 W-3\nM30\n")
+    assert ends(tp)[-2:] == [(15.0, -10.0), (25.0, -13.0)]
+
+
+def test_x_and_u_in_one_block_is_an_alarm():
+    e = alarm("%1\nG00 X40 U2 Z2\nM30\n")
+    assert (e.line, e.col) == (2, 9) and "X and U" in e.message
+
+
+def test_g90_is_the_turning_cycle_and_g91_does_not_exist():
+    e = alarm("%1\nG91 G00 U2\nM30\n")
+    assert e.line == 2 and "G91" in e.message and "system A" in e.message
+
+
+def test_g50_sets_the_position_without_moving():
+    tp = run("%1\nG50 X100 Z50\nG00 X20 Z2\nM30\n", start=(30.0, 80.0))
+    # the tool stood at X60 Z80 (work); G50 makes that X100 Z50: the move ends at X20 Z2
+    assert not any(m.end == (30.0, 80.0) and m.kind != "rapid" for m in tp.moves)
+    assert ends(tp)[-1] == (10.0, 2.0)
+    assert tp.moves[0].start == (50.0, 50.0)
+
+
+def test_g50_s_caps_the_constant_surface_speed():
+    tp = run("%1\nG50 S300\nM03 S200\nG96 S100\nG01 X2 Z0 F0.1\nG01 X100\nM30\n")
+    near_axis, far = tp.moves[0], tp.moves[1]
+    assert near_axis.spindle == 300.0  # 100 m/min at r 0.5 would be 31831 rpm
+    assert far.spindle <= 300.0
+    tp = run("%1\nM03 S200\nG96 S100\nG01 X2 Z0 F0.1\nM30\n")
+    assert tp.moves[0].spindle == 3000.0  # no G50 S: the machine's limit
+
+
+def test_g98_g99_feeds_and_g04_times():
+    tp = run("%1\nM03 S500\nG00 X20 Z0\nG01 Z-10 F0.2\nG98 G01 Z-20 F100\nG04 P500\n"
+             "G04 X1.5\nG04 U2\nM30\n")
+    lines = [m for m in tp.moves if m.kind == "line"]
+    assert lines[0].feed == pytest.approx(100.0) and lines[0].duration == pytest.approx(6.0)  # G99
+    assert lines[1].feed == 100.0 and lines[1].duration == pytest.approx(6.0)  # G98
+    assert [m.duration for m in tp.moves if m.kind == "dwell"] == [0.5, 1.5, 2.0]
+
+
+def test_g04_p_is_whole_milliseconds():
+    e = alarm("%1\nG04 P1.5\nM30\n")
+    assert e.line == 2 and "milliseconds" in e.message
+
+
+def test_g28_u0_w0_goes_straight_to_the_reference_point():
+    tp = run("%1\nG00 X50 Z10\nG28 U0 W0\nM30\n")
+    assert ends(tp)[-1] == (100.0, 150.0)  # reference X200 (diameter) Z150
+    g28 = [m for m in tp.moves if m.op == "G28"]
+    assert g28[0].start == (25.0, 10.0)
+
+
+def test_g28_through_an_intermediate_point():
+    tp = run("%1\nG00 X50 Z10\nG28 X80 Z20\nM30\n")
+    g28 = [m for m in tp.moves if m.op == "G28"]
+    assert (40.0, 20.0) in [m.end for m in g28] and g28[-1].end == (100.0, 150.0)
+
+
+def test_unknown_m_code_is_a_warning_not_an_alarm():
+    tp = run("%1\nM41\nG00 X10 Z0\nM30\n")
+    assert any("M41" in w.message for w in tp.warnings)
+    assert ends(tp)[-1] == (5.0, 0.0)
+
+
+# ------------------------------------------------------------------------------ calls
+
+
+def test_m98_p_four_plus_four_digits_and_p_l():
+    tp = run("%1\nM98 P30010\nM98 P10 L2\nM30\n%10\nG00 U2\nM99\n")
+    assert ends(tp) == [(1.0, 0.0), (2.0, 0.0), (3.0, 0.0), (4.0, 0.0), (5.0, 0.0)]
+
+
+def test_m98_shares_the_callers_locals_g65_does_not():
+    tp = run("%1\n#1=7\nM98 P10\nG00 X#1 Z0\nG65 P10 A3\nG00 X#1 Z1\nM30\n%10\n#1=#1+1\nM99\n")
+    assert ends(tp) == [(4.0, 0.0), (4.0, 1.0)]  # M98 changed #1 to 8; G65's #1 was its own
+
+
+def test_g65_argument_specification_i():
+    tp = run("%1\nG65 P9010 A1 B2 X30 M5 Z-4 R0.5\nG00 X#100 Z#101\nM30\n"
+             "%9010\n#100=#24+#1\n#101=#26+#13+#2+#18\nM99\n")
+    assert ends(tp)[-1] == (15.5, 3.5)
+
+
+def test_g65_missing_argument_is_null():
+    tp = run("%1\nG65 P9010 A1\nG00 X#100 Z0\nM30\n%9010\n#100=#1+#2+#24\nM99\n")
+    assert ends(tp)[-1] == (0.5, 0.0)
+
+
+def test_g66_calls_after_each_move_until_g67():
+    tp = run("%1\nG66 P9011 A1\nG00 X10 Z0\nG00 X20\nG67\nG00 X30\nM30\n%9011\nG01 W-#1 F0.1\nM99\n")
+    assert ends(tp) == [(5.0, 0.0), (5.0, -1.0), (10.0, -1.0), (10.0, -2.0), (15.0, -2.0)]
+
+
+def test_m99_p_returns_to_a_block_of_the_caller():
+    tp = run("%1\nM98 P10\nG00 X2 Z0\nN50 G00 X4 Z0\nM30\n%10\nM99 P50\n")
+    assert ends(tp) == [(2.0, 0.0)]
+
+
+def test_m99_p_to_a_missing_block_is_an_alarm():
+    e = alarm("%1\nM98 P10\nM30\n%10\nM99 P77\n")
+    assert e.line == 5 and "N77" in e.message and e.col == 5
+
+
+def test_m99_in_the_main_program_is_an_alarm():
+    e = alarm("%1\nG00 X2 Z0\nM99\n")
+    assert e.line == 3 and e.col == 1 and "main program" in e.message
+
+
+def test_missing_subprogram_and_nesting_limits():
+    e = alarm("%1\nM98 P44\nM30\n")
+    assert e.line == 2 and "O0044" in e.message
+    e = alarm("%1\nG65 P10\nM30\n%10\nG65 P10\nM99\n")
+    assert e.line == 5 and "nested" in e.message
+    e = alarm("%1\nM98 P10\nM30\n%10\nM98 P10\nM99\n")
+    assert e.line == 5 and "nesting" in e.message
+
+
+# ------------------------------------------------------------------------------ memory
+
+
+def test_null_rules():
+    tp = run("%1\n#1=#0\n#2=#1*5\n#100=#2+1\nG00 X#100 Z#1\nM30\n")
+    assert ends(tp) == [(0.5, 0.0)]  # Z#1 with #1 null is left out
+
+
+def test_commons_and_kept_commons_and_unknown_variables():
+    tp = run("%1\n#100=4\n#500=6\nG00 X#100 Z#500\nM30\n")
+    assert ends(tp)[-1] == (2.0, 6.0)
+    e = alarm("%1\n#40=1\nM30\n")
+    assert e.line == 2 and "#40" in e.message
+    e = alarm("%1\n#0=1\nM30\n")
+    assert e.line == 2 and "#0" in e.message
+    e = alarm("%1\nG00 X[#60+1]\nM30\n")
+    assert e.line == 2 and "#60" in e.message
+
+
+def test_system_variables():
+    tp = run("%1\nG00 X40 Z2\nG01 Z-5 F0.3\n#100=#5001\n#101=#5002\n#102=#4001\n#103=#4005\n"
+             "#104=#4109\n#3901=#3901+1\nG00 X#100 Z[#101+#102+#103/99+#104+#3901]\nM30\n")
+    assert ends(tp)[-1] == pytest.approx((20.0, -5.0 + 1 + 1 + 0.3 + 1))
+
+
+def test_macro_alarm_3000_stops_with_its_number():
+    e = alarm("%1\nG00 X10 Z0\n#3000=12\nM30\n")
+    assert e.line == 3 and e.message.startswith("macro alarm 3012")
+
+
+def test_3006_stops_with_a_message_and_the_run_goes_on():
+    tp = run("%1\n#3006=1\nG00 X10 Z0\nM30\n")
+    assert ends(tp) == [(5.0, 0.0)] and any("#3006" in w.message for w in tp.warnings)
+
+
+# ------------------------------------------------------------------------------ Haas
+
+
+def test_haas_m97_local_subprogram():
+    tp = run("%1\nM97 P100\nG00 X6 Z0\nM30\nN100 G00 X2 Z0\nM99\n", dialect=HAAS_EXEC)
+    assert ends(tp) == [(1.0, 0.0), (3.0, 0.0)]
+    e = alarm("%1\nM97 P100\nM30\n", dialect=HAAS_EXEC)
+    assert e.line == 2 and "N100" in e.message
+
+
+# ------------------------------------------------------------------------------ FANUC reader
+
+HAVE_READER = importlib.util.find_spec("hnc_cam.dialect.fanuc0it.syntax") is not None
+needs_reader = pytest.mark.skipif(not HAVE_READER, reason="the FANUC reader is not there yet")
+
+
+def cli(*args):
+    return subprocess.run([sys.executable, "-m", "hnc_cam.cli", *args], capture_output=True,
+                          text=True)
+
+
+@needs_reader
+def test_reproducer_fanuc_framed_program_runs(tmp_path):
+    p = tmp_path / "o1234.nc"
+    p.write_text("%\nO1234 (SHAFT)\nG21 G99 G40\nT0101\nG50 S2000\nG96 S180 M03\n"
+                 "G00 X52. Z2.\nG01 Z-30. F0.25\nX56.\nG00 X100. Z100.\nM30\n%\n")
+    r = cli("run", str(p), "--dialect", "fanuc0it")
+    assert r.returncode == 0, r.stderr
+    tp = nc.run_file(str(p), dialect="fanuc0it")
+    assert (26.0, -30.0) in [m.end for m in tp.moves]
+    assert max(m.spindle for m in tp.moves) <= 2000.0
+    r = cli("run", str(p))  # as HNC: the alarm says what the file looks like
+    assert r.returncode == 2 and "FANUC" in r.stderr
+
+
+@needs_reader
+def test_reproducer_two_block_g71_runs(tmp_path):
+    p = tmp_path / "g71.nc"
+    p.write_text("%\nO0071\nT0101\nM03 S600\nG00 X52. Z2.\nG71 U1.5 R0.5\n"
+                 "G71 P10 Q20 U0.4 W0.1 F0.25\nN10 G00 X30.\nG01 Z-20.\nX50. Z-30.\nN20 Z-40.\n"
+                 "G70 P10 Q20 F0.1\nG00 X100. Z100.\nM30\n%\n")
+    r = cli("run", str(p), "--dialect", "fanuc0it")
+    assert r.returncode == 0, r.stderr
+    tp = nc.run_file(str(p), dialect="fanuc0it")
+    g70 = [m for m in tp.moves if m.line == 12]
+    assert g70 and (15.0, -20.0) in [m.end for m in g70]
+
+
+@needs_reader
+def test_goto_if_while_through_the_reader():
+    text = ("%\nO0001\n#1=0\nN10 #1=#1+1\nIF [#1 LT 3] GOTO 10\n#2=0\nWHILE [#2 LT 2] DO1\n"
+            "#2=#2+1\nEND1\nIF [#1 EQ 3] THEN #3=5\nG00 X[#1*2] Z[#2+#3]\nGOTO 99\nG00 X80.\n"
+            "N99 M30\n%\n")
+    tp = nc.run(text, dialect="fanuc0it", start=(0.0, 0.0))
+    assert [m.end for m in tp.moves if m.kind == "rapid"][-1] == (3.0, 7.0)
+    with pytest.raises(NCError) as e:
+        nc.run("%\nO0001\nGOTO 55\nM30\n%\n", dialect="fanuc0it")
+    assert e.value.line == 3 and "N55" in e.value.message
+
+
+@needs_reader
+def test_corner_words_through_the_reader():
+    tp = nc.run("%\nO0001\nG00 X20. Z0.\nG01 Z-10. ,C2. F0.2\nX40.\nM30\n%\n", dialect="fanuc0it",
+                start=(0.0, 0.0))
+    ends_ = [m.end for m in tp.moves if m.kind == "line"]
+    assert ends_[0] == (10.0, -8.0) and ends_[1] == (12.0, -10.0)
+    assert all(math.isfinite(v) for m in tp.moves for v in m.end)
