@@ -17,6 +17,9 @@ from __future__ import annotations
 
 import json
 import math
+import struct
+import threading
+from array import array
 from dataclasses import dataclass, field
 from typing import Any, Iterable, Optional
 from ..units import fmt_cycle_time
@@ -26,26 +29,250 @@ from ..geometry import Arc, Line, Point, Segment
 MOVE_KINDS = ("rapid", "line", "arc", "thread", "dwell")
 
 
-@dataclass(slots=True)
+#: the fields of a move, in the order of the constructor's arguments
+MOVE_FIELDS = ("kind", "start", "end", "line", "feed", "center", "cw", "tool", "register",
+               "spindle", "spindle_dir", "coolant", "duration", "lead", "angle", "thread_angle",
+               "op", "comp")
+_DEFAULTS = (None, None, 0, 0, 0.0, 5, False, 0.0, 0.0, 0.0, 0.0, "", 40)  # feed .. comp
+
+# A move's values live in a block of columns shared by up to _BLOCK moves made one after the
+# other (floats as C doubles, small integers as C ints): some 170 bytes a move instead of the
+# 450 of an object with a float object, a tuple and a slot per value. A block is freed with
+# the last move in it.
+_BLOCK = 2048
+_NF = 12  # doubles: start x z, end x z, feed, center x z, spindle, duration, lead, angle, thread angle
+_NI = 6  # ints: line, tool, register, spindle_dir, comp, flags
+_KIND_CODE = {k: i for i, k in enumerate(MOVE_KINDS)}
+_OP_NAMES: list[str] = [""]
+_OP_CODE: dict[str, int] = {"": 0}
+# flags: kind (bits 0-3), cw (4-5: 0 None, 1 False, 2 True), coolant (6), feed None (7),
+# center None (8), op (9-29)
+_INT_MIN, _INT_MAX = -(1 << 31), (1 << 31) - 1
+
+
+class _Block:
+    __slots__ = ("f", "i", "used")
+
+    def __init__(self) -> None:
+        self.f = array("d", bytes(8 * _NF * _BLOCK))
+        self.i = array("i", bytes(4 * _NI * _BLOCK))
+        self.used = 0
+
+
+_local = threading.local()  # the block being filled, per thread
+_PF, _PI = struct.Struct(f"{_NF}d"), struct.Struct(f"{_NI}i")
+_SF, _SI = _PF.size, _PI.size
+_INDEX = tuple(range(_BLOCK))  # one int object per index, shared by the moves
+
+
+def _op_code(op: str) -> int:
+    c = _OP_CODE.get(op)
+    if c is None:
+        if not isinstance(op, str) or len(_OP_NAMES) >= (1 << 21):
+            raise TypeError("op")
+        c = _OP_CODE[op] = len(_OP_NAMES)
+        _OP_NAMES.append(op)
+    return c
+
+
 class Move:
-    kind: str  # rapid | line | arc | thread | dwell
-    start: Point  # (x radius, z)
-    end: Point
-    line: int  # 1-based source line
-    feed: Optional[float] = None  # mm/min (None for rapid and dwell)
-    center: Optional[Point] = None  # arcs only
-    cw: Optional[bool] = None  # arcs only (G02 = True)
-    tool: int = 0  # tool number tt of the active T word
-    register: int = 0  # offset register oo
-    spindle: float = 0.0  # rpm actually turning (0 = stopped), G96 resolved
-    spindle_dir: int = 5  # 3 cw, 4 ccw, 5 stopped
-    coolant: bool = False
-    duration: float = 0.0  # seconds
-    lead: float = 0.0  # thread lead (mm/rev), thread moves
-    angle: float = 0.0  # spindle start angle of a thread pass, deg
-    thread_angle: float = 0.0  # tool profile angle of the thread cycle (G76 A), deg; 0 = unknown
-    op: str = ""  # what produced it: G00 G01 G02 G03 G32 G80 G81 G82 G71 G72 G73 G76 ...
-    comp: int = 40  # 40/41/42 active when the move was made
+    """One move of the controlled point (see the module doc). Constructed as
+    ``Move(kind, start, end, line, feed=None, center=None, cw=None, tool=0, register=0,
+    spindle=0.0, spindle_dir=5, coolant=False, duration=0.0, lead=0.0, angle=0.0,
+    thread_angle=0.0, op="", comp=40)``; every field is a readable and writable attribute:
+
+    ``kind`` rapid | line | arc | thread | dwell; ``start``/``end`` (x radius, z); ``line``
+    1-based source line; ``feed`` mm/min (None for rapid and dwell); ``center`` (arcs only);
+    ``cw`` (arcs only, G02 = True); ``tool`` tool number tt of the active T word;
+    ``register`` offset register oo; ``spindle`` rpm actually turning (0 = stopped), G96
+    resolved; ``spindle_dir`` 3 cw, 4 ccw, 5 stopped; ``coolant``; ``duration`` seconds;
+    ``lead`` thread lead (mm/rev); ``angle`` spindle start angle of a thread pass (deg);
+    ``thread_angle`` tool profile angle of the thread cycle (G76 A, deg; 0 = unknown); ``op``
+    what produced it (G00 G01 G02 G03 G32 G80 G81 G82 G71 G72 G73 G76 ...); ``comp`` 40/41/42
+    active when the move was made.
+
+    Moves compare equal when all their fields do. Coordinates and the other real values are
+    kept as C doubles (read back as Python floats), the integers as C ints; a move whose
+    values do not fit (an integer beyond 32 bits, a value of another type) keeps them as
+    given."""
+
+    __slots__ = ("_b", "_k")
+
+    def __init__(self, kind, start, end, line, feed=None, center=None, cw=None, tool=0,
+                 register=0, spindle=0.0, spindle_dir=5, coolant=False, duration=0.0, lead=0.0,
+                 angle=0.0, thread_angle=0.0, op="", comp=40):
+        try:
+            if (type(line) is not int or type(tool) is not int or type(register) is not int
+                    or type(spindle_dir) is not int or type(comp) is not int
+                    or type(coolant) is not bool or not (cw is None or type(cw) is bool)):
+                raise TypeError("type")
+            oc = _OP_CODE.get(op)
+            if oc is None:
+                oc = _op_code(op)
+            flags = (_KIND_CODE[kind] | (0 if cw is None else 2 if cw else 1) << 4
+                     | (64 if coolant else 0) | (128 if feed is None else 0)
+                     | (256 if center is None else 0) | oc << 9)
+            blk = getattr(_local, "block", None)
+            if blk is None or blk.used >= _BLOCK:
+                blk = _local.block = _Block()
+            k = blk.used
+            blk.used = k + 1
+            if center is None:
+                _PF.pack_into(blk.f, k * _SF, start[0], start[1], end[0], end[1],
+                              0.0 if feed is None else feed, 0.0, 0.0, spindle, duration, lead,
+                              angle, thread_angle)
+            else:
+                _PF.pack_into(blk.f, k * _SF, start[0], start[1], end[0], end[1],
+                              0.0 if feed is None else feed, center[0], center[1], spindle,
+                              duration, lead, angle, thread_angle)
+            _PI.pack_into(blk.i, k * _SI, line, tool, register, spindle_dir, comp, flags)
+        except (KeyError, TypeError, ValueError, IndexError, OverflowError, struct.error):
+            self._b = None
+            self._k = [kind, start, end, line, feed, center, cw, tool, register, spindle,
+                       spindle_dir, coolant, duration, lead, angle, thread_angle, op, comp]
+            return
+        self._b, self._k = blk, _INDEX[k]
+
+    def _set(self, n: int, v) -> None:
+        """Set field n: kept in the block when it fits, else the move keeps its values as
+        given from now on."""
+        if self._b is None:
+            self._k[n] = v
+            return
+        vals = [getattr(self, f) for f in MOVE_FIELDS]
+        vals[n] = v
+        Move.__init__(self, *vals)
+
+    @property
+    def kind(self) -> str:
+        b = self._b
+        if b is None:
+            return self._k[0]
+        return MOVE_KINDS[b.i[self._k * _NI + 5] & 15]
+
+    @property
+    def start(self) -> Point:
+        b = self._b
+        if b is None:
+            return self._k[1]
+        f, j = b.f, self._k * _NF
+        return (f[j], f[j + 1])
+
+    @property
+    def end(self) -> Point:
+        b = self._b
+        if b is None:
+            return self._k[2]
+        f, j = b.f, self._k * _NF
+        return (f[j + 2], f[j + 3])
+
+    @property
+    def line(self) -> int:
+        b = self._b
+        return self._k[3] if b is None else b.i[self._k * _NI]
+
+    @property
+    def feed(self) -> Optional[float]:
+        b = self._b
+        if b is None:
+            return self._k[4]
+        k = self._k
+        return None if b.i[k * _NI + 5] & 128 else b.f[k * _NF + 4]
+
+    @property
+    def center(self) -> Optional[Point]:
+        b = self._b
+        if b is None:
+            return self._k[5]
+        k = self._k
+        if b.i[k * _NI + 5] & 256:
+            return None
+        return (b.f[k * _NF + 5], b.f[k * _NF + 6])
+
+    @property
+    def cw(self) -> Optional[bool]:
+        b = self._b
+        if b is None:
+            return self._k[6]
+        c = (b.i[self._k * _NI + 5] >> 4) & 3
+        return None if c == 0 else c == 2
+
+    @property
+    def tool(self) -> int:
+        b = self._b
+        return self._k[7] if b is None else b.i[self._k * _NI + 1]
+
+    @property
+    def register(self) -> int:
+        b = self._b
+        return self._k[8] if b is None else b.i[self._k * _NI + 2]
+
+    @property
+    def spindle(self) -> float:
+        b = self._b
+        return self._k[9] if b is None else b.f[self._k * _NF + 7]
+
+    @property
+    def spindle_dir(self) -> int:
+        b = self._b
+        return self._k[10] if b is None else b.i[self._k * _NI + 3]
+
+    @property
+    def coolant(self) -> bool:
+        b = self._b
+        return self._k[11] if b is None else bool(b.i[self._k * _NI + 5] & 64)
+
+    @property
+    def duration(self) -> float:
+        b = self._b
+        return self._k[12] if b is None else b.f[self._k * _NF + 8]
+
+    @property
+    def lead(self) -> float:
+        b = self._b
+        return self._k[13] if b is None else b.f[self._k * _NF + 9]
+
+    @property
+    def angle(self) -> float:
+        b = self._b
+        return self._k[14] if b is None else b.f[self._k * _NF + 10]
+
+    @property
+    def thread_angle(self) -> float:
+        b = self._b
+        return self._k[15] if b is None else b.f[self._k * _NF + 11]
+
+    @property
+    def op(self) -> str:
+        b = self._b
+        return self._k[16] if b is None else _OP_NAMES[b.i[self._k * _NI + 5] >> 9]
+
+    @property
+    def comp(self) -> int:
+        b = self._b
+        return self._k[17] if b is None else b.i[self._k * _NI + 4]
+
+    def _values(self) -> tuple:
+        return tuple(getattr(self, f) for f in MOVE_FIELDS)
+
+    def __eq__(self, other):
+        if other.__class__ is not self.__class__:
+            return NotImplemented
+        return self._values() == other._values()
+
+    __hash__ = None  # type: ignore[assignment]  (mutable, as a dataclass with eq)
+
+    def __repr__(self) -> str:
+        return "Move(" + ", ".join(f"{f}={v!r}" for f, v in zip(MOVE_FIELDS, self._values())) + ")"
+
+    def __reduce__(self):
+        return (Move, self._values())
+
+    def __copy__(self) -> "Move":
+        return Move(*self._values())
+
+    def __deepcopy__(self, memo) -> "Move":
+        return Move(*self._values())
 
     def segment(self) -> Segment:
         """The exact geometry of the move (dwells are a zero-length line)."""
@@ -84,6 +311,16 @@ class Move:
         if self.kind == "dwell":
             d["seconds"] = _r(self.duration)
         return d
+
+
+def _setter(n: int):
+    return lambda self, v: self._set(n, v)
+
+
+for _n, _f in enumerate(MOVE_FIELDS):
+    _p = Move.__dict__[_f]
+    setattr(Move, _f, property(_p.fget, _setter(_n), doc=_p.__doc__))
+del _n, _f, _p
 
 
 def _r(v: float) -> float:
