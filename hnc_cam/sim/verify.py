@@ -501,21 +501,24 @@ def blame(machined: Machined, at: Deviation, removed: bool) -> None:
     bb = machined.sweep_bounds
     if len(bb) != len(moves):
         return
-    with np.errstate(invalid="ignore"):
-        gap = np.nanmax(np.stack([bb[:, 0] - at.z, at.z - bb[:, 2], bb[:, 1] - at.x,
-                                  at.x - bb[:, 3], np.zeros(len(bb))]), axis=0)
-    gap[np.isnan(bb[:, 0])] = np.inf
-    kinds = np.array([m.kind for m in moves])
+    # distance from the point to each move's box (inf for dwells): one array of the moves'
+    # length at a time, no per-move Python objects
+    gap = np.maximum(bb[:, 0] - at.z, at.z - bb[:, 2])
+    np.maximum(gap, bb[:, 1] - at.x, out=gap)
+    np.maximum(gap, at.x - bb[:, 3], out=gap)
+    np.maximum(gap, 0.0, out=gap)
+    gap[np.isnan(gap)] = np.inf
     if removed:
         cand = np.flatnonzero((gap <= 1e-6) & (machined.removed_area > 0))
     else:
-        cand = np.flatnonzero(np.isin(kinds, ("line", "arc")))
-        cand = cand[np.argsort(gap[cand], kind="stable")]
+        cand = np.argsort(gap, kind="stable")  # line and arc moves among them, nearest first
     best, best_d = None, math.inf
-    for i in cand:
+    for i in cand:  # (not as a list: the loop ends early, the array can be long)
         if not removed and gap[i] > best_d:
             break  # sorted by box gap: no later move can come nearer
         m = moves[i]
+        if not removed and m.kind not in ("line", "arc"):
+            continue
         g = sweeper.sweeps([m])[0][0]
         if g is None:
             continue
