@@ -18,8 +18,11 @@ report fails, and the leftover is classified reachable/unreachable, the expensiv
     python benchmarks/verify.py --shaft            # only the per-part figure for parts/stepped_shaft.py
 
 Prints per size, best of N with the load average beside it: moves, interpreter time, simulate
-time, verify time (wall; and the CPU time of simulate+verify per round), peak memory (of the process, and the part of it that simulate and verify
-added above the interpreter's), and the growth factor of simulate+verify time per 10x moves;
+time, verify time (wall; and the CPU time of simulate+verify per round), simulate+verify as a
+multiple of the interpreter's time for the same program in the same process (``/interp``),
+its growth against the row before scaled to 10x moves (``growth``, x10 = linear), peak memory
+(of the process, toolpath included, and the part of it that simulate and verify added above
+the interpreter's);
 with ``--baseline REV`` the same figures for the code of REV (exported with ``git archive``
 into a temporary directory and imported from there, each size measured right after the
 current code's) and the ratio REV/current per size; then
@@ -179,18 +182,25 @@ def _measure(passes: int, repeat: int, r08: bool, code: str | None = None) -> di
 def _table(title: str, rows: list[dict]) -> None:
     print(title)
     print(f"{'moves':>9} {'best of':>7} {'load':>5} {'interp s':>9} {'simulate s':>11} "
-          f"{'verify s':>9} {'sim+ver s':>10} {'(CPU s)':>8} {'peak MB':>8} {'sim MB':>7}  {'sim r0.8 s':>10} "
-          f"{'ver r0.8 s':>10}  result (sharp; r0.8)")
+          f"{'verify s':>9} {'sim+ver s':>10} {'(CPU s)':>8} {'/interp':>7} {'growth':>7} "
+          f"{'peak MB':>8} {'sim MB':>7}  {'sim r0.8 s':>10} {'ver r0.8 s':>10}  "
+          f"result (sharp; r0.8)")
+    prev = None
     for r in rows:
         r08 = "simulate_r08_s" in r
+        # growth: simulate+verify time per 10x moves against the row before (x10 is linear)
+        g = (f"x{(r['total'] / prev['total']) / (r['moves'] / prev['moves']) * 10:.1f}"
+             if prev is not None and prev["total"] > 0 else "-")
         print(f"{r['moves']:>9} {r['repeat']:>7} {r['load']:>5.2f} {r['interp_s']:>9.2f} "
               f"{r['simulate_s']:>11.2f} {r['verify_s']:>9.2f} {r['total']:>10.2f} "
-              f"{r.get('cpu_s', math.nan):>8.2f} {r['peak_mb']:>8.0f} {r['sim_mb']:>7.0f}  "
+              f"{r.get('cpu_s', math.nan):>8.2f} {r['total'] / r['interp_s']:>7.2f} {g:>7} "
+              f"{r['peak_mb']:>8.0f} {r['sim_mb']:>7.0f}  "
               + (f"{r['simulate_r08_s']:>10.2f} {r['verify_r08_s']:>10.2f}  " if r08
                  else f"{'-':>10} {'-':>10}  ")
               + f"{'PASS' if r['pass'] else 'FAIL'} (over {r['max_overcut']:.4f}, under "
               f"{r['max_undercut']:.4f})" + (f"; {'PASS' if r['pass_r08'] else 'FAIL'}" if r08 else ""),
               flush=True)
+        prev = r
     for a, b in zip(rows, rows[1:]):
         f = (b["total"] / a["total"]) / (b["moves"] / a["moves"]) * 10
         print(f"  growth {a['moves']} -> {b['moves']} moves: simulate+verify x{b['total'] / a['total']:.1f} "
