@@ -98,12 +98,12 @@ def _fast_scan(calculator: bool) -> "re.Pattern[str]":
     scaled = (r"[-+]?+(?:\d{1,5}(?:\.\d{0,3})?|\.\d{1,3})" if calculator
               else r"[-+]?+(?:\d{1,5}\.\d{0,3}|\.\d{1,3})")
     return re.compile(
-        r"\s*+([A-Z])(?:"
-        r"(?<=[XYZUVWABCIJKR])(" + scaled + r")"
-        r"|(?<=[FPQDE])([-+]?+(?:\d{1,4}(?:\.\d{0,4})?|\d{5,8}\.?|\.\d{1,4}))"
-        r"|(?<=G)((?!0*65(?![\d.]))\d{1,3})"
-        r"|(?<=N)(\d{1,5})"
-        r"|(?<=[HLMST])(\d{1,8})"
+        r"\s*+([A-Z])("
+        r"(?<=[XYZUVWABCIJKR])" + scaled +
+        r"|(?<=[FPQDE])[-+]?+(?:\d{1,4}(?:\.\d{0,4})?|\d{5,8}\.?|\.\d{1,4})"
+        r"|(?<=G)(?!0*65(?![\d.]))\d{1,3}"
+        r"|(?<=N)\d{1,5}"
+        r"|(?<=[HLMST])\d{1,8}"
         r")(?![\d.])\s*+|\s*+(.)", re.S)
 
 
@@ -111,8 +111,8 @@ _FAST_STD = _fast_scan(False)
 _FAST_CALC = _fast_scan(True)
 # a nonzero scaled literal without a decimal point / with one (the note of §1); a letter run
 # before the address (OR1, XOR1) is a keyword, not a word
-_POINTLESS = re.compile(r"(?<![A-Z])([XYZUVWABCIJKR])\s*+([-+]?+0*+[1-9]\d*+)(?![\d.])")
-_POINTED = re.compile(r"(?<![A-Z])[XYZUVWABCIJKR]\s*+[-+]?+(?:\d*\.)")
+_POINTLESS = re.compile(r"([XYZUVWABCIJKR])(?<![A-Z][XYZUVWABCIJKR])\s*+([-+]?+0*+[1-9]\d*+)(?![\d.])")
+_POINTED = re.compile(r"[XYZUVWABCIJKR](?<![A-Z][XYZUVWABCIJKR])\s*+[-+]?+(?:\d*\.)")
 _HEADER = re.compile(r"\s*+(?:O|:)\s*+(\d{1,8})\s*+$")
 _HEADER_START = re.compile(r"\s*+(?:O|:)")
 _SLASH = re.compile(r"\s*+/[1-9]?")
@@ -608,10 +608,11 @@ class FanucSyntax:
                     notes.append((rest[0] + 1, 1, f"the tape ends with the '%' on line {i + 1}: "
                                   f"{len(rest)} line(s) after it are not read"))
                 break
-        pointless = None
-        pointed = False
         calc = self.calculator
         bdel = self.block_delete
+        hdr_at: list[int] = []
+        loops: list[int] = []
+        OTHER, HDR, WHILE, ENDW = P.OTHER, P.HDR, P.WHILE, P.ENDW
         for i in range(first, last):
             r = raw[i]
             if line_limit is not None and len(r) > line_limit:
@@ -622,63 +623,91 @@ class FanucSyntax:
                               r.index("\0") + 1, printable(r.strip()), file)
             s = (clean(r) if "(" in r else r.upper()).rstrip()
             if s == r:
-                s = r
+                s = r  # one string for the raw and the cleaned line
             if not s:
                 continue
-            parts = [s] if ";" not in s else self._split_blocks(s)
-            for s in parts:
-                if s[:1] == "/" or (s[:1].isspace() and s.lstrip()[:1] == "/"):
-                    m = _SLASH.match(s)
+            for s in ([s] if ";" not in s else self._split_blocks(s)):
+                c0 = s[0]
+                if c0 == " " or c0 == "\t":
+                    c0 = s.lstrip()[:1]
+                if c0 == "/":
                     if bdel:
                         continue
+                    m = _SLASH.match(s)
                     s = " " * m.end() + s[m.end():]
                     if not s.strip():
                         continue
-                c0 = s.lstrip()[:1]
+                    c0 = s.lstrip()[:1]
                 if c0 == "%":
                     raise NCError(self._percent_message(s), i + 1, s.index("%") + 1,
                                   printable(r.strip()), file)
-                if c0 in ("O", ":"):
+                if c0 == "O" or c0 == ":":
                     m = _HEADER.match(s)
                     if m is None:
                         raise NCError("a program starts with O and its number (1-8 digits) alone on "
                                       "its line, as O1234 (a comment may follow)", i + 1,
                                       s.index(c0) + 1, printable(r.strip()), file)
+                    hdr_at.append(len(kind))
                     lineno.append(i + 1)
                     stext.append(s)
-                    kind.append(P.HDR)
+                    kind.append(HDR)
                     number.append(int(m.group(1)))
                     continue
                 lineno.append(i + 1)
                 stext.append(s)
                 number.append(None)
+                if "IF" not in s and "GO" not in s and "WH" not in s and "DO" not in s \
+                        and "EN" not in s and "H" not in s:
+                    kind.append(OTHER)
+                    continue
                 k, lid = _classify(s)
                 kind.append(k)
-                if k is P.WHILE or k is P.ENDW:
+                if k is WHILE or k is ENDW:
                     loop_id[len(kind) - 1] = lid
-                elif k is P.OTHER and (pointless is None or (calc and not pointed)):
-                    if pointless is None:
-                        m = _POINTLESS.search(s)
-                        if m is not None and not self._macro_a_line(s):
-                            pointless = (i + 1, m.start(1) + 1, m.group(1), m.group(2))
-                    if not pointed and _POINTED.search(s):
-                        pointed = True
-        self._frame(src)
-        self._loops(src, loop_id)
-        if pointless is not None and (not calc or pointed):
-            line, col, letter, digits = pointless
-            if calc:
-                msg = (f"{letter}{digits} has no decimal point while other coordinate words have "
-                       f"one: with decimal_point = \"calculator\" both mean mm; check the program "
-                       f"was written for this setting")
-            else:
-                v = int(digits) / 1000.0
-                msg = (f"{letter}{digits} has no decimal point: read as {letter}{v:g} mm (least input "
-                       f"increment 0.001; FANUC parameter 3401#0 = 0); write {letter}{digits}. for "
-                       f"millimetres, or set decimal_point = \"calculator\" in the machine file"
-                       f"{' (the program also writes coordinates with a decimal point)' if pointed else ''}")
-            notes.append((line, col, msg))
+                    loops.append(len(kind) - 1)
+        self._frame(src, hdr_at)
+        self._loops(src, loops, loop_id)
+        note = self._decimal_note(src, text)
+        if note is not None:
+            notes.append(note)
         return src
+
+    def _decimal_note(self, src: P.Source, text: str) -> Optional[tuple[int, int, str]]:
+        """The note of §1 about coordinate words without a decimal point (one per file):
+        standard mode, the first nonzero one; calculator mode, the first one when others have
+        a point. One search over the whole text finds none in a program written with points;
+        only then are the statements looked at one by one."""
+        calc = self.calculator
+        up = text.upper()
+        if _POINTLESS.search(up) is None:
+            return None
+        if calc and _POINTED.search(up) is None:
+            return None
+        pointless = None
+        pointed = False
+        for i, s in enumerate(src.text):
+            if src.kind[i] is not P.OTHER:
+                continue
+            if pointless is None:
+                m = _POINTLESS.search(s)
+                if m is not None and not self._macro_a_line(s):
+                    pointless = (src.lineno[i], m.start(1) + 1, m.group(1), m.group(2))
+            if not pointed and _POINTED.search(s) and not self._macro_a_line(s):
+                pointed = True
+            if pointless is not None and (pointed or not calc):
+                break
+        if pointless is None or (calc and not pointed):
+            return None
+        line, col, letter, digits = pointless
+        if calc:
+            return (line, col, f"{letter}{digits} has no decimal point while other coordinate words "
+                               f"have one: with decimal_point = \"calculator\" both mean mm; check "
+                               f"the program was written for this setting")
+        v = int(digits) / 1000.0
+        return (line, col, f"{letter}{digits} has no decimal point: read as {letter}{v:g} mm (least "
+                           f"input increment 0.001; FANUC parameter 3401#0 = 0); write {letter}{digits}. "
+                           f"for millimetres, or set decimal_point = \"calculator\" in the machine file"
+                           f"{' (the program also writes coordinates with a decimal point)' if pointed else ''}")
 
     @staticmethod
     def _macro_a_line(s: str) -> bool:
@@ -716,10 +745,11 @@ class FanucSyntax:
         return "'%' marks the start or end of the tape and stands alone on its line"
 
     @staticmethod
-    def _frame(src: P.Source) -> None:
-        kind, number = src.kind, src.number
-        n = len(kind)
-        starts = [i for i in range(n) if kind[i] == P.HDR]
+    def _frame(src: P.Source, starts: list[int]) -> None:
+        """Programs: statements before the first O form the main program, then one span per
+        O header (the first is the main program when nothing precedes it)."""
+        number = src.number
+        n = len(src.kind)
         spans: list[tuple[int, int]] = []
         if not starts or starts[0] > 0:
             spans.append((0, starts[0] if starts else n))
@@ -733,16 +763,18 @@ class FanucSyntax:
         src.main = spans[0] if spans else (0, 0)
 
     @staticmethod
-    def _loops(src: P.Source, loop_id: dict) -> None:
-        """Match WHILE/DO and END per program: WHILE -> the statement after its END,
-        END -> its WHILE; faults into ``src.bad``."""
+    def _loops(src: P.Source, loops: list[int], loop_id: dict) -> None:
+        """Match WHILE/DO and END per program (``loops``: their statements in order):
+        WHILE -> the statement after its END, END -> its WHILE; faults into ``src.bad``."""
+        if not loops:
+            return
         kind, bad, jump = src.kind, src.bad, src.jump
         for a, b in src.spans:
             stack: list[tuple[int, int]] = []  # (id, stmt)
-            for i in range(a, b):
-                k = kind[i]
-                if k is not P.WHILE and k is not P.ENDW:
+            for i in loops:
+                if not a <= i < b:
                     continue
+                k = kind[i]
                 m = loop_id.get(i)
                 word = "DO" if k is P.WHILE else "END"
                 if m is None:
@@ -775,15 +807,15 @@ class FanucSyntax:
 
     # -- statements ----------------------------------------------------------------------
     def fast_words(self, text: str) -> Optional[list[tuple[str, str, str]]]:
+        """``(letter, number, "")`` per word of a plain block whose numbers ``float`` reads
+        as the decimal-point rule means them; None for anything else (the slow path)."""
         fw = self._fast(text)
         if not fw:
             return None
-        out = []
         for w in fw:
-            if w[6]:
+            if w[2]:
                 return None
-            out.append((w[0], w[1] or w[2] or w[3] or w[4] or w[5], ""))
-        return out
+        return fw
 
     def parse_statement(self, text: str, line: int, file: str = "<program>",
                         block: Optional[str] = None) -> P.Parsed:
