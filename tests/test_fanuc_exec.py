@@ -239,8 +239,12 @@ def test_reproducer_two_block_g71_runs(tmp_path):
     r = cli("run", str(p), "--dialect", "fanuc0it")
     assert r.returncode == 0, r.stderr
     tp = nc.run_file(str(p), dialect="fanuc0it")
-    g70 = [m for m in tp.moves if m.line == 12]
-    assert g70 and (15.0, -20.0) in [m.end for m in g70]
+    last_g71 = max(i for i, m in enumerate(tp.moves) if m.op == "G71")
+    g70 = tp.moves[last_g71 + 1:]  # G70 runs N10..N20 themselves, at the G70 block's F0.1
+    assert [(m.line, m.end) for m in g70 if m.kind == "line"] == [
+        (9, (15.0, -20.0)), (10, (25.0, -30.0)), (11, (25.0, -40.0))]
+    assert all(m.feed == pytest.approx(60.0) for m in g70 if m.kind == "line")  # 0.1 x 600 rpm
+    assert tp.moves[-1].end == (50.0, 100.0)  # then the block after G70
 
 
 @needs_reader

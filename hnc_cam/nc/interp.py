@@ -93,6 +93,7 @@ from ..geometry.corner import corner as _corner
 from ..tooling import Machine, Register, load_machine
 from . import parser as P
 from .lexer import printable
+from .state import ModalState
 from .expr import EvalError, Expr
 from .toolpath import Move, Toolpath, Warning_
 
@@ -214,10 +215,9 @@ def _range_error(letter: str, v: float, ranges: dict = _RANGES) -> Optional[str]
 class Interp:
     """One run of one program. Use :func:`run` unless you need the object."""
 
-    _STATE = ("x", "z", "motion", "absolute", "diam", "unit", "per_rev", "css", "comp", "wcs",
-              "F", "s_rpm", "vc", "sdir", "coolant", "tool", "reg", "tdx", "tdz", "corner",
-              "g92x", "g92z", "g52x", "g52z", "ox", "oz", "g28", "last_g00", "cyc_code", "cyc_words",
-              "comp_items", "comp_mode", "op")
+    #: what a compound cycle's dry run sets aside besides the modal state (:class:`ModalState`)
+    _STATE = ("x", "z", "tdx", "tdz", "corner", "g92x", "g92z", "g52x", "g52z", "ox", "oz", "g28",
+              "last_g00", "cyc_code", "cyc_words", "comp_items", "comp_mode", "op")
 
     def __init__(self, src: P.Source, machine: Machine | None = None, *,
                  step_limit: int | None = None, start: tuple[float, float] | str = "reference",
@@ -1721,6 +1721,7 @@ class Interp:
         if i_nf is None:
             raise self.balarm(b, f"profile end block N{nf} (Q) not found after N{ns} in this program", "Q")
         snap = [getattr(self, k) for k in self._STATE]
+        snap_ms = ModalState.of(self)
         snap_cw = dict(self.cyc_words)
         blocks = self.blocks
         self.dry = []
@@ -1751,6 +1752,7 @@ class Interp:
             self.dry = None
             for k, v in zip(self._STATE, snap):
                 setattr(self, k, v)
+            snap_ms.apply(self)
             self.cyc_words = snap_cw
             self.blocks = blocks
         return out
