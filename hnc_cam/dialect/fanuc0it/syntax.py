@@ -574,6 +574,7 @@ class FanucSyntax:
     def load(self, text: str, file: str = "<program>", line_limit: Optional[int] = None) -> P.Source:
         raw = P.split_lines(text)
         src = P.Source(file=file, lines=raw)
+        src.syntax = self  # the reader the interpreter compiles this source's statements with
         lineno, stext, kind, number = src.lineno, src.text, src.kind, src.number
         loop_id: dict[int, Optional[int]] = {}
         notes = src.notes
