@@ -266,3 +266,53 @@ def test_corner_words_through_the_reader():
     ends_ = [m.end for m in tp.moves if m.kind == "line"]
     assert ends_[0] == (10.0, -8.0) and ends_[1] == (12.0, -10.0)
     assert all(math.isfinite(v) for m in tp.moves for v in m.end)
+
+
+O1000 = """%
+O1000
+T0101
+G99 G97 S800 M03
+G00 X42.0 Z2.0
+G65 P9010 A40.0 B30.0 C{step}
+G00 X100.0 Z100.0
+M30
+O9010 (ROUGH OD BY PASSES: A START DIA, B FINAL DIA, C STEP DIA)
+IF [#3 LE 0] THEN #3000=1 (STEP MUST BE POSITIVE)
+#10=#1
+WHILE [#10 GT #2] DO1
+#10=#10-#3
+IF [#10 LT #2] THEN #10=#2
+G01 X#10 F0.2
+Z-25.0
+G00 U2.0
+Z2.0
+END1
+M99
+%
+"""
+
+
+@needs_reader
+def test_macro_b_loop_of_the_reference_page():
+    """docs/FANUC.md §15.6: passes at X38 .. X30 from Z2 to Z-25; C0 is macro alarm 3001."""
+    tp = nc.run(O1000.format(step="2.0"), dialect="fanuc0it")
+    cuts = [m for m in tp.moves if m.kind == "line" and m.end[1] == -25.0]
+    assert [round(m.end[0] * 2, 6) for m in cuts] == [38.0, 36.0, 34.0, 32.0, 30.0]
+    with pytest.raises(NCError) as e:
+        nc.run(O1000.format(step="0"), dialect="fanuc0it")
+    assert (e.value.line, e.value.col) == (10, 19)
+    assert e.value.message == "macro alarm 3001: STEP MUST BE POSITIVE"
+
+
+@needs_reader
+def test_calls_through_the_reader(tmp_path):
+    text = ("%\nO0001\nG00 X0. Z0.\nM98 P20010\nM98 P11 L2\nG66 P12 A1.\nG00 X10.\nG67\n"
+            "M98 P13\nG00 X90.\nN40 M30\nO0010\nG00 W-1.\nM99\nO0011\nG00 U2.\nM99\nO0012\n"
+            "G01 W-#1 F0.1\nM99\nO0013\nM99 P40\n%\n")
+    p = tmp_path / "calls.nc"
+    p.write_text(text)
+    r = cli("run", str(p), "--dialect", "fanuc0it", "--json", "-")
+    assert r.returncode == 0, r.stderr
+    tp = nc.run(text, dialect="fanuc0it", start=(0.0, 0.0))
+    assert [tuple(round(v, 6) for v in m.end) for m in tp.moves if m.kind != "dwell"][-6:] == [
+        (0.0, -1.0), (0.0, -2.0), (1.0, -2.0), (2.0, -2.0), (5.0, -2.0), (5.0, -3.0)]

@@ -338,7 +338,8 @@ class Interp:
         if k != P.OTHER:
             p = self.syntax.parse_statement(text, line, src.file, block)
             if p.kind in (P.IF, P.WHILE, _IFTHEN):
-                return Cond(i, line, p.cond, Asg(i, line, p.assigns) if p.assigns else None)
+                return Cond(i, line, p.cond, Asg(i, line, p.assigns, getattr(p, "message", ""))
+                            if p.assigns else None)
             if p.kind == _GOTO:
                 return Goto(i, line, p.target, p.cond)
             return None
@@ -352,7 +353,8 @@ class Interp:
             if p.kind == _GOTO:
                 return Goto(i, line, p.target, p.cond)
             if p.kind == _IFTHEN:
-                return Cond(i, line, p.cond, Asg(i, line, p.assigns) if p.assigns else None)
+                return Cond(i, line, p.cond, Asg(i, line, p.assigns, getattr(p, "message", ""))
+                            if p.assigns else None)
             words = p.words
         gs: list = []
         ms: list = []
