@@ -313,6 +313,75 @@ class Move:
         return d
 
 
+def columns(moves) -> dict[str, Any]:
+    """The values of ``moves`` (a sequence of :class:`Move`) as numpy columns, read from the
+    moves' blocks without making a Python object per value: ``kind`` (int8, the index in
+    :data:`MOVE_KINDS`, -1 for another kind), ``start``/``end``/``center`` ((n, 2) x z;
+    ``center`` NaN where None), ``feed`` (NaN where None), ``spindle``, ``duration``,
+    ``lead``, ``angle``, ``thread_angle`` (float64), ``line``, ``tool``, ``register``,
+    ``spindle_dir``, ``comp`` (int64), ``cw`` (int8: -1 None, 0, 1), ``coolant`` (bool).
+    numpy is imported here, not with the module (``hnc-cam run`` does without it)."""
+    import numpy as np
+    n = len(moves)
+    F = np.zeros((n, _NF))
+    Iv = np.zeros((n, _NI), dtype=np.int64)
+    bs = [m._b for m in moves]
+    ks = np.fromiter((m._k if m._b is not None else 0 for m in moves), dtype=np.int64, count=n)
+    where: dict[int, list] = {}
+    wide = []
+    for i, b in enumerate(bs):
+        if b is None:
+            wide.append(i)
+            continue
+        w = where.get(id(b))
+        if w is None:
+            where[id(b)] = w = [b, i, i + 1, []]
+        if w[2] == i:
+            w[2] = i + 1  # extends the block's current run of consecutive moves
+        else:
+            w[3].append((w[1], w[2]))
+            w[1], w[2] = i, i + 1
+    for b, r0, r1, runs in where.values():
+        f = np.frombuffer(b.f, dtype=np.float64).reshape(-1, _NF)
+        iv = np.frombuffer(b.i, dtype=np.int32).reshape(-1, _NI)
+        for a0, a1 in [*runs, (r0, r1)]:
+            F[a0:a1] = f[ks[a0:a1]]
+            Iv[a0:a1] = iv[ks[a0:a1]]
+    flags = Iv[:, 5]
+    kind = (flags & 15).astype(np.int8)
+    cwc = (flags >> 4) & 3
+    out = {"kind": kind, "start": F[:, 0:2], "end": F[:, 2:4],
+           "feed": np.where(flags & 128, np.nan, F[:, 4]),
+           "center": np.where((flags & 256)[:, None] != 0, np.nan, F[:, 5:7]),
+           "spindle": F[:, 7], "duration": F[:, 8], "lead": F[:, 9], "angle": F[:, 10],
+           "thread_angle": F[:, 11], "line": Iv[:, 0], "tool": Iv[:, 1], "register": Iv[:, 2],
+           "spindle_dir": Iv[:, 3], "comp": Iv[:, 4],
+           "cw": np.where(cwc == 0, -1, cwc - 1).astype(np.int8), "coolant": (flags & 64) != 0}
+    for i in wide:  # values kept as given: through the attributes (floats where they can be)
+        m = moves[i]
+        out["kind"][i] = _KIND_CODE.get(m.kind, -1) if isinstance(m.kind, str) else -1
+        for name in ("start", "end", "center"):
+            v = getattr(m, name)
+            try:
+                out[name][i] = (np.nan, np.nan) if v is None else (float(v[0]), float(v[1]))
+            except (TypeError, ValueError, IndexError):
+                out[name][i] = (np.nan, np.nan)
+        for name in ("feed", "spindle", "duration", "lead", "angle", "thread_angle"):
+            try:
+                v = getattr(m, name)
+                out[name][i] = np.nan if v is None else float(v)
+            except (TypeError, ValueError, OverflowError):
+                out[name][i] = np.nan
+        for name in ("line", "tool", "register", "spindle_dir", "comp"):
+            try:
+                out[name][i] = int(getattr(m, name))
+            except (TypeError, ValueError, OverflowError):
+                out[name][i] = 0
+        out["cw"][i] = -1 if m.cw is None else int(bool(m.cw))
+        out["coolant"][i] = bool(m.coolant)
+    return out
+
+
 def _setter(n: int):
     return lambda self, v: self._set(n, v)
 

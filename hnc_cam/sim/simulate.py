@@ -62,7 +62,7 @@ from shapely.geometry import Polygon
 from shapely.geometry.base import BaseGeometry
 
 from ..geometry import Arc
-from ..nc.toolpath import Move, Toolpath
+from ..nc.toolpath import MOVE_KINDS, Move, Toolpath, columns
 from ..tooling import Machine, Stock, ToolLibrary, load_machine
 from .region import chuck_zone, clean, diff, inter, polygons, stock_region, union as union_of
 from .area import (clip_below, clip_outline, envelope, extremes, front_bands, overlap_areas, polygon_edges,
@@ -88,6 +88,9 @@ PAIR_VERTS = 400
 _lib_difference = shapely.lib.difference
 _lib_area = shapely.lib.area
 
+
+_RAPID, _LINE, _ARC, _THREAD, _DWELL = (MOVE_KINDS.index(k) for k in
+                                         ("rapid", "line", "arc", "thread", "dwell"))
 
 #: the checks, by ``Issue.kind``: each finding's message starts with its name and a colon
 CHECKS = {"collision": "collision",
@@ -176,20 +179,33 @@ class Machined:
         """Volume of the removed material by Pappus: 2 pi * sum(area * centroid radius)."""
         return pappus_volume(self.removed)
 
+    def _feed_times(self) -> tuple[float, float]:
+        """(feed time, air-cut time) in seconds, a block of moves at a time."""
+        moves = self.toolpath.moves
+        ft = at = 0.0
+        for c0 in range(0, len(moves), CHUNK):
+            c = columns(moves[c0:c0 + CHUNK])
+            k = c["kind"]
+            feed = (k == _LINE) | (k == _ARC) | (k == _THREAD)
+            d = c["duration"]
+            ft += float(d[feed].sum())
+            air = feed & (self.removed_area[c0:c0 + len(k)] <= AIR_AREA)
+            at += float(d[air].sum())
+        return ft, at
+
     @property
     def feed_time_s(self) -> float:
-        return sum(m.duration for m in self.toolpath.moves if m.kind in FEED_KINDS)
+        return self._feed_times()[0]
 
     @property
     def air_cut_time_s(self) -> float:
-        return sum(m.duration for i, m in enumerate(self.toolpath.moves)
-                   if m.kind in FEED_KINDS and self.removed_area[i] <= AIR_AREA)
+        return self._feed_times()[1]
 
     @property
     def air_cut_fraction(self) -> float:
         """Share of the feed time in which the tool removed nothing."""
-        ft = self.feed_time_s
-        return self.air_cut_time_s / ft if ft > 0 else 0.0
+        ft, at = self._feed_times()
+        return at / ft if ft > 0 else 0.0
 
     def rings(self) -> list[list[list[float]]]:
         """Boundary rings of the remaining material, points ``[X diameter, Z]``."""
@@ -255,10 +271,14 @@ class _Sweeper:
         self.shapes: dict[tuple[int, float | None], ToolShape] = {}
         # a register that names no insert but cuts threads is a threading tool for all its moves
         self.thread_regs: dict[int, float] = {}
-        for m in moves:
-            if m.kind == "thread" and m.register not in self.thread_regs \
-                    and machine.register(m.register).insert is None:
-                self.thread_regs[m.register] = m.thread_angle if m.thread_angle > 0 else 60.0
+        moves = moves if isinstance(moves, (list, tuple)) else list(moves)
+        for c0 in range(0, len(moves), CHUNK):
+            cm = moves[c0:c0 + CHUNK]
+            for k in np.flatnonzero(columns(cm)["kind"] == _THREAD).tolist():
+                m = cm[k]
+                if m.register not in self.thread_regs \
+                        and machine.register(m.register).insert is None:
+                    self.thread_regs[m.register] = m.thread_angle if m.thread_angle > 0 else 60.0
 
     def shape(self, m: Move) -> ToolShape:
         ta = None
@@ -303,35 +323,53 @@ class _Sweeper:
         the first move). ``prev``: (tool shape, end point) of the move before the run."""
         n = len(moves)
         sweeps = np.full(n, None, dtype=object)
+        cols = columns(moves)
+        kind = cols["kind"]
+        live = np.flatnonzero(kind != _DWELL)
+        is_arc = kind == _ARC
+        # the tool shape of each move, one per (register, thread move, thread angle)
+        key = np.column_stack([cols["register"][live], kind[live] == _THREAD,
+                               cols["thread_angle"][live]])
+        combos, first_of, which = np.unique(key, axis=0, return_index=True, return_inverse=True)
+        which = which.reshape(-1)
+        shapes = [self.shape(moves[int(live[i])]) for i in first_of]
+        sid = np.array([id(sh) for sh in shapes], dtype=np.int64)[which]
+        # start placement swept by the move before (the same shape, ending where it starts)
+        start, end = cols["start"], cols["end"]
+        cont = np.zeros(n, dtype=bool)
+        if len(live):
+            same = np.zeros(len(live), dtype=bool)
+            same[1:] = (sid[1:] == sid[:-1]) & np.all(start[live[1:]] == end[live[:-1]], axis=1)
+            prev_shape, prev_end = prev
+            same[0] = (shapes[which[0]] is prev_shape and prev_end is not None
+                       and tuple(start[live[0]]) == prev_end)
+            cont[live] = same
+            last = live[-1]
+            prev = (shapes[which[-1]], (float(end[last, 0]), float(end[last, 1])))
         groups: dict[tuple, tuple[ToolShape, list[int], list[int]]] = {}  # lines, arcs
-        memo: dict[tuple, ToolShape] = {}
-        cont = np.zeros(n, dtype=bool)  # start placement swept by the move before
-        prev_shape, prev_end = prev
-        for k, m in enumerate(moves):
-            kind = m.kind
-            if kind == "dwell":
-                continue
-            mk = (m.register, kind == "thread", m.thread_angle)
-            shape = memo.get(mk)
-            if shape is None:
-                shape = memo[mk] = self.shape(m)
-            if shape is prev_shape and m.start == prev_end:
-                cont[k] = True
-            prev_shape, prev_end = shape, m.end
-            g = groups.get(shape.key)
+        for j, sh in enumerate(shapes):
+            ks = live[which == j]
+            g = groups.get(sh.key)
             if g is None:
-                g = groups[shape.key] = (shape, [], [])
-            (g[2] if kind == "arc" else g[1]).append(k)
+                g = groups[sh.key] = (sh, [], [])
+            g[1].extend(ks[~is_arc[ks]].tolist())
+            g[2].extend(ks[is_arc[ks]].tolist())
+        for sh, lines, arcs in groups.values():
+            lines.sort()
+            arcs.sort()
+        feed = cols["feed"]
+        # moves whose checks go beyond the non-cutting sides (see _checked)
+        checked = ((kind != _LINE) & (kind != _ARC) & (kind != _THREAD)) | (cols["spindle"] <= 0) \
+            | ~(feed > 0)
+        threads_stopped = np.flatnonzero((kind == _THREAD) & (cols["spindle"] <= 0))
         quads, quad_owner = [], []
         band_parts: list[tuple] = []
         outlines: list[np.ndarray] = []
         band_ok = np.zeros(n, dtype=bool)
         for shape, lines, arcs in groups.values():
-            P = np.array([(moves[k].start[1], moves[k].start[0]) for k in lines],
-                         dtype=float).reshape(-1, 2)
-            Q = np.array([(moves[k].end[1], moves[k].end[0]) for k in lines],
-                         dtype=float).reshape(-1, 2)
             own = np.array(lines, dtype=np.int64)
+            P = start[own][:, ::-1].reshape(-1, 2)
+            Q = end[own][:, ::-1].reshape(-1, 2)
             first = np.ones(len(lines), dtype=bool)
             if arcs:
                 paths = [self.path_points(moves[k]) for k in arcs]
@@ -357,9 +395,9 @@ class _Sweeper:
                 outlines.append(K)
                 band_ok[own] = True
             if shape.non_cutting:
-                feed = np.array([moves[k].kind in FEED_KINDS for k in own], dtype=bool)
+                fk = (kind[own] == _LINE) | (kind[own] == _ARC) | (kind[own] == _THREAD)
                 a, b, nrm = _sides(shape)
-                Pf, Qf, Of = P[feed], Q[feed], own[feed]
+                Pf, Qf, Of = P[fk], Q[fk], own[fk]
                 mv = Qf - Pf
                 lead = (mv @ nrm.T) > 1e-12 * (np.hypot(mv[:, 0], mv[:, 1])[:, None] + 1e-12)
                 pi, si = np.nonzero(lead)
@@ -375,8 +413,10 @@ class _Sweeper:
         else:
             qp, qo = np.zeros(0, dtype=object), np.zeros(0, dtype=np.int64)
         run = _Run(moves, sweeps, qp, qo)
-        run.last = (prev_shape, prev_end)
+        run.last = prev
         run.band_ok = band_ok
+        run.checked = checked
+        run.threads_stopped = threads_stopped
         if band_parts:
             cols = [np.concatenate([bp[i] for bp in band_parts]) for i in range(7)]
             order = np.argsort(cols[0], kind="stable")
@@ -403,6 +443,8 @@ class _Run:
         self.moves, self.sweeps, self.quads, self.quad_owner = moves, sweeps, quads, quad_owner
         self.last: tuple = (None, None)
         self.band_ok = np.zeros(len(moves), dtype=bool)
+        self.checked = np.ones(len(moves), dtype=bool)
+        self.threads_stopped = np.zeros(0, dtype=np.int64)
         # the straight pieces of the moves where band_ok, in program order: their move, ends,
         # whether the start placement was swept before, the extreme vertices of the outline
         # across the motion, the outline
@@ -600,11 +642,6 @@ def simulate(toolpath: Toolpath, stock: Stock | BaseGeometry, machine: Machine |
     sweeper = _Sweeper(machine, moves)
     fallen: list[BaseGeometry] = []
 
-    for m in moves:
-        if m.kind == "thread" and m.spindle <= 0:
-            issues.append(Issue(m.line, toolpath.block(m.line),
-                                "thread move while the spindle is not turning", "thread-spindle"))
-
     # the loop makes many short-lived objects and no reference cycles: the cyclic collector
     # would only rescan the toolpath's moves, more of them the longer the program
     edges_of: list = [None, None]  # (material, its edges): recomputed when the material changes
@@ -616,6 +653,11 @@ def simulate(toolpath: Toolpath, stock: Stock | BaseGeometry, machine: Machine |
             cm = moves[c0:c0 + CHUNK]
             run = sweeper.run(cm, bands=True, prev=prev)
             prev = run.last
+            for k in run.threads_stopped.tolist():
+                m = cm[k]
+                issues.append(Issue(m.line, toolpath.block(m.line),
+                                    "thread move while the spindle is not turning",
+                                    "thread-spindle"))
             has = np.flatnonzero(shapely.is_empty(run.sweeps) == False)  # noqa: E712 (None -> False)
             has = has[run.sweeps[has] != None]  # noqa: E711
             if len(has):
@@ -718,9 +760,9 @@ def _batch_by_bands(material, edges_of, run: "_Run", c0, b0, b1, idx, geoms, rem
             nc_hit = run.non_cutting_candidates(material, b0, b1)
             shapely.destroy_prepared(material)
         for k in touch.tolist():
-            m = run.moves[k]
             nc = k in nc_hit
-            if nc or _checked(m):
+            if nc or run.checked[k]:
+                m = run.moves[k]
                 g = run.sweeps[k]
                 before = [run.sweeps[j] for j in idx.tolist() if j < k]
                 _check_move(m, _local_before(material, g, before), g, sweeper.shape(m),
@@ -768,9 +810,9 @@ def _batch_by_moves(material, run: "_Run", c0, b0, b1, idx, geoms, removed_area,
         if a > 1e-12:
             removed_area[c0 + k] = a
             if a > TOUCH_AREA:
-                m = cm[k]
                 nc = k in nc_hit
-                if nc or _checked(m):
+                if nc or run.checked[k]:
+                    m = cm[k]
                     _check_move(m, local, g, sweeper.shape(m), run.path(k),
                                 toolpath, issues, notes, nc)
             local, local_area = after, after_area
@@ -971,9 +1013,12 @@ def _non_cutting_hit(shape: ToolShape, path: np.ndarray, rem: BaseGeometry) -> B
 def _thread_spans(moves: Iterable[Move], machine: Machine) -> list[ThreadSpan]:
     """Z/X extent of each run of thread moves with the same register and lead."""
     spans: list[ThreadSpan] = []
-    for m in moves:
-        if m.kind != "thread":
-            continue
+    moves = moves if isinstance(moves, (list, tuple)) else list(moves)
+    threads = []
+    for c0 in range(0, len(moves), CHUNK):
+        cm = moves[c0:c0 + CHUNK]
+        threads += [cm[k] for k in np.flatnonzero(columns(cm)["kind"] == _THREAD).tolist()]
+    for m in threads:
         reg = machine.register(m.register)
         inside = reg.tip in (1, 2, 6)
         z0, z1 = sorted((m.start[1], m.end[1]))
