@@ -91,3 +91,32 @@ def test_a_move_takes_under_200_bytes():
     tracemalloc.stop()
     assert len(moves) == 50_000
     assert used / 50_000 < 200
+
+
+def test_columns_read_the_same_values_as_the_attributes():
+    import random
+
+    import numpy as np
+
+    from hnc_cam.nc.toolpath import MOVE_KINDS, columns
+    moves = [Move(*ARGS)]
+    for i in range(3000):
+        moves.append(Move(MOVE_KINDS[i % 5], (1.0 + i, -0.5 * i), (2.0 + i, 0.25 * i), 10 + i,
+                          None if i % 4 == 0 else 50.0 + i,
+                          (3.0, 4.0) if i % 5 == 2 else None, None if i % 5 != 2 else bool(i % 2),
+                          i % 7, i % 3, 100.0 * (i % 2), 3 + i % 3, bool(i % 2), 0.01 * i,
+                          0.0, 0.0, 60.0 * (i % 5 == 3), "G0%d" % (i % 4), 40 + i % 3))
+    moves.append(Move("slide", [0, 1], (2.0, 3.0), 2 ** 40, feed=7))  # kept as given
+    random.Random(1).shuffle(moves)  # moves of many blocks, out of order
+    c = columns(moves)
+    for i, m in enumerate(moves):
+        assert c["kind"][i] == (MOVE_KINDS.index(m.kind) if m.kind in MOVE_KINDS else -1)
+        assert tuple(c["start"][i]) == tuple(float(v) for v in m.start)
+        assert tuple(c["end"][i]) == m.end
+        assert (np.isnan(c["feed"][i]) if m.feed is None else c["feed"][i] == m.feed)
+        assert (np.isnan(c["center"][i]).all() if m.center is None
+                else tuple(c["center"][i]) == m.center)
+        assert c["cw"][i] == (-1 if m.cw is None else int(m.cw))
+        for f in ("line", "tool", "register", "spindle_dir", "comp", "spindle", "duration",
+                  "thread_angle", "coolant"):
+            assert c[f][i] == getattr(m, f), f

@@ -556,12 +556,17 @@ def _with_tails(region: BaseGeometry, reach: BaseGeometry, unreach: BaseGeometry
 
 
 def _cutting_shapes(m: Machined) -> list[ToolShape]:
+    from ..nc.toolpath import MOVE_KINDS, columns
+    from .simulate import CHUNK
     keys = []
-    for i, mv in enumerate(m.toolpath.moves):
-        if mv.kind in ("line", "arc") and m.removed_area[i] > 0:
-            k = (mv.register, None)
-            if k not in keys:
-                keys.append(k)
+    moves = m.toolpath.moves
+    for c0 in range(0, len(moves), CHUNK):  # registers of the line and arc moves that cut
+        c = columns(moves[c0:c0 + CHUNK])
+        cut = (((c["kind"] == MOVE_KINDS.index("line")) | (c["kind"] == MOVE_KINDS.index("arc")))
+               & (m.removed_area[c0:c0 + len(c["kind"])] > 0))
+        for r in dict.fromkeys(c["register"][cut].tolist()):
+            if (r, None) not in keys:
+                keys.append((r, None))
     shapes = [m.shapes[k] for k in keys if k in m.shapes]
     if not shapes and m.machine is not None:
         shapes = [tool_shape(m.machine.register(0))]
