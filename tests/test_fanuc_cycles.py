@@ -926,3 +926,24 @@ def test_e2e_alarm_has_the_place():
     with pytest.raises(NCError) as e:
         fanuc("%\nO0103\nG00 X46. Z3.\nG71 U1.5 R1.\nG71 P50 U0.4 W0.1 F0.3\nM30\n%\n")
     assert e.value.line == 5 and "PS0061" in str(e.value)
+
+
+def test_e2e_machine_parameters_and_type_ii_refused():
+    from dataclasses import replace
+
+    from hnc_cam.tooling import load_machine
+    prog = ("%\nO0104\nG97 S500 M03\nG00 X42. Z2.\nG71 P1 Q4 U0.2 F0.2\nN1 G00 X30. Z2.\n"
+            "N2 G01 Z-10.\nN3 X20. Z-15.\nN4 X42. Z-30.\nM30\n%\n")
+    m = replace(load_machine(), parameters={"g71_depth": 3.0, "g71_retract": 0.25})
+    g71 = op_moves(fanuc(prog, machine=m), "G71")
+    assert g71[0].end == pytest.approx(dia(36, 2))  # A.x − 2·3.0, no first block
+    first_cut = next(i for i, mv in enumerate(g71) if mv.kind == "line")
+    cx, cz = g71[first_cut].end
+    assert has_end(g71, (cx + 0.25, cz + 0.25), "rapid")  # the 45° retract e = 0.25
+    assert any(mv.kind == "line" and mv.end[0] < 12.5 for mv in g71)  # type II pocket
+    m2 = replace(load_machine(), parameters={"g71_type2": False})
+    with pytest.raises(NCError, match=r"line 6.*g71_type2 = false") as e:
+        fanuc(prog, machine=m2)
+    assert e.value.line == 5
+    with pytest.raises(NCError, match="g71_depth"):
+        fanuc(prog, machine=replace(load_machine(), parameters={"g71_depth": True}))
