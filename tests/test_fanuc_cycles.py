@@ -947,3 +947,25 @@ def test_e2e_machine_parameters_and_type_ii_refused():
     assert e.value.line == 5
     with pytest.raises(NCError, match="g71_depth"):
         fanuc(prog, machine=replace(load_machine(), parameters={"g71_depth": True}))
+
+
+def test_e2e_simple_cycles_and_g76_agree_with_hnc():
+    """G90/G94/G92 move as HNC's G80/G81/G82 with I/K for R; FANUC's G76 cuts at the depths
+    of HNC's G76 for the same thread (one law)."""
+    from hnc_cam import nc
+    fan = fanuc("%\nO0105\nG97 S500 M03\nG00 X52. Z2.\nG90 X40. Z-30. R-2.5 F0.2\n"
+                "G00 X62. Z2.\nG94 X20. Z-2. R-1. F0.2\nG00 X32. Z4.\nG92 X29.2 Z-20. F1.5\n"
+                "G00 X80. Z130.\nG76 P011060 Q100 R200\nG76 X60640 Z25000 P3680 Q1800 F6.0\n"
+                "M30\n%\n")
+    hnc = nc.run("%0105\nM03 S500\nG00 X52 Z2\nG80 X40 Z-30 I-2.5 F100\nG00 X62 Z2\n"
+                 "G81 X20 Z-2 K-1 F100\nG00 X32 Z4\nG82 X29.2 Z-20 F1.5\nG00 X80 Z130\n"
+                 "G76 C1 A60 X60.64 Z25 K3.68 U0.2 V0.1 Q1.8 F6\nM30\n")
+    for f_op, h_op in (("G90", "G80"), ("G94", "G81"), ("G92", "G82")):
+        f = [(m.kind, m.end) for m in op_moves(fan, f_op)]
+        h = [(m.kind, m.end) for m in op_moves(hnc, h_op)]
+        assert f == h, f_op
+    f76 = [m.start for m in op_moves(fan, "G76") if m.kind == "thread"][::2]
+    h76 = [m.start for m in op_moves(hnc, "G76") if m.kind == "thread"][::2]  # + run-out
+    assert len(f76) == len(h76) == 5
+    for a, b in zip(f76, h76):
+        assert a == pytest.approx(b)
