@@ -969,3 +969,56 @@ def test_e2e_simple_cycles_and_g76_agree_with_hnc():
     assert len(f76) == len(h76) == 5
     for a, b in zip(f76, h76):
         assert a == pytest.approx(b)
+
+
+O9007_AS_PRINTED = """O9007
+N10 G54 G00 X80 Z80
+N20 M03 S400
+N30 G01 X46 Z3 F0.2
+N35 G71 U1.5 R1
+N40 G71 P50 Q130 U0.4 W0.1 F0.3
+N50 G00 X0
+N60 G01 X10 Z-2
+N70 Z-20
+N80 G02 U10 W-5 R5
+N90 G01 W-10
+N100 G03 U14 W-7 R7
+N110 G01 Z-52
+N120 U10 W-10
+N130 W-20
+N135 G70 P50 Q130
+N140 X50
+N150 G00 X80 Z80
+N160 M05
+N170 M30
+"""
+
+
+def test_e2e_o9007_as_printed_needs_calculator_input():
+    """§15.1 as the source prints it (no decimal points, for a DPI = 1 machine): with
+    decimal_point = "calculator" the passes are those of the program with points; read as
+    least increments the profile shrinks 1000× and the cycle has nothing to rough."""
+    from dataclasses import replace
+
+    from hnc_cam.tooling import load_machine
+    calc = replace(load_machine(), decimal_point="calculator")
+    got = op_moves(fanuc(O9007_AS_PRINTED, machine=calc), "G71")
+    ref = op_moves(fanuc(O9007), "G71")
+    assert [(m.kind, m.end) for m in got] == [(m.kind, m.end) for m in ref]
+    with pytest.raises(NCError) as e:
+        fanuc(O9007_AS_PRINTED)
+    assert e.value.line == 6
+
+
+def test_e2e_g73_as_printed_with_calculator_input():
+    from dataclasses import replace
+
+    from hnc_cam.tooling import load_machine
+    calc = replace(load_machine(), decimal_point="calculator")
+    tp = fanuc("M03 S1000\nT0101\nG0 X70 Z2\nG73 U5 W0 R4\nG73 P10 Q11 U0.2 W0.1 F0.1\n"
+               "N10 G01 X50 Z0\nG3 X40 Z-15 R22\nG2 Z-45 R25\nN11 G1 Z-50\nG70 P10 Q11\n"
+               "G0 X100 Z200\nT0100\nM30\n", machine=calc)
+    g73 = op_moves(tp, "G73")
+    for p in (dia(60.2, 0.1), dia(56.8667, 0.1), dia(53.5333, 0.1), dia(50.2, 0.1),
+              dia(50.2, -49.9), dia(46.8667, -49.9), dia(43.5333, -49.9), dia(40.2, -49.9)):
+        assert has_end(g73, p, tol=2e-4), p
