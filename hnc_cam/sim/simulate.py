@@ -16,12 +16,20 @@ Model (the choices made where the issue leaves room):
   polygon). An arc is sampled with chord error <= 0.0005 mm and swept as the union of the hulls
   of consecutive placements.
 * Cost linear in the number of moves: the sweeps are built per run of moves (one vectorised
-  call per tool shape), then taken in batches of consecutive moves (a batch is local, a few
-  passes at most). A batch meets only the material in its zone (the convex hull of its sweeps
-  grown by ``SEAM``); each move's sweep is taken out of that local material in program order
-  (what it removed, for the checks and the air-cut time, is exact and as sequential as one
-  move after another), and the zone's material is put back into the part. Each move costs one
-  overlay with the material near it, each batch a few overlays with the part.
+  call per tool shape), then taken out of the material in batches of consecutive moves
+  (:data:`BATCH`). What each move removes (exact, and as sequential as one move after another)
+  comes from :mod:`hnc_cam.sim.area`: the overlap of the material at the batch's start with
+  the move's *front band* (its sweep beyond the placement where it starts, which the move
+  before swept) is an upper bound of what the move removes after the moves before it; the
+  batch's material is the material minus polygons inside the union of its sweeps (one
+  *envelope* per run of pieces with the same extreme vertices of the outline, and the outline
+  where a run starts), one overlay for the batch. The bounds add up to at least what the sweeps
+  remove, which is at least what the envelopes remove; where they add up to what the envelopes
+  remove (to ``1e-10 + 1e-13 * area`` mm^2) all are equal, so every bound is exact and the
+  material is the material minus the sweeps. Where they do not (a move coming back through
+  what its batch cut), the batch is taken move by move: within a zone (the convex
+  hull of its sweeps grown by ``SEAM``) each sweep is taken out of the local material in
+  program order, one overlay per move that meets it.
 * Material that is no longer connected to the chucked end (the minimum-Z end of the stock)
   falls off and counts as removed, checked after every batch.
 
