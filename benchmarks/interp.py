@@ -4,7 +4,9 @@
     process CPU time, since the machine may be shared);
 (b) a macro WHILE loop of 100,000 iterations (statements/s and iterations/s);
 (c) pygcode's parse time of the same plain file (its line parser, no machine model), for a
-    side-by-side ratio.
+    side-by-side ratio;
+(d) the same moves in each dialect (HNC-21T, FANUC 0i-T, Haas; LinuxCNC's interpreter when
+    its Python module is installed), load + run, as ratios to HNC-21T measured in the same run.
 
 Run: ``python benchmarks/interp.py [N]``.
 """
@@ -39,6 +41,16 @@ def plain_program(n: int) -> str:
         i += 1
     out.append("M30")
     return "\n".join(out) + "\n"
+
+
+def fanuc_program(n: int) -> str:
+    """:func:`plain_program` as a FANUC 0i-T program: % / O framing, G50 for G92, a decimal
+    point on every coordinate, feed per minute (G98)."""
+    import re
+    body = plain_program(n).split("\n", 1)[1]
+    body = body.replace("G92 X100 Z10", "G50 X100. Z10.").replace("F120", "F120.")
+    body = re.sub(r"([IK])(-?\d+)(?![.\d])", r"\1\2.", body)
+    return "%\nO0001\nG98\n" + body + "%\n"
 
 
 def macro_program(n: int) -> str:
@@ -94,6 +106,7 @@ def main(argv: list[str]) -> int:
           f"{it.steps / dt:,.0f} statements/s, {n / dt:,.0f} iterations/s (best of 3; CPU time "
           f"{dc:.3f} s -> {n / dc:,.0f} iterations/s)")
 
+    dialects(n, mach)
     try:
         from pygcode import Line as PLine
     except ImportError:
@@ -114,6 +127,27 @@ def main(argv: list[str]) -> int:
           f"  ->  hnc_cam load+run is {dt_pg / best:.1f}x faster than pygcode's parse alone "
           f"(CPU time: pygcode {dc_pg:.3f} s, {dc_pg / cpu:.1f}x)")
     return 0
+
+
+def dialects(n: int, mach) -> None:
+    from hnc_cam import nc
+    texts = {"hnc21t": plain_program(n), "fanuc0it": fanuc_program(n), "haas": fanuc_program(n)}
+    best: dict[str, float] = {}
+    moves: dict[str, int] = {}
+    for _ in range(3):
+        for name, text in texts.items():
+            c0 = time.process_time()
+            tp = nc.run(text, mach, dialect=name)
+            c = time.process_time() - c0
+            best[name] = min(best.get(name, c), c)
+            moves[name] = len(tp.moves)
+    ref = best["hnc21t"]
+    print("(d) the same moves per dialect (load + run, best of 3, CPU time):  " + ",  ".join(
+        f"{k} {v:.3f} s ({moves[k]} moves, {v / ref:.2f}x HNC)" for k, v in best.items()))
+    try:
+        import linuxcnc  # noqa: F401
+    except ImportError:
+        print("    LinuxCNC's Python module is not installed: no LinuxCNC figure")
 
 
 if __name__ == "__main__":
