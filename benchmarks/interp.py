@@ -48,7 +48,8 @@ def fanuc_program(n: int) -> str:
     point on every coordinate, feed per minute (G98)."""
     import re
     body = plain_program(n).split("\n", 1)[1]
-    body = body.replace("G92 X100 Z10", "G50 X100. Z10.").replace("F120", "F120.")
+    body = body.replace("G92 X100 Z10", "G50 X100. Z10.").replace("G01 X40 Z0 F120",
+                                                                        "G01 X40. Z0. F120.")
     body = re.sub(r"([IK])(-?\d+)(?![.\d])", r"\1\2.", body)
     return "%\nO0001\nG98\n" + body + "%\n"
 
