@@ -282,9 +282,19 @@ class _FP(P._P):
         raise self.err(f"bad expression: expected a number, variable, function or '[', found {found}")
 
     def var_index(self):
+        """What follows ``#``; a constant variable number is a whole number, kept in its
+        plain digits (``#030.0`` is ``#30``)."""
         k, v, c = self.peek()
         if k == "op" and v == "[":
             return self.bracket("to close #[")
+        if k == "num":
+            self._finite(v, c)
+            f = float(v)
+            if not f.is_integer() or f > 99999999:
+                raise self.err(f"invalid variable #{v}: a variable number is a whole number up to "
+                               f"99999999", c)
+            self.i += 1
+            return ("num", str(int(f)))
         return super().var_index()
 
     def condition(self, what: str) -> FanucExpr:
