@@ -591,6 +591,9 @@ def test_haas_g73_and_g76():
     (71, {"P": 1.5, "Q": 3}, "sequence number"),
     (71, {"P": 1, "Q": 3, "D": 1.5}, "µm without a decimal point"),
     (73, {"R": 0.0045}, "whole number"),
+    (71, {"U": 1.5, "R": 1.0, "P": 1, "Q": 3, "X": 0.4, "Z": 0.1},
+     r"R is a word of the first G71 block"),
+    (73, {"P": 1, "Q": 3, "R": 3.0}, r"R is a word of the first G73 block"),
     (74, {"P": 100.0}, "P is not a word of the first G74"),
     (76, {"P": 11060.0, "Q": -1.0}, "without a sign"),
 ])

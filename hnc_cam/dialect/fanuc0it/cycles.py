@@ -283,6 +283,15 @@ def _infeed_by_ns(plan: RoughPlan, motion_ns: str) -> RoughPlan:
     return RoughPlan(moves, plan.warnings, plan.levels, plan.passes, plan.offset_profile)
 
 
+def _no_first_block_words(ctx: Any, letters: str, first: str) -> None:
+    """The block with P and Q is the second one: a word of the first block there (an HNC-style
+    one-block ``G71 U R P Q X Z`` read as FANUC's) would silently change meaning."""
+    for c in letters:
+        if ctx.has(c):
+            ctx.alarm(f"{_name(ctx)}: {c} is a word of the first {_name(ctx)} block "
+                      f"({_name(ctx)} {first}); the block with P and Q takes P Q U W F", c)
+
+
 def _first_block_g71(ctx: Any, face: bool) -> None:
     code = ctx.code
     depth_l, other = ("W", "U") if face else ("U", "W")
@@ -375,6 +384,7 @@ def _g71_g72(ctx: Any, face: bool) -> None:
             ctx.alarm(f"{_name(ctx)}: the one-block form with D needs P and Q (PS0061)", "D")
         _first_block_g71(ctx, face)
         return
+    _no_first_block_words(ctx, "R", f"{'W' if face else 'U'}(Δd) R(e)")
     depth = None
     if ctx.has("D"):  # FANUC Series 10/11 one-block form: D in least increments
         depth = _micron(ctx, "D", "the depth of cut D")
@@ -445,6 +455,7 @@ def g73(ctx: Any) -> None:
         if d is not None:
             st["passes"] = d
         return
+    _no_first_block_words(ctx, "R", "U(Δi) W(Δk) R(d)")
     ns, nf = _pq(ctx)
     st = ctx.store.get(73, {})
     rx = st["relief_x"] if "relief_x" in st else _setting(ctx, "g73_relief_x")
