@@ -743,19 +743,25 @@ def _batch_by_bands(material, edges_of, run: "_Run", c0, b0, b1, idx, geoms, rem
     material minus the envelopes is the material minus the sweeps. Returns the material after
     the batch (``material`` itself when the batch removed nothing), or None when the bounds
     do not add up (the batch is then taken move by move)."""
-    if edges_of[0] is not material:
-        edges_of[0], edges_of[1] = material, region_edges(material)
-    ub = run.band_areas(edges_of[1], b0, b1)
-    if not len(ub) or float(ub.max()) <= 1e-12:
-        return material  # no move removed more than this: nothing (as move by move)
-    env = run.envelopes(b0, b1)
-    if env is None:
+    try:
+        with np.errstate(all="ignore"):
+            if edges_of[0] is not material:
+                edges_of[0], edges_of[1] = material, region_edges(material)
+            ub = run.band_areas(edges_of[1], b0, b1)
+            if not np.isfinite(ub).all():
+                return None
+            if not len(ub) or float(ub.max()) <= 1e-12:
+                return material  # no move removed more than this: nothing (as move by move)
+            env = run.envelopes(b0, b1)
+            if env is None:
+                return None
+            after = _difference(material, env[0] if len(env) == 1 else union_of(env))
+    except (shapely.errors.GEOSException, ValueError):
         return None
-    after = _difference(material, env[0] if len(env) == 1 else union_of(env))
     a0 = _lib_area(material)
     total = a0 - _lib_area(after)
     tol = 1e-10 + 1e-13 * a0
-    if abs(float(ub.sum()) - total) > tol or float(ub.min()) < -tol:
+    if not (abs(float(ub.sum()) - total) <= tol and float(ub.min()) >= -tol):
         return None
     ks = np.flatnonzero(ub > 1e-12)
     removed_area[c0 + b0 + ks] = ub[ks]
