@@ -293,3 +293,15 @@ def test_comma_chamfer_through_the_interpreter():
     mv = moves_of("O1\nG00 X0. Z2.\nG01 Z0. F0.1\nX20. ,C2.\nZ-10.\nM30\n")
     # the corner (X20, Z0) is cut by a 2 mm chamfer: X16 Z0 -> X20 Z-2
     assert ("line", 16.0, 0.0) in mv and ("line", 20.0, -2.0) in mv and mv[-1] == ("line", 20.0, -10.0)
+
+
+def test_tape_marks_with_end_of_block_and_comment():
+    src = STD.load("%;\nO5;\nG00 X1.;\nM30;\n% (END)\nJUNK\n")
+    assert [t.strip() for t in src.text] == ["O5", "G00 X1.", "M30"]
+    assert [n[0] for n in src.notes] == [6]
+
+
+def test_text_before_percent_without_an_O_after_it_is_read():
+    # the '%' closes a tape that had no opening mark: nothing before it is dropped
+    src = STD.load("G00 X1.\nM30\n%\n")
+    assert [t.strip() for t in src.text] == ["G00 X1.", "M30"] and src.notes == []

@@ -138,6 +138,11 @@ def clean(raw: str) -> str:
     return "".join(out)
 
 
+def _tape_mark(raw: str) -> bool:
+    """A line that is only ``%`` (a comment or an end-of-block ``;`` may follow)."""
+    return clean(raw).strip().rstrip(";").rstrip() == "%"
+
+
 def comment_of(raw: str) -> str:
     """The text of the first comment of a line (stripped), or ""."""
     i = raw.find("(")
@@ -596,23 +601,24 @@ class FanucSyntax:
                 if clean(r).strip():
                     break
                 continue
-            if clean(r).strip() == "%":
+            if _tape_mark(r):
                 first, opened = i + 1, True
             break
         if not opened:
-            # text before a '%' that opens the tape: skipped when the '%' comes before O
+            # text before a '%': skipped (the tape starts there) when no O line precedes the
+            # '%' and one follows it
             for i, r in enumerate(raw):
-                if "%" in r and clean(r).strip() == "%":
-                    before = [j for j in range(i) if clean(raw[j]).strip()]
-                    if before and not any(_HEADER_START.match(clean(raw[j])) for j in before) and \
+                if "%" in r and _tape_mark(r):
+                    if not any(_HEADER_START.match(clean(raw[j])) for j in range(i)) and \
                             any(_HEADER_START.match(clean(x)) for x in raw[i + 1:]):
+                        before = [j for j in range(i) if clean(raw[j]).strip()]
                         first, opened = i + 1, True
                         notes.append((before[0] + 1, 1, f"{len(before)} line(s) before the '%' on "
                                       f"line {i + 1} are not read (the tape starts at '%')"))
                     break
         for i in range(first, len(raw)):
             r = raw[i]
-            if "%" in r and clean(r).strip() == "%":
+            if "%" in r and _tape_mark(r):
                 last = i
                 rest = [j for j in range(i + 1, len(raw)) if clean(raw[j]).strip()]
                 if rest:
