@@ -156,3 +156,47 @@ def test_fresh_sleeve_in_every_dialect(tmp_path, dialect, comp):
     prog = generate(part, comp=comp, dialect=dialect)
     _check(prog, part, comp, dialect)
     assert {op.name for op in prog.plan.operations} >= {"bore_rough", "bore_finish", "finish"}
+
+
+def test_cli_generate_and_verify_in_fanuc(tmp_path, capsys):
+    """generate --dialect fanuc0it writes a FANUC program; verify reads it back with the same
+    --dialect (parameters and stock from its header) and passes; read as HNC it is refused
+    naming the FANUC framing."""
+    from hnc_cam.cli import main
+    out = tmp_path / "o.nc"
+    rc = main(["generate", str(PARTS / "stepped_shaft.py"), "--dialect", "fanuc0it",
+               "--set", "length=95", "--program-number", "12", "-o", str(out)])
+    assert rc == 0, capsys.readouterr().err
+    text = out.read_text()
+    assert text.startswith("%\nO0012 (stepped_shaft)\n(PARAMETERS ") and "length=95" in text
+    capsys.readouterr()
+    rc = main(["verify", str(out), "--model", str(PARTS / "stepped_shaft.py"),
+               "--dialect", "fanuc0it"])
+    cap = capsys.readouterr()
+    assert rc == 0 and "PASS" in cap.out, cap.err
+    rc = main(["verify", str(out), "--model", str(PARTS / "stepped_shaft.py")])
+    err = capsys.readouterr().err
+    assert rc == 2 and "alarm" in err and "FANUC" in err
+
+
+def test_family_in_haas_and_the_machine_files_controller(tmp_path, capsys):
+    """family --dialect haas writes Haas programs; a machine file with controller = "haas"
+    makes it the default of generate, and --dialect overrides it."""
+    from hnc_cam.cli import main
+    table = tmp_path / "t.csv"
+    table.write_text("length,program_number\n100,7\n95,8\n")
+    out = tmp_path / "out"
+    rc = main(["family", str(PARTS / "stepped_shaft.py"), "--table", str(table), "--out",
+               str(out), "--jobs", "1", "--dialect", "haas"])
+    assert rc == 0, capsys.readouterr().err
+    for n in (7, 8):
+        text = (out / f"O{n:04d}.nc").read_text()
+        assert text.startswith(f"%\nO{n:04d} ") and re.search(r"\nN\d+ G71 P\d+ Q\d+ U", text)
+    machine = tmp_path / "m.toml"
+    machine.write_text('controller = "haas"\n'
+                       + (REPO / "hnc_cam" / "data" / "machine.toml").read_text())
+    prog = generate(PARTS / "stepped_shaft.py", machine=str(machine), verify=False)
+    assert prog.dialect == "haas" and " D1.5 " in prog.text
+    prog = generate(PARTS / "stepped_shaft.py", machine=str(machine), verify=False,
+                    dialect="hnc21t")
+    assert prog.dialect == "hnc21t" and prog.text.startswith("%0001\n")
