@@ -34,6 +34,13 @@ class CodeSpec:
     letters: frozenset = frozenset()
 
 
+#: the phases of a G code in the executor's walk over a block's codes: ``motion`` (the modal
+#: motion group), ``nonmodal`` (one-shot), ``cycle`` (a one-block cycle), ``comp`` (nose
+#: compensation command), ``wcs`` (work coordinate system), ``modal`` (``handler`` is the
+#: ``(attribute, value)`` the code sets), ``flow`` (the CNC's M codes)
+PHASES = ("motion", "nonmodal", "cycle", "comp", "wcs", "modal", "flow")
+
+
 @dataclass(frozen=True)
 class Dialect:
     """What a controller is made of (see the module doc). Frozen: one value per controller."""
@@ -64,6 +71,10 @@ class Dialect:
     features: frozenset = frozenset()
     #: the interpreter class that executes this dialect (a subclass of nc.interp.Interp)
     executor: Optional[Callable[[], type]] = None
+    #: modal groups whose codes may appear twice in one block
+    repeatable_groups: frozenset = frozenset()
+    #: alarm texts of the shared executor: "unknown_g" (format fields g), "two_in_group" (g, grp)
+    messages: Mapping[str, str] = field(default_factory=dict)
 
     def syntax(self, calculator: bool = False, block_delete: bool = False):
         """The reader of this dialect (``load``, ``parse_statement``, ``fast_words``)."""

@@ -102,7 +102,7 @@ _atan2 = math.atan2
 _TWO_PI = 2.0 * math.pi
 
 # the HNC-21T tables (table 2.1 ranges, table 3.2 groups, 3.1.1 M codes) live with its dialect
-from ..dialect.hnc21t.codes import CYCLE_MOTION, G_GROUP, M_CNC  # noqa: E402,F401
+from ..dialect.hnc21t.codes import CYCLE_MOTION, G_GROUP, M_CNC  # noqa: E402,F401 (HNC tables, as before)
 from ..dialect.hnc21t.codes import RANGES as _RANGES  # noqa: E402
 from ..dialect.hnc21t.codes import UNKNOWN_LETTERS as _UNKNOWN_LETTERS  # noqa: E402
 
@@ -227,7 +227,10 @@ class Interp:
         from .. import dialect as _dialects
         d = self.dialect = _dialects.get(dialect if dialect is not None else _dialects.DEFAULT)
         self.syntax = getattr(src, "syntax", None) or d.syntax()
-        self.g_group = {k[1]: c.group for k, c in d.codes.items() if k[0] == "G"}
+        self.g_spec = {k[1]: c for k, c in d.codes.items() if k[0] == "G"}
+        self.g_group = {g: c.group for g, c in self.g_spec.items()}
+        self.repeatable = d.repeatable_groups
+        self.messages = d.messages
         self.m_cnc = d.m_cnc
         self.ranges = d.ranges
         self.unknown = d.unknown_letters
@@ -952,48 +955,47 @@ class Interp:
                              f"meaning, e.g. M{mc:02d} = \"other\"", "M", mc)
 
     def _gcodes(self, b: Blk, gs: tuple) -> tuple[int, int, int]:
-        """Apply the block's modal G codes (table 3.2); returns the one-shot code (group 00),
-        the compound cycle (group 06) and the compensation command (group 09), 0 if none."""
+        """Walk the block's G codes over the dialect's table: modal settings are applied;
+        returns the one-shot code, the one-block cycle and the compensation command (0 if
+        none). The motion code becomes modal here."""
         g00 = 0
         g06 = 0
         seen = 0
         comp_cmd = 0
         motion = -1
+        spec = self.g_spec
         for g in gs:
-            grp = self.g_group.get(g)
-            if grp is None:
-                raise self.balarm(b, f"unknown G code G{g:02d} (table 3.2)", "G", g)
+            c = spec.get(g)
+            if c is None:
+                raise self._unknown_g(b, g)
+            grp = c.group
             bit = 1 << grp
-            if seen & bit and grp != 13:
-                raise self.balarm(b, f"two G codes of modal group {grp:02d} in one block", "G")
+            if seen & bit and grp not in self.repeatable:
+                raise self.balarm(b, self.messages["two_in_group"].format(g=g, grp=grp), "G")
             seen |= bit
-            if grp == 1:
+            ph = c.phase
+            if ph == "motion":
                 motion = g
-            elif grp == 0:
+            elif ph == "nonmodal":
                 g00 = g
-            elif grp == 6:
+            elif ph == "cycle":
                 g06 = g
-            elif grp == 13:
-                self.absolute = g == 90
-            elif grp == 16:
-                self.diam = g == 36
-            elif grp == 14:
-                self.per_rev = g == 95
-            elif grp == 8:
-                self.unit = 25.4 if g == 20 else 1.0
-            elif grp == 11:
+            elif ph == "comp":
+                comp_cmd = g
+            elif ph == "wcs":
                 if g != self.wcs:
                     self.wcs = g
                     self._set_origin()
-            elif grp == 9:
-                comp_cmd = g
-            elif grp == 17:
-                self.css = g == 96
+            elif c.handler is not None:
+                setattr(self, c.handler[0], c.handler[1])
         if motion >= 0:
             if motion != self.motion:
                 self.cyc_code = 0
             self.motion = motion
         return g00, g06, comp_cmd
+
+    def _unknown_g(self, b: Blk, g: int) -> NCError:
+        return self.balarm(b, self.messages["unknown_g"].format(g=g), "G", g)
 
     def _block_rest(self, b: Blk, w: dict, ms: tuple, g00: int, g06: int, comp_cmd: int,
                     is_call: bool, flow: int):

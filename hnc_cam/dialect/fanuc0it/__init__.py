@@ -44,7 +44,7 @@ def make(name: str, title: str, templates: str, fallback, cycles, syntax=syntax_
         m_cnc=codes.M_CNC,
         features=frozenset({"two_block_g71", "decimal_point_input", "block_delete", "macro_b",
                             "goto", "g50", "null_variables"}) | features,
-        executor=_executor)
+        executor=_executor, messages=codes.MESSAGES)
 
 
 DIALECT = make("fanuc0it", "FANUC 0i-T (G-code system A)", "fanuc0it", None, _cycles)

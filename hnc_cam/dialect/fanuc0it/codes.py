@@ -41,8 +41,18 @@ G_GROUP: dict[int, int] = {
 }
 #: the FANUC group number of each executor group (for #4001-#4022)
 FANUC_GROUP = {1: 1, 17: 2, 14: 5, 8: 6, 9: 7, 19: 9, 12: 12, 11: 14, 18: 16}
-_PHASE = {1: "motion", 0: "nonmodal", 6: "cycle"}
-CODES = {("G", g): CodeSpec(g, grp, _PHASE.get(grp, "modal")) for g, grp in G_GROUP.items()}
+_PHASE = {1: "motion", 0: "nonmodal", 6: "cycle", 9: "comp", 11: "wcs"}
+#: the modal settings: group -> code -> (attribute, value); G66 is a call (see FanucInterp)
+SETTERS = {14: {99: ("per_rev", True), 98: ("per_rev", False)},
+           8: {20: ("unit", 25.4), 21: ("unit", 1.0)},
+           17: {96: ("css", True), 97: ("css", False)},
+           12: {67: ("modal_call", None)},
+           18: {18: ("plane", 18)},
+           19: {22: ("stroke", 22), 23: ("stroke", 23)}}
+CODES = {("G", g): CodeSpec(g, grp, _PHASE.get(grp, "modal"), SETTERS.get(grp, {}).get(g))
+         for g, grp in G_GROUP.items()}
+MESSAGES = {"unknown_g": "unknown G code G{g:02d} (FANUC 0i-T, G-code system A)",
+            "two_in_group": "two G codes of one modal group in one block (G{g:02d})"}
 M_CNC = frozenset({0, 1, 2, 30, 98, 99})
 CODES.update({("M", m): CodeSpec(m, 0, "flow") for m in M_CNC})
 #: motion-group codes that are cycles: G32 threads, G90/G92/G94 repeat on later axis blocks
@@ -198,50 +208,11 @@ class FanucInterp(Interp):
             raise self.balarm(b, f"value out of range: L{L:g} must be a whole number of runs", "L")
         return int(L)
 
-    def _gcodes(self, b: Blk, gs: tuple):
-        g00 = 0
-        g06 = 0
-        seen = 0
-        comp_cmd = 0
-        motion = -1
-        group = self.g_group
-        for g in gs:
-            grp = group.get(g)
-            if grp is None:
-                why = _REFUSED.get(g)
-                raise self.balarm(b, f"unknown G code G{g:02d}" + (f": {why}" if why else
-                                  " (FANUC 0i-T, G-code system A)"), "G", g)
-            bit = 1 << grp
-            if seen & bit:
-                raise self.balarm(b, f"two G codes of one modal group in one block (G{g:02d})", "G")
-            seen |= bit
-            if grp == 1:
-                motion = g
-            elif grp == 0:
-                g00 = g
-            elif grp == 6:
-                g06 = g
-            elif grp == 14:
-                self.per_rev = g == 99
-            elif grp == 8:
-                self.unit = 25.4 if g == 20 else 1.0
-            elif grp == 11:
-                if g != self.wcs:
-                    self.wcs = g
-                    self._set_origin()
-            elif grp == 9:
-                comp_cmd = g
-            elif grp == 17:
-                self.css = g == 96
-            elif grp == 12:  # G67 (G66 blocks are calls)
-                self.modal_call = None
-            elif grp == 19:
-                self.stroke = g
-        if motion >= 0:
-            if motion != self.motion:
-                self.cyc_code = 0
-            self.motion = motion
-        return g00, g06, comp_cmd
+    def _unknown_g(self, b: Blk, g: int) -> NCError:
+        why = _REFUSED.get(g)
+        if why is None:
+            return Interp._unknown_g(self, b, g)
+        return self.balarm(b, f"unknown G code G{g:02d}: {why}", "G", g)
 
     def _unknown_m(self, b: Blk, mc: int) -> None:
         self.warn(b.line, f"M{mc:02d} is not in the machine's [m_codes]: a machine-specific code, "

@@ -50,4 +50,6 @@ DIALECT = Dialect(
     m_cnc=codes.M_CNC,
     features=frozenset({"g90_g91", "g36_g37", "if_while", "level_locals"}),
     executor=_executor,
+    repeatable_groups=codes.REPEATABLE,
+    messages=codes.MESSAGES,
 )

@@ -43,5 +43,15 @@ UNKNOWN_LETTERS = {"H": "H is not an HNC-21T address (table 2.1)",
                    "O": "O is a program header, not a word inside a block",
                    "Y": "this lathe has no Y axis"}
 
-CODES = {("G", g): CodeSpec(g, grp, PHASE.get(grp, "modal")) for g, grp in G_GROUP.items()}
+#: the modal settings of the other groups: group -> code -> (attribute, value)
+SETTERS = {13: {90: ("absolute", True), 91: ("absolute", False)},
+           16: {36: ("diam", True), 37: ("diam", False)},
+           14: {95: ("per_rev", True), 94: ("per_rev", False)},
+           8: {20: ("unit", 25.4), 21: ("unit", 1.0)},
+           17: {96: ("css", True), 97: ("css", False)}}
+PHASE.update({9: "comp", 11: "wcs"})
+CODES = {("G", g): CodeSpec(g, grp, PHASE.get(grp, "modal"), SETTERS.get(grp, {}).get(g))
+         for g, grp in G_GROUP.items()}
+MESSAGES = {"unknown_g": "unknown G code G{g:02d} (table 3.2)",
+            "two_in_group": "two G codes of modal group {grp:02d} in one block"}
 CODES.update({("M", m): CodeSpec(m, 0, "flow") for m in M_CNC})
