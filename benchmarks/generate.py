@@ -1,14 +1,16 @@
-"""Benchmark of program generation (issue 5).
+"""Benchmark of program generation.
 
 * parts/s for a 200-row family of family 1 (parts/stepped_shaft.py) with --jobs 1 and
   --jobs 2, verification included (the default);
 * ms per part for generate() alone, warm (CAD kernel imported, one part generated before
   timing), with and without verification, and per stage (part loading, planning, rendering,
-  interpreter, simulation + verification).
+  interpreter, simulation + verification);
+* the same stages per dialect (HNC-21T, FANUC 0i-T, Haas) on the same part, each as a ratio to
+  the HNC-21T figure measured in the same run (``--dialects``).
 
 The machine's load average is printed with the figures: on a shared machine they scale with it.
 
-Run: python benchmarks/generate.py [--rows 200] [--no-family]
+Run: python benchmarks/generate.py [--rows 200] [--no-family] [--dialects-only]
 """
 from __future__ import annotations
 
@@ -61,9 +63,10 @@ def warm_generate(n: int, verify: bool) -> float:
     return (time.perf_counter() - t0) / n * 1000
 
 
-def stages(n: int = 10) -> str:
+def stages(n: int = 10, dialect: str = "hnc21t", raw: bool = False):
     """ms per part for each stage of generate (warm): part loading (CAD kernel), planning
-    (with the tool-nose compensation), rendering, the interpreter, simulation + verification."""
+    (with the tool-nose compensation), rendering in ``dialect``, the interpreter reading it as
+    ``dialect``, simulation + verification. ``raw``: the seconds per stage (a dict)."""
     from hnc_cam.cad import load_part
     from hnc_cam.nc import run
     from hnc_cam.plan import Options, make_plan
@@ -81,9 +84,9 @@ def stages(n: int = 10) -> str:
         st = Stock.parse(lp.stock)
         plan = make_plan(lp.profile, st, lib, mach, Options(), name="b")
         t2 = time.perf_counter()
-        text = render(plan)
+        text = render(plan, dialect=dialect)
         t3 = time.perf_counter()
-        tp = run(text, machine=mach, start="reference")
+        tp = run(text, machine=mach, start="reference", dialect=dialect)
         t4 = time.perf_counter()
         sim = simulate(tp, st, machine=mach, model=plan.profile)
         t5 = time.perf_counter()
@@ -93,8 +96,33 @@ def stages(n: int = 10) -> str:
             for k, v in zip(t, (t1 - t0, t2 - t1, t3 - t2, t4 - t3, t5 - t4, t6 - t5)):
                 t[k] += v
     total = sum(t.values())
+    if raw:
+        return {k: v / n for k, v in t.items()}
     return (", ".join(f"{k} {1000 * v / n:.1f} ({100 * v / total:.0f} %)" for k, v in t.items())
             + f"; total {1000 * total / n:.1f}")
+
+
+def dialects(n: int = 15) -> list[str]:
+    """The stages of :func:`stages` per dialect on the same part, each the median over ``n``
+    rounds, with its ratio to HNC-21T's measured in this run (the dialects take turns within
+    a round, in a rotating order, so that a change of the machine's load falls on every
+    dialect alike)."""
+    import statistics
+    names = ("hnc21t", "fanuc0it", "haas")
+    acc: dict[str, dict[str, list[float]]] = {d: {} for d in names}
+    for i in range(n):
+        for d in names[i % 3:] + names[:i % 3]:
+            for k, v in stages(1, d, raw=True).items():
+                acc[d].setdefault(k, []).append(v)
+    med = {d: {k: statistics.median(v) for k, v in acc[d].items()} for d in names}
+    ref = med["hnc21t"]
+    out = []
+    for d in names:
+        total, rtotal = sum(med[d].values()), sum(ref.values())
+        out.append(f"{d}: " + ", ".join(f"{k} {1000 * v:.1f} ms ({v / ref[k]:.2f}x)"
+                                        for k, v in med[d].items())
+                   + f"; total {1000 * total:.1f} ms ({total / rtotal:.2f}x)")
+    return out
 
 
 def cold_start() -> str:
@@ -153,9 +181,16 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--rows", type=int, default=200)
     ap.add_argument("--no-family", action="store_true")
+    ap.add_argument("--dialects-only", action="store_true",
+                    help="only the per-dialect stages (ratios to HNC-21T)")
     a = ap.parse_args()
     import os
     print(f"load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
+    print("stages per dialect, ms/part (warm, ratio to hnc21t in this run):")
+    for line in dialects():
+        print(f"  {line}")
+    if a.dialects_only:
+        return
     print(f"generate, warm, family 1: {warm_generate(10, False):.1f} ms/part without "
           f"verification, {warm_generate(5, True):.1f} ms/part with verification")
     print(f"stages, ms/part (warm, share of the row): {stages()}")
