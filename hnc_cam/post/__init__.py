@@ -55,18 +55,12 @@ def default_template_dir() -> Path:
 def _dialect(name: str):
     """The dialect value of ``name`` (:func:`hnc_cam.dialect.get`); an unknown name is a
     PlanError listing the known ones."""
+    from .. import dialect
     try:
-        from .. import dialect
         return dialect.get(name)
     except (KeyError, ValueError) as e:
         msg = e.args[0] if e.args else str(e)
         raise PlanError(str(msg)) from None
-    except (ImportError, AttributeError):  # a registry without this dialect's module yet
-        from types import SimpleNamespace
-        known = {"hnc21t": None, "fanuc0it": None, "haas": "fanuc0it"}
-        if name not in known:
-            raise PlanError(f"unknown dialect {name!r} (known: {', '.join(known)})") from None
-        return SimpleNamespace(name=name, templates=name, template_fallback=known[name])
 
 
 def template_dirs(dialect: str = DEFAULT_DIALECT) -> list[Path]:
@@ -87,8 +81,7 @@ def template_dirs(dialect: str = DEFAULT_DIALECT) -> list[Path]:
 def _coordinate_format(dialect: str, number_format: str) -> str:
     """A dialect that reads a word without a decimal point in least increments (FANUC:
     ``X20`` is 0.020 mm) gets a point on every whole number (``plain`` becomes ``point``)."""
-    d = _dialect(dialect)
-    if number_format == "plain" and d.name != DEFAULT_DIALECT:
+    if number_format == "plain" and _dialect(dialect).has("decimal_point_input"):
         return "point"
     return number_format
 
