@@ -121,6 +121,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--machine", metavar="FILE")
     p.add_argument("--json", metavar="OUT", help="write the toolpath as JSON (- = stdout)")
     _add_dialect(p)
+    p.add_argument("--vars", metavar="FILE", help="FANUC/Haas: JSON file of the macro variables "
+                   "#500-#999, read before the run and written after it")
     p.set_defaults(func=("hnc_cam.nc.command", "run_command"))
 
     p = sub.add_parser("simulate", help="remove material along a program's toolpath")

@@ -316,3 +316,37 @@ def test_calls_through_the_reader(tmp_path):
     tp = nc.run(text, dialect="fanuc0it", start=(0.0, 0.0))
     assert [tuple(round(v, 6) for v in m.end) for m in tp.moves if m.kind != "dwell"][-6:] == [
         (0.0, -1.0), (0.0, -2.0), (1.0, -2.0), (2.0, -2.0), (5.0, -2.0), (5.0, -3.0)]
+
+
+@needs_reader
+def test_kept_variables_persist_between_runs(tmp_path):
+    p = tmp_path / "count.nc"
+    p.write_text("%\nO0001\n#500=#500+1\n#501=#0\nG00 X[#500*2] Z0.\nM30\n%\n")
+    v = tmp_path / "vars.json"
+    for n in (1, 2):
+        r = cli("run", str(p), "--dialect", "fanuc0it", "--vars", str(v), "--json", "-")
+        assert r.returncode == 0, r.stderr
+        assert '"500": %d.0' % n in v.read_text() and '"501"' not in v.read_text()
+    tp = nc.run(p.read_text(), dialect="fanuc0it", start=(0.0, 0.0), persist=str(v))
+    assert tp.moves[-1].end == (3.0, 0.0)
+    # an alarm stops the run: what was written before it is kept
+    q = tmp_path / "alarm.nc"
+    q.write_text("%\nO0002\n#502=7\n#3000=1 (STOP)\nM30\n%\n")
+    r = cli("run", str(q), "--dialect", "fanuc0it", "--vars", str(v))
+    assert r.returncode == 2 and "macro alarm 3001: STOP" in r.stderr
+    assert '"502": 7.0' in v.read_text()
+
+
+@pytest.mark.parametrize("body, what", [('{"400": 1}', "'400'"), ("[1]", "JSON object"),
+                                        ('{"500": "x"}', "#500"), ("{", "not JSON")])
+def test_bad_kept_variables_file_is_one_line(tmp_path, body, what):
+    p = tmp_path / "a.nc"
+    p.write_text("%\nO0001\n#500=1\nM30\n%\n")
+    v = tmp_path / "v.json"
+    v.write_text(body)
+    r = cli("run", str(p), "--dialect", "fanuc0it", "--vars", str(v))
+    assert r.returncode == 2 and r.stderr.count("\n") == 1 and what in r.stderr
+    assert r.stderr.startswith(f"error: {v}: ")
+    assert v.read_text() == body  # untouched
+    r = cli("run", str(p), "--vars", str(v))  # the HNC-21T has no kept variables
+    assert r.returncode == 2 and "FANUC-family" in r.stderr

@@ -1,4 +1,4 @@
-"""``hnc-cam run PROGRAM [--machine FILE] [--json OUT] [--dialect NAME]``.
+"""``hnc-cam run PROGRAM [--machine FILE] [--json OUT] [--dialect NAME] [--vars FILE]``.
 
 The tool starts at the machine's reference point (as after homing, and as ``simulate``
 does). Prints the toolpath summary on stdout (or on stderr when the JSON goes to stdout), the
@@ -24,7 +24,7 @@ def run_command(args) -> int:
 
     machine = load_machine(getattr(args, "machine", None))
     tp = run_file(args.program, machine, start="reference",  # as `simulate`: after homing
-                  dialect=getattr(args, "dialect", None))
+                  dialect=getattr(args, "dialect", None), persist=getattr(args, "vars", None))
     for w in tp.warnings:
         print(f"{tp.file}:{w.line}: warning: {w.message}", file=sys.stderr)
     out = getattr(args, "json", None)

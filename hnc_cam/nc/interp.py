@@ -1900,7 +1900,7 @@ class CycleCtx:
 
 def run(text: str, machine: Machine | None = None, *, file: str = "<program>",
         step_limit: int | None = None, start: tuple[float, float] | str = "reference",
-        diameter: bool | None = None, dialect: Any = None) -> Toolpath:
+        diameter: bool | None = None, dialect: Any = None, persist: str | None = None) -> Toolpath:
     """Interpret program ``text`` and return its toolpath; raises :class:`NCError` on an alarm.
 
     ``step_limit`` (default: the machine's) bounds the statements executed; the machine's
@@ -1913,6 +1913,9 @@ def run(text: str, machine: Machine | None = None, *, file: str = "<program>",
     :func:`hnc_cam.dialect.names` or a :class:`~hnc_cam.dialect.Dialect` (default: the machine
     file's ``controller``, else ``hnc21t``); after an alarm of the HNC reader on a file that
     looks like another dialect's, the alarm says which (:func:`hnc_cam.dialect.sniff`).
+    ``persist`` (FANUC-family dialects) is a JSON file of the variables kept at power-off
+    (``#500``-``#999``, ``{"500": 1.5, ...}``): read before the run when it exists, written
+    (whole, or not at all) after it, also when an alarm stops it.
 
     An alarm's message and block are one printable line: the block is an excerpt of at most
     120 characters, control characters are written as escapes (``\\x1b``)."""
@@ -1930,13 +1933,22 @@ def run(text: str, machine: Machine | None = None, *, file: str = "<program>",
                           block_delete=bool(getattr(m, "block_delete", False)))
         src = syntax.load(text, file, int(getattr(m, "line_chars", 65_536)))
         cls = d.executor() if d.executor is not None else Interp
+        it = cls(src, m, step_limit=step_limit, start=start, diameter=diameter, dialect=d)
+        if persist is not None:
+            if not hasattr(it, "keep"):
+                from ..errors import HncError
+                raise HncError(f"{persist}: kept macro variables (#500-#999) belong to the FANUC-family "
+                               f"dialects; the {d.title} has none")
+            it.keep.update(_load_vars(persist))
         try:
-            return cls(src, m, step_limit=step_limit, start=start, diameter=diameter,
-                       dialect=d).run()
+            return it.run()
         except NCError as e:
             if d.name == "hnc21t":
                 _hint(e, text)
             raise
+        finally:
+            if persist is not None:
+                _save_vars(persist, it.keep)
     except NCError as e:
         _tidy(e)
         raise
@@ -1955,6 +1967,43 @@ def _dialect_of(dialect: Any, machine: Machine, file: str):
         return dialects.get(name)
     except ValueError as e:
         raise NCError(str(e.args[0]), 0, 0, "", file) from None
+
+
+def _load_vars(path: str) -> dict:
+    """The kept variables of a ``persist`` file (absent file: none yet)."""
+    import json
+    import os
+    from ..errors import HncError
+    from ..io import read_text
+    if not os.path.exists(path):
+        return {}
+    text = read_text(path, "a JSON file of macro variables", max_bytes=1024 * 1024)
+    try:
+        data = json.loads(text)
+    except ValueError as e:
+        raise HncError(f"{path}: not JSON: {e}") from None
+    if not isinstance(data, dict):
+        raise HncError(f'{path}: must be a JSON object {{"500": value, ...}}')
+    out = {}
+    for k, v in data.items():
+        if not (isinstance(k, str) and k.isdigit() and 500 <= int(k) <= 999):
+            raise HncError(f"{path}: {k!r} is not a kept variable number 500-999")
+        if v is not None and (isinstance(v, bool) or not isinstance(v, (int, float))
+                              or not math.isfinite(v)):
+            raise HncError(f"{path}: #{k} = {v!r}: must be a finite number or null")
+        out[int(k)] = None if v is None else float(v)
+    return out
+
+
+def _save_vars(path: str, keep: dict) -> None:
+    import json
+    from ..io import write_atomic
+    data = {str(k): keep[k] for k in sorted(keep) if keep[k] is not None}
+    try:
+        write_atomic(path, json.dumps(data, indent=1) + "\n")
+    except OSError as e:
+        from ..errors import HncError
+        raise HncError(f"cannot write {path}: {e.strerror or e}") from None
 
 
 def _hint(e: NCError, text: str) -> None:
