@@ -176,7 +176,12 @@ class Machined:
 
     @property
     def cycle_time_s(self) -> float:
-        return self.toolpath.cycle_time_s
+        """:attr:`Toolpath.cycle_time_s`, read a block of moves at a time."""
+        moves = self.toolpath.moves
+        t = 0.0
+        for c0 in range(0, len(moves), CHUNK):
+            t = sum(columns(moves[c0:c0 + CHUNK])["duration"].tolist(), t)
+        return t
 
     @property
     def removed(self) -> BaseGeometry:
@@ -196,9 +201,10 @@ class Machined:
             k = c["kind"]
             feed = (k == _LINE) | (k == _ARC) | (k == _THREAD)
             d = c["duration"]
-            ft += float(d[feed].sum())
+            # summed in program order, as a sum over the moves would
+            ft = sum(d[feed].tolist(), ft)
             air = feed & (self.removed_area[c0:c0 + len(k)] <= AIR_AREA)
-            at += float(d[air].sum())
+            at = sum(d[air].tolist(), at)
         return ft, at
 
     @property
@@ -637,6 +643,13 @@ def simulate(toolpath: Toolpath, stock: Stock | BaseGeometry, machine: Machine |
     <= number of moves; others are ignored): the same region the simulation goes on from
     (fallen pieces gone), so the last one is ``Machined.material``. See :func:`material_after`.
     """
+    # the simulation makes many short-lived objects and no reference cycles: the cyclic
+    # collector would only rescan the toolpath's moves, more of them the longer the program
+    with _gc_paused():
+        return _simulate(toolpath, stock, machine, tools, model, batch, snapshots, on_snapshot)
+
+
+def _simulate(toolpath, stock, machine, tools, model, batch, snapshots, on_snapshot) -> Machined:
     machine = _resolve_machine(machine, tools)
     start_region = clean(stock_region(stock, model))
     material: BaseGeometry = start_region
@@ -650,8 +663,6 @@ def simulate(toolpath: Toolpath, stock: Stock | BaseGeometry, machine: Machine |
     sweeper = _Sweeper(machine, moves)
     fallen: list[BaseGeometry] = []
 
-    # the loop makes many short-lived objects and no reference cycles: the cyclic collector
-    # would only rescan the toolpath's moves, more of them the longer the program
     edges_of: list = [None, None]  # (material, its edges): recomputed when the material changes
     prev: tuple = (None, None)
     stops = sorted({int(k) for k in snapshots if 0 <= int(k) <= n}) if on_snapshot else []
