@@ -178,3 +178,23 @@ def test_hnc_output_is_unchanged_by_the_seam():
     c = nc.run(text, dialect=dialect.get("hnc21t"))
     assert a.dumps() == b.dumps() == c.dumps()
     assert a.moves[-1].end == (25.0, 10.0)
+
+
+def test_fanuc_file_through_run_and_simulate_and_the_machine_controller(tmp_path):
+    p = tmp_path / "o1234.nc"
+    p.write_text(FANUC_FILE)
+    r = cli("run", str(p), "--dialect", "fanuc0it")
+    assert r.returncode == 0, r.stderr
+    r = cli("simulate", str(p), "--stock", "50x40", "--dialect", "fanuc0it")
+    assert r.returncode == 0, r.stderr
+    m = tmp_path / "m.toml"
+    m.write_text('controller = "fanuc0it"\n')
+    r2 = cli("run", str(p), "--machine", str(m))
+    assert r2.returncode == 0, r2.stderr
+    r3 = cli("run", str(p), "--machine", str(m), "--dialect", "hnc21t")  # the option wins
+    assert r3.returncode == 2 and "FANUC" in r3.stderr
+    tp = nc.run(FANUC_FILE, load_machine(m))
+    assert (20.0, -20.0) in [mv.end for mv in tp.moves]  # X40. is a diameter
+    m.write_text('controller = "fanuc0it"\ndecimal_point = "calculator"\nblock_delete = true\n')
+    tp = nc.run("%\nO0001\nG00 X40 Z2\n/G00 X80 Z2\nM30\n%\n", load_machine(m), start=(0.0, 0.0))
+    assert tp.moves[-1].end == (20.0, 2.0) and not tp.warnings
