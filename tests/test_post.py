@@ -70,6 +70,19 @@ def test_golden_program_per_operation(key):
     assert text == path.read_text()
 
 
+@pytest.mark.parametrize("dialect", ["fanuc0it", "haas"])
+@pytest.mark.parametrize("key", sorted(CASES))
+def test_golden_program_per_operation_fanuc_and_haas(key, dialect):
+    """The FANUC 0i-T and Haas text of each operation, compared with a reviewed golden file
+    (HNC_CAM_UPDATE_GOLDEN=1 rewrites them)."""
+    text = render(_plan(key), dialect=dialect)
+    path = GOLDEN / dialect / f"{key}.nc"
+    if os.environ.get("HNC_CAM_UPDATE_GOLDEN"):
+        path.parent.mkdir(exist_ok=True)
+        path.write_text(text)
+    assert text == path.read_text()
+
+
 def test_number_format_and_pq_numbering_options():
     p = _plan("g71")
     t = render(p, number_format="point", block_numbers="pq")
