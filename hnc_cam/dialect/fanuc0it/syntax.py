@@ -112,10 +112,15 @@ _FAST_CALC = _fast_scan(True)
 # a nonzero scaled literal without a decimal point / with one (the note of §1); a letter run
 # before the address (OR1, XOR1) is a keyword, not a word
 _POINTLESS = re.compile(r"([XYZUVWABCIJKR])(?<![A-Z][XYZUVWABCIJKR])\s*+([-+]?+0*+[1-9]\d*+)(?![\d.])")
+# a quick superset of _POINTLESS (no possessive-free backtracking, no lookbehind)
+_POINTLESS_PRE = re.compile(r"[XYZUVWABCIJKR][-+]?+\d++(?:[^.]|\Z)")
 _POINTED = re.compile(r"[XYZUVWABCIJKR](?<![A-Z][XYZUVWABCIJKR])\s*+[-+]?+(?:\d*\.)")
 _HEADER = re.compile(r"\s*+(?:O|:)\s*+(\d{1,8})\s*+$")
 _HEADER_START = re.compile(r"\s*+(?:O|:)")
 _SLASH = re.compile(r"\s*+/[1-9]?")
+#: first characters of a line that is an ordinary block or macro statement (not a blank, a
+#: block-delete slash, a tape mark or a program number)
+_PLAIN_START = frozenset("ABCDEFGHIJKLMNPQRSTUVWXYZ#0123456789[]=+-*,.")
 
 
 def clean(raw: str) -> str:
@@ -643,6 +648,21 @@ class FanucSyntax:
                 s = r  # one string for the raw and the cleaned line
             if not s:
                 continue
+            if s[0] in _PLAIN_START and ";" not in s:
+                # the common line: one block starting with a word or a macro statement
+                lineno.append(i + 1)
+                stext.append(s)
+                number.append(None)
+                if "IF" not in s and "GO" not in s and "WH" not in s and "DO" not in s \
+                        and "EN" not in s and "H" not in s:
+                    kind.append(OTHER)
+                    continue
+                k, lid = _classify(s)
+                kind.append(k)
+                if k is WHILE or k is ENDW:
+                    loop_id[len(kind) - 1] = lid
+                    loops.append(len(kind) - 1)
+                continue
             for s in ([s] if ";" not in s else self._split_blocks(s)):
                 c0 = s[0]
                 if c0 == " " or c0 == "\t":
@@ -696,7 +716,8 @@ class FanucSyntax:
         only then are the statements looked at one by one."""
         calc = self.calculator
         up = text.upper()
-        if _POINTLESS.search(up) is None:
+        m = _POINTLESS_PRE.search(up)
+        if m is None or _POINTLESS.search(up, m.start()) is None:
             return None
         if calc and _POINTED.search(up) is None:
             return None
