@@ -9,6 +9,8 @@ import dataclasses
 import pathlib
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from hnc_cam import nc
 from hnc_cam.dialect.fanuc0it.syntax import FanucSyntax
@@ -305,3 +307,43 @@ def test_text_before_percent_without_an_O_after_it_is_read():
     # the '%' closes a tape that had no opening mark: nothing before it is dropped
     src = STD.load("G00 X1.\nM30\n%\n")
     assert [t.strip() for t in src.text] == ["G00 X1.", "M30"] and src.notes == []
+
+
+# -- the plain-block path agrees with the slow path ----------------------------------------
+
+def test_fast_path_declines_what_the_rule_changes():
+    assert STD.fast_words("G01 X20 Z1.") is None  # X20 is 0.020: the slow path converts it
+    assert CALC.fast_words("G01 X20 Z1.") == [("G", "01", ""), ("X", "20", ""), ("Z", "1.", "")]
+    assert STD.fast_words("G01 X20.1234") is None  # cut to 0.001 by the slow path
+    assert STD.fast_words("G01 X20. ,C1.") is None
+    assert STD.fast_words("G65 P9010 A1.") is None
+    assert STD.fast_words("S1000.") is None
+    assert STD.fast_words("G01 X20. Z-3.5 F0.2 S800 T0101 M03 N10") is not None
+
+
+_NUMBERS = st.one_of(
+    st.integers(-10 ** 9, 10 ** 9).map(str),
+    st.tuples(st.integers(-10 ** 6, 10 ** 6), st.integers(0, 10 ** 6), st.integers(0, 6)).map(
+        lambda t: f"{t[0]}.{str(t[1]).zfill(6)[:t[2]]}"),
+    st.sampled_from(["0", "0.", ".5", "-.5", "+1.", "00012.", "1.23456", "99999.999", "100000."]))
+
+
+@settings(max_examples=400, deadline=None)
+@given(st.lists(st.tuples(st.sampled_from("GXZUWIKRFPQSTMNHDEABC"), _NUMBERS), min_size=1, max_size=6),
+       st.booleans())
+def test_fast_words_equal_the_slow_path(pairs, calc):
+    syntax = CALC if calc else STD
+    text = " ".join(f"{L}{n}" for L, n in pairs)
+    fw = syntax.fast_words(text)
+    try:
+        p = syntax.parse_statement(text, 1)
+    except NCError as e:
+        assert fw is None, (text, str(e))  # the plain path never takes a block that alarms
+        return
+    if fw is not None:
+        assert [(L, float(v)) for L, v, _ in fw] == [(L, v) for L, v, _ in p.words], text
+
+
+def test_dwell_x_without_point_through_the_interpreter():
+    tp = run("O1\nG04 X2500\nG04 U1.5\nG04 P500\nM30\n")
+    assert [round(m.duration, 6) for m in tp.moves if m.kind == "dwell"] == [2.5, 1.5, 0.5]
