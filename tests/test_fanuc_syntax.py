@@ -234,7 +234,9 @@ def test_note_with_the_manual_program_written_without_points():
 # -- alarms --------------------------------------------------------------------------------
 
 @pytest.mark.parametrize("text, line, col, part", [
-    ("O1\nG01 X1.2.3\n", 2, 9, "'.3'"),
+    ("O1\nG01 X1.2.3\n", 2, 5, "malformed number X1.2.3"),
+    ("O1\nG01 Z-.5.5 F1\n", 2, 5, "malformed number Z-.5.5"),
+    ("O1\nG01 Z-.5. F1\n", 2, 9, "unexpected character"),
     ("O1\nG01 X-\n", 2, 5, "no value"),
     ("O1\nG01 X123456789.\n", 2, 5, "8 digits"),
     ("O1\nG01 X123456.\n", 2, 5, "99999.999"),

@@ -350,6 +350,9 @@ class _FP(P._P):
             k, v, c = self.peek()
         if k == "num":
             self.i += 1
+            k2, v2, c2 = self.peek()
+            if k2 == "num" and c2 == c + len(v):  # "1.2.3": a second point
+                raise self.err(f"malformed number {letter}{'-' if neg else ''}{v}{v2}", col)
             return self.number(letter, v, neg, col)
         if k == "op" and v in ("[", "#"):
             node = self.primary()
