@@ -213,7 +213,7 @@ def test_note_for_coordinates_without_a_point_standard_mode():
 
 
 def test_no_note_when_every_coordinate_has_a_point_or_is_zero():
-    assert STD.load("O1\nG00 X40. Z0\nG01 X0 Z-25. F2\nM30\n").notes == []
+    assert STD.load("O1\nG00 X40. Z0\nG01 X0 Z-25. F0.2\nM30\n").notes == []
     assert STD.load("O1\nIF [#1 GT 0] GOTO 10\n#1=#2 OR 1\nN10 M30\n").notes == []
     assert STD.load("O1\n(X20 IN A COMMENT)\nG00 X1.\nM30\n").notes == []
 
@@ -349,3 +349,12 @@ def test_fast_words_equal_the_slow_path(pairs, calc):
 def test_dwell_x_without_point_through_the_interpreter():
     tp = run("O1\nG04 X2500\nG04 U1.5\nG04 P500\nM30\n")
     assert [round(m.duration, 6) for m in tp.moves if m.kind == "dwell"] == [2.5, 1.5, 0.5]
+
+
+def test_note_for_a_feed_without_point_in_g99_only():
+    src = STD.load("O1\nG98 G01 X1. F100\nG99\nG01 X2. F0.2\nG01 X3. F2\nM30\n")
+    assert [(n[0], n[1]) for n in src.notes] == [(5, 9)] and "G99" in src.notes[0][2]
+    assert STD.load("O1\nG98\nG01 X1. F100\nM30\n").notes == []
+    assert STD.load("O1\nG01 X1. F2.\nM30\n").notes == []
+    # power-on is G99
+    assert [(n[0], n[1]) for n in STD.load("O1\nG01 X1. F1\nM30\n").notes] == [(2, 9)]

@@ -118,6 +118,10 @@ _POINTED = re.compile(r"[XYZUVWABCIJKR](?<![A-Z][XYZUVWABCIJKR])\s*+[-+]?+(?:\d*
 _HEADER = re.compile(r"\s*+(?:O|:)\s*+(\d{1,8})\s*+$")
 _HEADER_START = re.compile(r"\s*+(?:O|:)")
 _SLASH = re.compile(r"\s*+/[1-9]?")
+# F without a decimal point (not a keyword's letter) and the G98/G99 words
+_FEED = re.compile(r"(?<![A-Z])F\s*+(0*+[1-9]\d*+)(?![\d.])")
+_FEED_PRE = re.compile(r"F\s*+0*+[1-9]\d*+(?![\d.])")
+_G9899 = re.compile(r"(?<![A-Z])G\s*+0*+9([89])(?![\d.])")
 #: first characters of a line that is an ordinary block or macro statement (not a blank, a
 #: block-delete slash, a tape mark or a program number)
 _PLAIN_START = frozenset("ABCDEFGHIJKLMNPQRSTUVWXYZ#0123456789[]=+-*,.")
@@ -707,10 +711,33 @@ class FanucSyntax:
                     loops.append(len(kind) - 1)
         self._frame(src, hdr_at)
         self._loops(src, loops, loop_id)
-        note = self._decimal_note(src, text)
-        if note is not None:
-            notes.append(note)
+        for note in (self._decimal_note(src, text), self._feed_note(src, text)):
+            if note is not None:
+                notes.append(note)
         return src
+
+    @staticmethod
+    def _feed_note(src: P.Source, text: str) -> Optional[tuple[int, int, str]]:
+        """A note at the first ``F`` without a decimal point written while G99 (feed per
+        revolution, FANUC's power-on mode) is in effect in file order: the reader takes it as
+        written, a control may count it in increments."""
+        if _FEED_PRE.search(text.upper()) is None:
+            return None
+        per_rev = True
+        for i, s in enumerate(src.text):
+            if src.kind[i] is not P.OTHER:
+                continue
+            if "G" in s:
+                for m in _G9899.finditer(s):
+                    per_rev = m.group(1) == "9"
+            if per_rev and "F" in s:
+                m = _FEED.search(s)
+                if m is not None:
+                    return (src.lineno[i], m.start() + 1,
+                            f"F{m.group(1)} has no decimal point in G99 (feed per revolution): read as "
+                            f"{m.group(1)} mm/rev as written; write F{m.group(1)}. to say so, or F0.… "
+                            f"for a fraction of a millimetre")
+        return None
 
     def _decimal_note(self, src: P.Source, text: str) -> Optional[tuple[int, int, str]]:
         """The note of §1 about coordinate words without a decimal point (one per file):
