@@ -358,3 +358,10 @@ def test_note_for_a_feed_without_point_in_g99_only():
     assert STD.load("O1\nG01 X1. F2.\nM30\n").notes == []
     # power-on is G99
     assert [(n[0], n[1]) for n in STD.load("O1\nG01 X1. F1\nM30\n").notes] == [(2, 9)]
+
+
+def test_digits_and_blanks_of_other_scripts_are_not_numbers():
+    e = alarm("O1\nG01 X\u0663.\n")  # ARABIC-INDIC DIGIT THREE
+    assert (e.line, e.col) == (2, 6) and "unexpected character" in e.message
+    e = alarm("O1\nG01\u00a0X3.\n")  # NO-BREAK SPACE
+    assert (e.line, e.col) == (2, 4) and "unexpected character" in e.message

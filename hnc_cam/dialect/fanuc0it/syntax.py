@@ -87,7 +87,8 @@ BRACKETS_MAX = 5
 LOOP_IDS = (1, 2, 3)
 LOOPS_MAX = 3
 
-_TOKEN = re.compile(r"\s*+(?:(\d+\.?\d*|\.\d+)|([A-Z]+)|(\S))")
+# ASCII only (re.A): a digit or blank of another script is an unexpected character
+_TOKEN = re.compile(r"\s*+(?:(\d+\.?\d*|\.\d+)|([A-Z]+)|(\S))", re.A)
 
 
 def _fast_scan(calculator: bool) -> "re.Pattern[str]":
@@ -104,24 +105,24 @@ def _fast_scan(calculator: bool) -> "re.Pattern[str]":
         r"|(?<=G)(?!0*65(?![\d.]))\d{1,3}"
         r"|(?<=N)\d{1,5}"
         r"|(?<=[HLMST])\d{1,8}"
-        r")(?![\d.])\s*+|\s*+(.)", re.S)
+        r")(?![\d.])\s*+|\s*+(.)", re.S | re.A)
 
 
 _FAST_STD = _fast_scan(False)
 _FAST_CALC = _fast_scan(True)
 # a nonzero scaled literal without a decimal point / with one (the note of §1); a letter run
 # before the address (OR1, XOR1) is a keyword, not a word
-_POINTLESS = re.compile(r"([XYZUVWABCIJKR])(?<![A-Z][XYZUVWABCIJKR])\s*+([-+]?+0*+[1-9]\d*+)(?![\d.])")
+_POINTLESS = re.compile(r"([XYZUVWABCIJKR])(?<![A-Z][XYZUVWABCIJKR])\s*+([-+]?+0*+[1-9]\d*+)(?![\d.])", re.A)
 # a quick superset of _POINTLESS (no possessive-free backtracking, no lookbehind)
-_POINTLESS_PRE = re.compile(r"[XYZUVWABCIJKR][-+]?+\d++(?:[^.]|\Z)")
-_POINTED = re.compile(r"[XYZUVWABCIJKR](?<![A-Z][XYZUVWABCIJKR])\s*+[-+]?+(?:\d*\.)")
-_HEADER = re.compile(r"\s*+(?:O|:)\s*+(\d{1,8})\s*+$")
-_HEADER_START = re.compile(r"\s*+(?:O|:)")
-_SLASH = re.compile(r"\s*+/[1-9]?")
+_POINTLESS_PRE = re.compile(r"[XYZUVWABCIJKR][-+]?+\d++(?:[^.]|\Z)", re.A)
+_POINTED = re.compile(r"[XYZUVWABCIJKR](?<![A-Z][XYZUVWABCIJKR])\s*+[-+]?+(?:\d*\.)", re.A)
+_HEADER = re.compile(r"\s*+(?:O|:)\s*+(\d{1,8})\s*+$", re.A)
+_HEADER_START = re.compile(r"\s*+(?:O|:)", re.A)
+_SLASH = re.compile(r"\s*+/[1-9]?", re.A)
 # F without a decimal point (not a keyword's letter) and the G98/G99 words
-_FEED = re.compile(r"(?<![A-Z])F\s*+(0*+[1-9]\d*+)(?![\d.])")
-_FEED_PRE = re.compile(r"F\s*+0*+[1-9]\d*+(?![\d.])")
-_G9899 = re.compile(r"(?<![A-Z])G\s*+0*+9([89])(?![\d.])")
+_FEED = re.compile(r"(?<![A-Z])F\s*+(0*+[1-9]\d*+)(?![\d.])", re.A)
+_FEED_PRE = re.compile(r"F\s*+0*+[1-9]\d*+(?![\d.])", re.A)
+_G9899 = re.compile(r"(?<![A-Z])G\s*+0*+9([89])(?![\d.])", re.A)
 #: first characters of a line that is an ordinary block or macro statement (not a blank, a
 #: block-delete slash, a tape mark or a program number)
 _PLAIN_START = frozenset("ABCDEFGHIJKLMNPQRSTUVWXYZ#0123456789[]=+-*,.")
