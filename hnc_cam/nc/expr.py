@@ -22,6 +22,13 @@ Semantics where the manual is silent (documented choices):
 * ``INT`` truncates toward zero, ``SIGN`` gives -1, 0 or 1;
 * precedence, lowest first: ``OR``; ``AND``; ``NOT``; comparisons (not chained);
   ``+ -``; ``* /``; unary ``+ -``; functions, ``[ ]`` and ``#``.
+
+FANUC custom macro B (``docs/FANUC.md`` §10) compiles through :func:`fanuc_source` into a
+:class:`FanucExpr`: functions in degrees (the ``K_*`` functions), ``AND OR XOR`` bitwise and
+``MOD`` on whole numbers, and FANUC's null rules (a null variable is 0 in arithmetic, ``EQ``/
+``NE`` compare it as null, a bare variable keeps it). Its locals ``#1``–``#33`` are read from
+``L`` and its commons ``#100``–``#199`` from ``G`` by their own numbers, everything else through
+``R``.
 """
 from __future__ import annotations
 

@@ -17,6 +17,11 @@ A line is one statement:
   after an ``N`` number;
 * ``IF expr`` / ``ELSE`` / ``ENDIF`` / ``WHILE expr`` / ``ENDW`` (optionally after ``N``).
 
+Other dialects' readers (``hnc_cam/dialect/<name>/syntax.py``) fill the same :class:`Source`
+and :class:`Parsed`, with two more kinds: ``GOTO`` (a jump to a block number, conditional or
+not; :meth:`Source.find_label` finds its target) and ``IFTHEN`` (assignments under a
+condition); :attr:`Source.notes` carries the warnings a reader finds while loading.
+
 IF/WHILE structure is matched per program when the file is loaded; an unmatched statement
 (``ENDW`` without ``WHILE``, an ``IF`` never closed) alarms at its line when execution reaches
 it, so the alarm names the first line the controller stops at in execution order.
