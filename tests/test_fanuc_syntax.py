@@ -365,3 +365,12 @@ def test_digits_and_blanks_of_other_scripts_are_not_numbers():
     assert (e.line, e.col) == (2, 6) and "unexpected character" in e.message
     e = alarm("O1\nG01\u00a0X3.\n")  # NO-BREAK SPACE
     assert (e.line, e.col) == (2, 4) and "unexpected character" in e.message
+
+
+def test_many_semicolon_blocks_on_long_lines_are_bounded():
+    line = "G01 X1.;" * 5000  # 5,000 blocks on a 40,000-character line
+    with pytest.raises(NCError) as ei:
+        STD.load("O1\n" + (line + "\n") * 20 + "M30\n")
+    assert ei.value.line >= 2 and "';' blocks" in ei.value.message
+    src = STD.load("O1\n" + "G01 X1.;" * 50 + "\nM30\n")
+    assert len(src.text) == 52

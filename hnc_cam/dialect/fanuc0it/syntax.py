@@ -642,6 +642,7 @@ class FanucSyntax:
         bdel = self.block_delete
         hdr_at: list[int] = []
         loops: list[int] = []
+        padded, budget = 0, 4 * len(text) + 1_000_000
         OTHER, HDR, WHILE, ENDW = P.OTHER, P.HDR, P.WHILE, P.ENDW
         for i in range(first, last):
             r = raw[i]
@@ -671,7 +672,23 @@ class FanucSyntax:
                     loop_id[len(kind) - 1] = lid
                     loops.append(len(kind) - 1)
                 continue
-            for s in ([s] if ";" not in s else self._split_blocks(s)):
+            if ";" in s:
+                # each block keeps its columns by leading blanks: bounded (before the blocks
+                # are built), so that a long line of many ';' blocks cannot take memory
+                # quadratic in its length
+                j = s.find(";")
+                while j >= 0 and padded <= budget:
+                    padded += j
+                    j = s.find(";", j + 1)
+                padded += len(s)
+                if padded > budget:
+                    raise NCError(f"too many ';' blocks on long lines (more than {budget} characters "
+                                  f"once each block keeps its columns): put the blocks on lines of "
+                                  f"their own", i + 1, 1, printable(r.strip()), file)
+                parts = self._split_blocks(s)
+            else:
+                parts = [s]
+            for s in parts:
                 c0 = s[0]
                 if c0 == " " or c0 == "\t":
                     c0 = s.lstrip()[:1]
