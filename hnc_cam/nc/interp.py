@@ -252,21 +252,35 @@ class Interp:
         self._warned: set = set()
         self.blocks = 0
         self.steps = 0
-        # modal state (table 3.2 defaults)
+        # modal state: the dialect's power-on codes (HNC: table 3.2 defaults)
         self.motion = 0
         self.absolute = True
-        if diameter is None:
-            diameter = bool(getattr(self.m, "diameter_mode", True))
-        self.diam = diameter
+        self.diam = True
         self.unit = 1.0
         self.per_rev = False
         self.css = False
         self.comp = 40
         self.wcs = 54
+        for code in d.power_on.values():
+            c = self.g_spec.get(code)
+            if c is None:
+                continue
+            if c.phase == "motion":
+                self.motion = code
+            elif c.phase == "comp":
+                self.comp = code
+            elif c.phase == "wcs":
+                self.wcs = code
+            elif c.handler is not None:
+                setattr(self, c.handler[0], c.handler[1])
+        if d.has("g36_g37"):  # the machine's diameter_mode (or the caller) sets G36/G37
+            if diameter is None:
+                diameter = bool(getattr(self.m, "diameter_mode", True))
+            self.diam = diameter
         self.wcs_tab = {int(k[1:]): (float(v[0]), float(v[1])) for k, v in self.m.work_offsets.items()}
         self.g92x = self.g92z = 0.0
         self.g52x = self.g52z = 0.0
-        self.ox, self.oz = self.wcs_tab.get(54, (0.0, 0.0))
+        self.ox, self.oz = self.wcs_tab.get(self.wcs, (0.0, 0.0))
         if isinstance(start, str):
             if start != "reference":
                 raise ValueError(f"start must be (x, z) or 'reference', got {start!r}")

@@ -85,8 +85,7 @@ class FanucInterp(Interp):
         super().__init__(src, machine, **kw)
         self.diam = True  # X is a diameter (parameter 1006#3)
         self.absolute = True  # system A: X/Z absolute, U/W incremental
-        self.per_rev = True  # G99 at power-on
-        self.plane = 18
+        self.plane = 18  # (G99, G97, G21, ... come from the power-on codes of POWER_ON)
         self.stroke = 22
         self.spindle_cap: Optional[float] = None  # G50 S
         self.modal_call: Optional[tuple] = None  # G66: (program, repeats, arguments, line)
