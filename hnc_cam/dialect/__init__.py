@@ -31,7 +31,9 @@ class CodeSpec:
     group: int
     phase: str = "modal"
     handler: Any = None
-    letters: frozenset = frozenset()
+    #: the extra words the code gives a meaning (arc I K R, G04 P, M99 P); for a one-shot
+    #: code None means "the words of the modal motion"
+    letters: Optional[frozenset] = frozenset()
 
 
 #: the phases of a G code in the executor's walk over a block's codes: ``motion`` (the modal

@@ -229,6 +229,8 @@ class Interp:
         self.syntax = getattr(src, "syntax", None) or d.syntax()
         self.g_spec = {k[1]: c for k, c in d.codes.items() if k[0] == "G"}
         self.g_group = {g: c.group for g, c in self.g_spec.items()}
+        self.m_spec = {k[1]: c for k, c in d.codes.items() if k[0] == "M"}
+        self.comp_d = d.has("comp_d_word")  # a D word is allowed with G40/G41/G42
         self.repeatable = d.repeatable_groups
         self.messages = d.messages
         self.m_cnc = d.m_cnc
@@ -1076,16 +1078,19 @@ class Interp:
         if g06 or (m in self.cycle_motion and b.axes and not g00):
             return
         ok: set = set()
-        if g00 == 4:
-            ok = {"P"}
-        elif g00 in (28, 29, 92, 52):
-            ok = set()
+        spec = self.g_spec
+        c = spec.get(g00) if g00 else None
+        if c is not None and c.letters is not None:
+            ok = set(c.letters)  # the one-shot code's own words
         elif b.axes:
-            if m in (2, 3):
-                ok = {"I", "K", "R"}
-            elif m == 1:
-                ok = {"C", "R"}
-        if self.comp != 40 or 40 in b.gs or 41 in b.gs or 42 in b.gs:
+            c = spec.get(m)
+            if c is not None and c.letters:
+                ok = set(c.letters)  # the motion's words (arc I K R, corner C R)
+        for mc in b.ms:
+            c = self.m_spec.get(mc)
+            if c is not None and c.letters:
+                ok |= c.letters
+        if self.comp_d and (self.comp != 40 or 40 in b.gs or 41 in b.gs or 42 in b.gs):
             ok.add("D")
         for L in sorted(b.extra):
             if L not in ok:

@@ -49,12 +49,17 @@ SETTERS = {14: {99: ("per_rev", True), 98: ("per_rev", False)},
            12: {67: ("modal_call", None)},
            18: {18: ("plane", 18)},
            19: {22: ("stroke", 22), 23: ("stroke", 23)}}
-CODES = {("G", g): CodeSpec(g, grp, _PHASE.get(grp, "modal"), SETTERS.get(grp, {}).get(g))
+#: the extra words each code gives a meaning; G53 takes the motion's
+LETTERS = {1: frozenset("CR"), 2: frozenset("IKR"), 3: frozenset("IKR"), 4: frozenset("P"),
+           53: None}
+CODES = {("G", g): CodeSpec(g, grp, _PHASE.get(grp, "modal"), SETTERS.get(grp, {}).get(g),
+                            LETTERS.get(g, frozenset()))
          for g, grp in G_GROUP.items()}
 MESSAGES = {"unknown_g": "unknown G code G{g:02d} (FANUC 0i-T, G-code system A)",
             "two_in_group": "two G codes of one modal group in one block (G{g:02d})"}
 M_CNC = frozenset({0, 1, 2, 30, 98, 99})
-CODES.update({("M", m): CodeSpec(m, 0, "flow") for m in M_CNC})
+CODES.update({("M", m): CodeSpec(m, 0, "flow", None, frozenset("PL") if m in (98, 99) else frozenset())
+              for m in M_CNC})
 #: motion-group codes that are cycles: G32 threads, G90/G92/G94 repeat on later axis blocks
 CYCLE_MOTION = frozenset({32, 90, 92, 94})
 POWER_ON = {1: 0, 2: 97, 5: 99, 6: 21, 7: 40, 12: 67, 14: 54, 16: 18}
@@ -216,25 +221,6 @@ class FanucInterp(Interp):
     def _unknown_m(self, b: Blk, mc: int) -> None:
         self.warn(b.line, f"M{mc:02d} is not in the machine's [m_codes]: a machine-specific code, "
                           f"no effect in the simulation", ("M?", mc))
-
-    def _check_letters(self, b: Blk, g00: int, g06: int) -> None:
-        m = self.motion
-        if g06 or (m in self.cycle_motion and b.axes and not g00):
-            return
-        ok: set = set()
-        if g00 == 4:
-            ok = {"P"}
-        elif b.axes and not g00:
-            if m in (2, 3):
-                ok = {"I", "K", "R"}
-            elif m == 1:
-                ok = {"C", "R"}
-        if 99 in b.ms or 98 in b.ms:
-            ok |= {"P", "L"}
-        for L in sorted(b.extra):
-            if L not in ok:
-                what = (f"G{g00:02d}" if g00 else f"G{m:02d}" if b.axes else "this")
-                raise self.balarm(b, f"word {L} has no meaning in {what} block", L)
 
     # -- one-shot codes -----------------------------------------------------------------------
     def _nonmodal(self, b: Blk, g: int, w: dict) -> None:

@@ -50,7 +50,11 @@ SETTERS = {13: {90: ("absolute", True), 91: ("absolute", False)},
            8: {20: ("unit", 25.4), 21: ("unit", 1.0)},
            17: {96: ("css", True), 97: ("css", False)}}
 PHASE.update({9: "comp", 11: "wcs"})
-CODES = {("G", g): CodeSpec(g, grp, PHASE.get(grp, "modal"), SETTERS.get(grp, {}).get(g))
+#: the extra words each code gives a meaning (table 2.1); G53 takes the motion's
+LETTERS = {1: frozenset("CR"), 2: frozenset("IKR"), 3: frozenset("IKR"), 4: frozenset("P"),
+           53: None}
+CODES = {("G", g): CodeSpec(g, grp, PHASE.get(grp, "modal"), SETTERS.get(grp, {}).get(g),
+                            LETTERS.get(g, frozenset()))
          for g, grp in G_GROUP.items()}
 MESSAGES = {"unknown_g": "unknown G code G{g:02d} (table 3.2)",
             "two_in_group": "two G codes of modal group {grp:02d} in one block"}
