@@ -350,3 +350,31 @@ def test_bad_kept_variables_file_is_one_line(tmp_path, body, what):
     assert v.read_text() == body  # untouched
     r = cli("run", str(p), "--vars", str(v))  # the HNC-21T has no kept variables
     assert r.returncode == 2 and "FANUC-family" in r.stderr
+
+
+@needs_reader
+@pytest.mark.parametrize("body, line, col, text", [
+    ("G00 X10. Z0.\nGOTO 55\n", 4, 6, "GOTO 55: no block N55 in this program"),
+    ("#1=2.5\nGOTO #1\n", 4, 6, "the sequence number must be an integer 1-99999"),
+    ("G70 P10\n", 3, 1, "missing required word Q"),
+    ("G70 P10 Q20\n", 3, 5, "no block N10 (P)"),
+    ("G65 A1.\n", 3, 1, "missing required word P"),
+    ("M98 P44\n", 3, 5, "program O0044 not found"),
+    ("#0=1\n", 3, 1, "#0 is always null"),
+    ("M99\n", 3, 1, "M99 in the main program"),
+    ("G00 X10. U2.\n", 3, 10, "X and U in one block"),
+    ("G91 G00 U2.\n", 3, 1, "G-code system A"),
+    ("G50\n", 3, 1, "G50 needs X/Z"),
+    ("G50 U10.\n", 3, 5, "not U/W"),
+    ("#3000=7 (BAD)\n", 3, 1, "macro alarm 3007: BAD"),
+])
+def test_alarms_point_at_their_line_and_column(body, line, col, text, tmp_path):
+    src = "%\nO0001\n" + body + "M30\n%\n"
+    with pytest.raises(NCError) as e:
+        nc.run(src, dialect="fanuc0it")
+    assert (e.value.line, e.value.col) == (line, col) and text in e.value.message
+    p = tmp_path / "a.nc"
+    p.write_text(src)
+    r = cli("run", str(p), "--dialect", "fanuc0it")
+    assert r.returncode == 2 and r.stderr.startswith(f"{p}:{line}:{col}: alarm: ")
+    assert r.stderr.count("\n") == 1
