@@ -272,3 +272,18 @@ def test_reachable_sliver_over_an_unreachable_corner_counts_by_its_own_thickness
     _, r2 = run_verify(prog(*ROUGH, "X30.04", "G01 Z-30", "X42", "G00 X60 Z50"), STEP,
                        machine=NOSE08)
     assert r2.max_undercut_mm == pytest.approx(0.02, abs=0.001) and not r2.passed
+
+
+def test_wavy_part_with_control_compensation_verifies():
+    # the reachable leftover's depth is measured against the unreachable leftover near it: a
+    # piece of it cut to a box must stay a region (GEOS's rectangle clip built a ring of 3
+    # points from this program's leftover)
+    import sys
+    from pathlib import Path
+    sys.path.insert(0, str(Path(__file__).parent))
+    from test_plan_shapes import wavy
+
+    from hnc_cam import generate
+    prog = generate(wavy(), "offset:2", comp="control")
+    assert prog.report.passed, prog.report.summary()
+    assert prog.report.max_overcut_mm < 0.01 and prog.report.max_undercut_mm < 0.01

@@ -271,7 +271,8 @@ def _deepest(g: BaseGeometry, segs: Sequence[Segment], interior: bool,
             r = float(d.max()) + 1e-6
         if also is not None and not also.is_empty and d.max() > 0:
             dm = float(d.max())
-            near = shapely.clip_by_rect(also, z0 - dm, x0 - dm, z1 + dm, x1 + dm)
+            # an overlay with the box (GEOS's rectangle clip can build a ring of 3 points)
+            near = inter(also, box(z0 - dm, x0 - dm, z1 + dm, x1 + dm))
             if not near.is_empty:
                 a, b = _edges(near)
                 # deepest first: once the model distance of the rest is below the best
