@@ -192,19 +192,19 @@ class Cond:
         self.tail = tail  # IF cond #n=expr: assignments run when the condition holds
 
 
-def _range_error(letter: str, v: float, ranges: dict = _RANGES) -> Optional[str]:
+def _range_error(letter: str, v: float, ranges: dict = _RANGES, ref: str = "table 2.1") -> Optional[str]:
     r = ranges.get(letter)
     if r is None:
         if not abs(v) <= _LENGTH_LIMIT:
-            return f"value out of range: {letter}{v:g} (limit ±99999.999, table 2.1)"
+            return f"value out of range: {letter}{v:g} (limit ±99999.999, {ref})"
         return None
     lo, hi, integer = r
     if not math.isfinite(v):
-        return f"value out of range: the number of {letter} is too large (table 2.1)"
+        return f"value out of range: the number of {letter} is too large ({ref})"
     if integer and not float(v).is_integer():
         return f"value out of range: {letter} must be an integer, got {v:g}"
     if v < lo or v > hi:
-        return f"value out of range: {letter}{v:g} (allowed {lo:g}..{hi:g}, table 2.1)"
+        return f"value out of range: {letter}{v:g} (allowed {lo:g}..{hi:g}, {ref})"
     return None
 
 
@@ -235,6 +235,7 @@ class Interp:
         self.messages = d.messages
         self.m_cnc = d.m_cnc
         self.ranges = d.ranges
+        self.range_ref = d.messages.get("range_ref", "table 2.1")  # where the ranges are from
         self.unknown = d.unknown_letters
         self.cycle_motion = d.cycle_motion
         #: cycles whose later blocks keep the words they leave out (HNC G80-G82, FANUC G90/G92/G94)
@@ -393,7 +394,7 @@ class Interp:
                 dyn.append((L, v, col))
                 letters.add(L)
                 continue
-            err = _range_error(L, v, ranges)
+            err = _range_error(L, v, ranges, self.range_ref)
             if err:
                 raise self.alarm(err, line, col or P.word_col(text, L))
             if L == "G":
@@ -889,7 +890,7 @@ class Interp:
         ms = list(b.ms)
         for L, e, col in b.dyn:
             v = self._eval(e, b.line)
-            err = _range_error(L, v, self.ranges)
+            err = _range_error(L, v, self.ranges, self.range_ref)
             if err:
                 raise self.alarm(err, b.line, col)
             if L == "G":

@@ -56,7 +56,8 @@ CODES = {("G", g): CodeSpec(g, grp, _PHASE.get(grp, "modal"), SETTERS.get(grp, {
                             LETTERS.get(g, frozenset()))
          for g, grp in G_GROUP.items()}
 MESSAGES = {"unknown_g": "unknown G code G{g:02d} (FANUC 0i-T, G-code system A)",
-            "two_in_group": "two G codes of one modal group in one block (G{g:02d})"}
+            "two_in_group": "two G codes of one modal group in one block (G{g:02d})",
+            "range_ref": "FANUC 0i-T"}
 M_CNC = frozenset({0, 1, 2, 30, 98, 99})
 CODES.update({("M", m): CodeSpec(m, 0, "flow", None, frozenset("PL") if m in (98, 99) else frozenset())
               for m in M_CNC})
@@ -618,7 +619,7 @@ class FanucInterp(Interp):
 
 def _range(letter: str, v: float, ranges: dict) -> Optional[str]:
     from ...nc.interp import _range_error
-    return _range_error(letter, v, ranges)
+    return _range_error(letter, v, ranges, MESSAGES["range_ref"])
 
 
 def _n_of(text: str) -> Optional[int]:

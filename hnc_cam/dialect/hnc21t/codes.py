@@ -57,5 +57,6 @@ CODES = {("G", g): CodeSpec(g, grp, PHASE.get(grp, "modal"), SETTERS.get(grp, {}
                             LETTERS.get(g, frozenset()))
          for g, grp in G_GROUP.items()}
 MESSAGES = {"unknown_g": "unknown G code G{g:02d} (table 3.2)",
-            "two_in_group": "two G codes of modal group {grp:02d} in one block"}
+            "two_in_group": "two G codes of modal group {grp:02d} in one block",
+            "range_ref": "table 2.1"}
 CODES.update({("M", m): CodeSpec(m, 0, "flow") for m in M_CNC})
