@@ -1,7 +1,14 @@
 """The HNC-21/22T interpreter: program text -> :class:`~hnc_cam.nc.toolpath.Toolpath`.
 
 It executes a loaded :class:`~hnc_cam.nc.parser.Source` statement by statement, as the
-controller does, and records what the tool's controlled point does.
+controller does, and records what the tool's controlled point does. The controller is a
+:class:`~hnc_cam.dialect.Dialect` (``run(..., dialect=)``): its reader loads the text, its
+code table drives the walk over a block's G codes (phase, group, the modal setting, the
+words each code allows), its power-on codes set the modal state, its cycle table runs the
+cycles; :class:`Interp` is the HNC-21T's executor (with the memory map of
+``hnc_cam.dialect.hnc21t.memory``) and other dialects subclass it
+(``hnc_cam.dialect.fanuc0it.codes.FanucInterp``). GOTO / IF..THEN statements, bare DO
+loops and a cycle's ``resume_after`` are executed here for every dialect.
 
 Execution model
 ---------------
@@ -70,8 +77,9 @@ Hooks for the other parts
 -------------------------
 * Cycles: G32/G80/G81/G82 (modal, run when a block has axis words; the words of the
   previous block of the same cycle are kept for the words a block leaves out) and
-  G71/G72/G73/G76 (one block) call ``hnc_cam.nc.cycles.execute(code, ctx)`` with a
-  :class:`CycleCtx`. ``ctx.profile(ns, nf)`` dry-runs blocks N ns..N nf through the normal
+  G71/G72/G73/G76 (one block) call the dialect's cycle table (HNC:
+  ``hnc_cam.nc.cycles.execute(code, ctx)``) with a :class:`CycleCtx` (also ``store``,
+  ``setting`` and ``resume_after`` for the FANUC cycles). ``ctx.profile(ns, nf)`` dry-runs blocks N ns..N nf through the normal
   block executor with emission redirected and the modal state restored afterwards.
   Cycle moves are not nose-radius compensated (a pending compensation run is flushed
   before the cycle and resumes after it). While a cycle module is missing the cycle
