@@ -279,3 +279,17 @@ def test_operation_variants_in_fanuc_and_haas(tmp_path, key, dialect, comp):
     if dialect == "fanuc0it" and threads:
         # the same passes as the HNC program's (G76: its depth law; G92: the G82 diameters)
         assert depths(prog) == depths(ref)
+
+
+def test_operations_are_named_by_the_dialects_cycles():
+    """The summary (and the family table) names each operation by the cycle the program
+    writes: G92 passes and G70 in FANUC, HNC-21T's own codes in HNC."""
+    from test_plan_shapes import stud, undercut
+    fanuc = generate(stud(), "30x46+1", dialect="fanuc0it", thread_cycle="g82", verify=False)
+    assert fanuc.operations[-1] == "thread G92" and "finish G70" in fanuc.operations
+    assert fanuc.operations[0] == "face G01"
+    hnc = generate(stud(), "30x46+1", thread_cycle="g82", verify=False)
+    assert hnc.operations[-1] == "thread G82" and "finish contour" in hnc.operations
+    zones = generate(undercut(), "40x70", dialect="haas", verify=False)
+    assert "rough_zone G71-II" in zones.operations and "finish contour" in zones.operations
+    assert "(T05 REST ROUGH Z-17.4..-37.3 G71-II D1 F0.2)" in zones.text

@@ -41,6 +41,8 @@ class Program:
     report: Any = None
     warnings: list[str] = field(default_factory=list)
     dialect: str = "hnc21t"
+    #: the dialect's names of its cycles (:func:`hnc_cam.post.cycle_labels`)
+    labels: dict[str, str] = field(default_factory=dict)
 
     @property
     def cycle_time_s(self) -> float:
@@ -48,7 +50,8 @@ class Program:
 
     @property
     def operations(self) -> list[str]:
-        return [f"{op.name} {op.cycle}" for op in self.plan.operations]
+        key = self.plan.label_key
+        return [f"{op.name} {self.labels.get(key(op), op.cycle)}" for op in self.plan.operations]
 
     def summary(self) -> str:
         t = self.cycle_time_s
@@ -225,7 +228,7 @@ def generate(part: Any, stock: str | Stock | None = None, *, params: Mapping[str
     file's ``controller``, else ``hnc21t``).
     """
     from .. import __version__
-    from ..post import render
+    from ..post import cycle_labels, render
 
     prof, default_stock, name, pparams = _load_part(part, params)
     if stock is None:
@@ -262,7 +265,8 @@ def generate(part: Any, stock: str | Stock | None = None, *, params: Mapping[str
     text = render(plan, dialect=dia, templates=templates, number_format=number_format,
                   block_numbers=block_numbers)
     tp = _interpret(text, mach, file, dia)
-    prog = Program(text=text, plan=plan, toolpath=tp, dialect=dia)
+    prog = Program(text=text, plan=plan, toolpath=tp, dialect=dia,
+                   labels=cycle_labels(dia, templates))
     if tp is None:
         prog.warnings.append("the interpreter is not available: program not run")
         return prog

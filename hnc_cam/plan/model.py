@@ -331,6 +331,18 @@ class Plan:
                 return o
         raise ValueError(f"no operation has the contour labelled {op.ns!r}")
 
+    def label_key(self, op: Operation) -> str:
+        """The key of ``op`` in a dialect's cycle names (``labels.j2``): its role, with
+        ``_cycle``/``_passes`` for facing, ``_pockets`` for a bore with undercuts and
+        ``_roughed`` for a finishing contour a roughing cycle carries."""
+        if op.kind == "face":
+            return f"face_{op.face.method}"
+        if op.kind == "rough" and op.rough.side == "id" and op.rough.pockets:
+            return "rough_bore_pockets"
+        if op.kind == "finish" and self.roughed(op):
+            return "finish_roughed"
+        return op.role
+
     def roughed(self, op: Operation) -> bool:
         """True when a roughing operation before ``op`` refers to ``op``'s contour (a dialect
         whose roughing cycle needs its contour right after it writes it there, and finishes

@@ -154,6 +154,22 @@ def render(plan: Any, *, dialect: str = DEFAULT_DIALECT, templates: str | Path |
         raise PlanError(f"{where or 'template'}: {why}") from None
 
 
+def cycle_labels(dialect: str = DEFAULT_DIALECT, templates: str | Path | None = None
+                 ) -> dict[str, str]:
+    """The dialect's names of its cycles by operation (:meth:`Plan.label_key`), from its
+    ``labels.j2`` (``{% set labels = {...} %}``); empty where the dialect has none (the
+    operations are then named by their HNC-21T code, :attr:`Operation.cycle`)."""
+    import jinja2
+    env = environment(None if templates is None else str(templates), "plain", "every",
+                      dialect)
+    try:
+        return dict(env.get_template("labels.j2").module.labels)
+    except jinja2.TemplateNotFound:
+        return {}
+    except Exception as e:  # noqa: BLE001 - a user's labels.j2 that does not define labels
+        raise PlanError(f"labels.j2: {getattr(e, 'message', None) or e}") from None
+
+
 def _template_place(tb) -> str | None:
     """``FILE:LINE`` of the innermost template frame of a traceback (Jinja maps its frames
     to the template source)."""
