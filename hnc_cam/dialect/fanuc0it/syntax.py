@@ -729,7 +729,8 @@ class FanucSyntax:
                     loops.append(len(kind) - 1)
         self._frame(src, hdr_at)
         self._loops(src, loops, loop_id)
-        for note in (self._decimal_note(src, text), self._feed_note(src, text)):
+        up = text.upper()
+        for note in (self._decimal_note(src, up), self._feed_note(src, up)):
             if note is not None:
                 notes.append(note)
         return src
@@ -738,8 +739,8 @@ class FanucSyntax:
     def _feed_note(src: P.Source, text: str) -> Optional[tuple[int, int, str]]:
         """A note at the first ``F`` without a decimal point written while G99 (feed per
         revolution, FANUC's power-on mode) is in effect in file order: the reader takes it as
-        written, a control may count it in increments."""
-        if _FEED_PRE.search(text.upper()) is None:
+        written, a control may count it in increments. ``text``: the file in upper case."""
+        if _FEED_PRE.search(text) is None:
             return None
         per_rev = True
         for i, s in enumerate(src.text):
@@ -763,7 +764,7 @@ class FanucSyntax:
         a point. One search over the whole text finds none in a program written with points;
         only then are the statements looked at one by one."""
         calc = self.calculator
-        up = text.upper()
+        up = text  # the file in upper case
         m = _POINTLESS_PRE.search(up)
         if m is None or _POINTLESS.search(up, m.start()) is None:
             return None
