@@ -329,3 +329,17 @@ def test_degrees_in_a_move():
     f = feeds(run("O1\nG00 X50. Z5.\n#1=30\nG01 X[40*SIN[#1]] Z[10*COS[60]] F0.2\nM30\n"))
     assert f == [(pytest.approx(20.0), pytest.approx(5.0))]
     assert math.isclose(f[0][0], 20.0)
+
+
+@pytest.mark.parametrize("stmt, col, part", [
+    ("#2=5/#1", 4, "division by zero"),
+    ("#2=SQRT[#1-1]", 4, "SQRT"),
+    ("#2=LN[#1]", 4, "LN"),
+    ("G01 X[4/#1] F0.2", 6, "division by zero"),
+    ("IF [1/#1 GT 0] GOTO 5", 4, "division by zero"),
+])
+def test_expression_errors_alarm_at_the_expression_through_the_interpreter(stmt, col, part):
+    with pytest.raises(NCError) as ei:
+        run(f"O1\nG00 X50. Z5.\n#1=0\n{stmt}\nN5 M30\n")
+    assert (ei.value.line, ei.value.col) == (4, col), str(ei.value)
+    assert part in ei.value.message
