@@ -225,3 +225,42 @@ def test_overlap_areas_equal_overlays():
         shapely.Point(-20 + 3 * i, 19).buffer(0.5)) for i in range(5)], dtype=object)
     got3 = overlap_areas(E, polygon_edges(polys), np.full(5, 17.0))
     assert got3 == pytest.approx(shapely.area(shapely.intersection(region, polys)), abs=1e-9)
+
+
+def test_short_passes_over_the_same_path_are_batched_per_pass():
+    # 12 passes of some 40 moves each, 0.05 mm apart along the same wavy path: a batch of 256
+    # moves would hold six passes, each coming back over what the one before cut; batches start
+    # with every pass, so each is taken with bands (none move by move), and the result is the
+    # move-by-move one
+    blocks = ["%1", "T0101", "M03 S800", "G00 X44 Z2"]
+    for p in range(12):
+        r = 19.5 - 0.05 * p
+        blocks += [f"G00 X{2 * r + 0.4:.4f} Z1", f"G01 X{2 * r:.4f} Z0 F200"]
+        blocks += [f"G01 X{2 * (r + 0.1 * math.sin(0.3 * i)):.4f} Z{-0.5 * i:.3f}"
+                   for i in range(1, 40)]
+        blocks += ["G01 U1 W0.5", "G00 Z2"]
+    text = "\n".join(blocks + ["G00 X80 Z80", "M30"]) + "\n"
+    tp = run(text, CNMG, file="p.nc", start=(60.0, 50.0))
+    stock = Stock.parse("40x60")
+    ref_areas, ref_material = _one_by_one(tp, stock, CNMG)
+    taken = {"bands": 0, "failed": 0, "moves": 0}
+    real_bands, real_moves = S._batch_by_bands, S._batch_by_moves
+
+    def by_bands(*a, **k):
+        got = real_bands(*a, **k)
+        taken["bands" if got is not None else "failed"] += 1
+        return got
+
+    def by_moves(*a, **k):
+        taken["moves"] += 1
+        return real_moves(*a, **k)
+
+    S._batch_by_bands, S._batch_by_moves = by_bands, by_moves
+    try:
+        m = simulate(tp, stock, CNMG)
+    finally:
+        S._batch_by_bands, S._batch_by_moves = real_bands, real_moves
+    assert m.removed_area == pytest.approx(ref_areas, abs=1e-9)
+    assert shapely.symmetric_difference(m.material, ref_material).area < 1e-9
+    # (a return in rapid over its own pass's cut can still make a batch halve once)
+    assert taken["bands"] >= 12 and taken["failed"] <= 2 and taken["moves"] == 0

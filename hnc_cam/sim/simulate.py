@@ -86,8 +86,8 @@ TOUCH_THICK = 5e-4
 RAPID_DEPTH = 0.1
 #: consecutive moves taken out of the material together
 BATCH = 256
-#: consecutive moves taken out move by move within one zone of material (where a batch's
-#: bounds do not add up)
+#: a batch whose bounds do not add up is halved down to this many moves, which are then
+#: taken out move by move within one zone of material
 MOVE_BATCH = 48
 #: tool outlines of at most this many vertices are taken out a batch at a time with the
 #: exact overlap areas of :mod:`hnc_cam.sim.area`; larger ones one overlay per move
@@ -376,6 +376,10 @@ class _Sweeper:
         checked = ((kind != _LINE) & (kind != _ARC) & (kind != _THREAD)) | (cols["spindle"] <= 0) \
             | ~(feed > 0)
         threads_stopped = np.flatnonzero((kind == _THREAD) & (cols["spindle"] <= 0))
+        # starts of passes: a feed move whose move before (dwells aside) is a rapid
+        lk = kind[live]
+        feed_k = (lk == _LINE) | (lk == _ARC) | (lk == _THREAD)
+        pass_starts = live[1:][feed_k[1:] & (lk[:-1] == _RAPID)]
         quads, quad_owner = [], []
         band_parts: list[tuple] = []
         outlines: list[np.ndarray] = []
@@ -431,6 +435,7 @@ class _Sweeper:
         run.band_ok = band_ok
         run.checked = checked
         run.threads_stopped = threads_stopped
+        run.pass_starts = pass_starts
         if band_parts:
             cols = [np.concatenate([bp[i] for bp in band_parts]) for i in range(7)]
             order = np.argsort(cols[0], kind="stable")
@@ -459,6 +464,7 @@ class _Run:
         self.band_ok = np.zeros(len(moves), dtype=bool)
         self.checked = np.ones(len(moves), dtype=bool)
         self.threads_stopped = np.zeros(0, dtype=np.int64)
+        self.pass_starts = np.zeros(0, dtype=np.int64)
         # the straight pieces of the moves where band_ok, in program order: their move, ends,
         # whether the start placement was swept before, the extreme vertices of the outline
         # across the motion, the outline
@@ -681,40 +687,53 @@ def _simulate(toolpath, stock, machine, tools, model, batch, snapshots, on_snaps
             has = has[run.sweeps[has] != None]  # noqa: E711
             if len(has):
                 boxes[c0 + has] = shapely.bounds(run.sweeps[has])
-            cuts = sorted({*range(0, len(cm), batch), len(cm),
+            # batches also start with every pass (a feed move after a rapid): a pass that comes
+            # back over the one before it would not be taken with bands in the same batch
+            cuts = sorted({*range(0, len(cm), batch), len(cm), *run.pass_starts.tolist(),
                            *(k - c0 for k in stops[si:] if c0 < k < c0 + len(cm))})
             for b0, b1 in zip(cuts[:-1], cuts[1:]):
                 while si < len(stops) and stops[si] <= c0 + b0:
                     on_snapshot(stops[si], material)
                     si += 1
-                if material.is_empty:
-                    continue
-                lo, hi = np.searchsorted(has, [b0, b1])
-                if hi <= lo:
-                    continue
-                idx = has[lo:hi]
-                geoms = run.sweeps[idx]
-                bb = boxes[c0 + idx]
-                if not _boxes_meet(material, bb):
-                    continue
-                if run.band_ok[idx].all():
-                    got = _batch_by_bands(material, edges_of, run, c0, b0, b1, idx, geoms,
-                                          removed_area, sweeper, toolpath, issues, notes)
-                    if got is not None:
+                # a batch whose bounds do not add up is halved (a short pass that comes back
+                # over the one before it in the same batch), down to MOVE_BATCH moves, which
+                # are then taken move by move
+                todo = [(b0, b1)]
+                while todo and not material.is_empty:
+                    s0, s1 = todo.pop()
+                    lo, hi = np.searchsorted(has, [s0, s1])
+                    if hi <= lo:
+                        continue
+                    idx = has[lo:hi]
+                    geoms = run.sweeps[idx]
+                    if not _boxes_meet(material, boxes[c0 + idx]):
+                        continue
+                    if run.band_ok[idx].all():
+                        got = _batch_by_bands(material, edges_of, run, c0, s0, s1, idx, geoms,
+                                              removed_area, sweeper, toolpath, issues, notes)
+                        if got is not None:
+                            if got is not material:
+                                material = _settle(got, chuck, fallen)
+                            continue
+                        if s1 - s0 > MOVE_BATCH:
+                            # at the start of the pass (a feed move after a rapid) nearest
+                            # the middle, else in the middle
+                            mid = (s0 + s1) // 2
+                            ps = run.pass_starts[(run.pass_starts > s0) & (run.pass_starts < s1)]
+                            if len(ps):
+                                mid = int(ps[np.argmin(np.abs(ps - mid))])
+                            todo += [(mid, s1), (s0, mid)]  # the first half first
+                            continue
+                    for t0 in range(s0, s1, MOVE_BATCH):
+                        t1 = min(t0 + MOVE_BATCH, s1)
+                        lo, hi = np.searchsorted(has, [t0, t1])
+                        if hi <= lo or material.is_empty:
+                            continue
+                        sub = has[lo:hi]
+                        got = _batch_by_moves(material, run, c0, t0, t1, sub, run.sweeps[sub],
+                                              removed_area, sweeper, toolpath, issues, notes)
                         if got is not material:
                             material = _settle(got, chuck, fallen)
-                        continue
-                step = min(batch, MOVE_BATCH)
-                for s0 in range(b0, b1, step):
-                    s1 = min(s0 + step, b1)
-                    lo, hi = np.searchsorted(has, [s0, s1])
-                    if hi <= lo or material.is_empty:
-                        continue
-                    sub = has[lo:hi]
-                    got = _batch_by_moves(material, run, c0, s0, s1, sub, run.sweeps[sub],
-                                          removed_area, sweeper, toolpath, issues, notes)
-                    if got is not material:
-                        material = _settle(got, chuck, fallen)
 
     while si < len(stops):
         on_snapshot(stops[si], material)
