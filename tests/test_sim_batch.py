@@ -230,8 +230,7 @@ def test_overlap_areas_equal_overlays():
 def test_short_passes_over_the_same_path_are_batched_per_pass():
     # 12 passes of some 40 moves each, 0.05 mm apart along the same wavy path: a batch of 256
     # moves would hold six passes, each coming back over what the one before cut; batches start
-    # with every pass, so each is taken with bands (none move by move), and the result is the
-    # move-by-move one
+    # with every pass, so each is taken with bands, and the result is the move-by-move one
     blocks = ["%1", "T0101", "M03 S800", "G00 X44 Z2"]
     for p in range(12):
         r = 19.5 - 0.05 * p
@@ -262,5 +261,5 @@ def test_short_passes_over_the_same_path_are_batched_per_pass():
         S._batch_by_bands, S._batch_by_moves = real_bands, real_moves
     assert m.removed_area == pytest.approx(ref_areas, abs=1e-9)
     assert shapely.symmetric_difference(m.material, ref_material).area < 1e-9
-    # (a return in rapid over its own pass's cut can still make a batch halve once)
-    assert taken["bands"] >= 12 and taken["failed"] <= 2 and taken["moves"] == 0
+    # (the first pass's return in rapid over its own cut makes that one batch go move by move)
+    assert taken["bands"] >= 12 and taken["failed"] <= 1 and taken["moves"] <= 1
