@@ -261,5 +261,5 @@ def test_short_passes_over_the_same_path_are_batched_per_pass():
         S._batch_by_bands, S._batch_by_moves = real_bands, real_moves
     assert m.removed_area == pytest.approx(ref_areas, abs=1e-9)
     assert shapely.symmetric_difference(m.material, ref_material).area < 1e-9
-    # (the first pass's return in rapid over its own cut makes that one batch go move by move)
+    # (a pass whose rapid return crosses its own cut can make its batch go move by move)
     assert taken["bands"] >= 12 and taken["failed"] <= 1 and taken["moves"] <= 1
