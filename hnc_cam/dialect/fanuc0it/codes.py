@@ -155,6 +155,8 @@ class FanucInterp(Interp):
     # -- blocks ------------------------------------------------------------------------------
     def _block(self, b: Blk):
         if b.plain:
+            if b.n is not None:
+                self.last_n = b.n
             r = Interp._block(self, b)
         else:
             if b.dyn is not None:
