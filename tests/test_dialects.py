@@ -290,6 +290,9 @@ def test_operations_are_named_by_the_dialects_cycles():
     assert fanuc.operations[0] == "face G01"
     hnc = generate(stud(), "30x46+1", thread_cycle="g82", verify=False)
     assert hnc.operations[-1] == "thread G82" and "finish contour" in hnc.operations
+    # --explain: the same names
+    assert "FACE G01 " in fanuc.plan.explain(fanuc.labels)
+    assert "G92" not in hnc.plan.explain(hnc.labels) and "G82" not in fanuc.plan.explain(fanuc.labels)
     zones = generate(undercut(), "40x70", dialect="haas", verify=False)
     assert "rough_zone G71-II" in zones.operations and "finish contour" in zones.operations
     assert "(T05 REST ROUGH Z-17.4..-37.3 G71-II D1 F0.2)" in zones.text

@@ -87,7 +87,7 @@ def _generate_command(args: argparse.Namespace) -> int:
         from ..report import program_report
         program_report(args.report, prog, tol=getattr(args, "tol", 0.01))
     if getattr(args, "explain", False):
-        print(prog.plan.explain(), file=sys.stderr)
+        print(prog.plan.explain(prog.labels), file=sys.stderr)
     print(prog.summary(), file=sys.stderr)
     for w in prog.warnings:
         print(f"warning: {w}", file=sys.stderr)

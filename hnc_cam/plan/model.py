@@ -350,10 +350,12 @@ class Plan:
         return bool(op.ns) and any(o is not op and o.kind == "rough" and not o.blocks
                                    and o.ns == op.ns for o in self.operations)
 
-    def explain(self) -> str:
-        """The planner's reasoning, one paragraph per operation (``generate --explain``)."""
+    def explain(self, labels: dict[str, str] | None = None) -> str:
+        """The planner's reasoning, one paragraph per operation (``generate --explain``);
+        ``labels``: the dialect's cycle names (:func:`hnc_cam.post.cycle_labels`)."""
         out = [f"{self.name}: stock {self.stock.spec}, compensation {self.comp}"]
         out += [f"  note: {n}" for n in self.notes]
         for i, op in enumerate(self.operations, 1):
-            out.append(f"  {i}. {op.note}: {op.reason}")
+            label = (labels or {}).get(self.label_key(op))
+            out.append(f"  {i}. {op.describe(label) if label else op.note}: {op.reason}")
         return "\n".join(out)

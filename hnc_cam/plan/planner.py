@@ -968,10 +968,10 @@ def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stoc
         passes = [r_crest - sgn * depth * math.sqrt(i / npass) for i in range(1, npass + 1)]
         passes.append(passes[-1])  # spring pass
         cut.method = "passes"
-        how = "G82"
+        how = f"{len(passes)} single-pass threading cycles (the last a spring pass)"
     else:
         passes = []
-        how = "G76"
+        how = "the multiple-pass threading cycle"
     return Operation(
         name="thread", kind="thread", tool=t,
         reason=(f"{label}: {how}, depth {_fmt(depth)} mm ("
