@@ -7,8 +7,8 @@ to 1 um adds at most 0.71 um to what is drawn). Moves keep their exact geometry:
 its two end points, an arc its end points, centre and direction; the page draws arcs as arcs.
 
 Keyframes (the material "as removed up to the selected block"): the stock minus the swept
-tool, recomputed here through the simulator's own sweeps (:class:`hnc_cam.sim.simulate._Sweeper`)
-and its fall-off rule, and kept at a bounded number of moves: after the last move of every
+tool, taken from the simulator itself (:func:`hnc_cam.sim.material_after`: its own state after
+k moves, fallen pieces gone), and kept at a bounded number of moves: after the last move of every
 operation (a run of moves with the same tool, register and cycle), and after every k-th move
 with k = ceil(moves / ``KEYFRAMES``), so at most about ``KEYFRAMES`` + operations frames
 whatever the length of the program. A frame whose material did not change refers to the
@@ -22,8 +22,6 @@ from typing import Any, Iterable, Sequence
 
 #: target number of evenly spaced keyframes (plus one per operation boundary)
 KEYFRAMES = 120
-#: moves united per removal step while replaying the sweeps (the simulator's batch size)
-REPLAY_BATCH = 48
 #: the intermediate keyframes are drawn within this many mm (the final one is exact to 1 um)
 FRAME_SIMPLIFY = 0.002
 KIND_CODES = {"rapid": 0, "line": 1, "arc": 2, "thread": 3, "dwell": 4}
@@ -128,44 +126,26 @@ def keyframes(machined, target: int = KEYFRAMES) -> list[dict[str, Any]]:
     """The material after selected moves (see the module doc): ``[{"n": moves done,
     "t": seconds, "rings": [...]}, ...]``, the first frame the stock (n = 0), the last the
     simulator's final material."""
-    import shapely
-
-    from ..sim.region import chuck_zone, clean, diff, polygons, union
-    from ..sim.simulate import _Sweeper
+    from ..sim import material_after
 
     tp = machined.toolpath
     moves = tp.moves
-    material = machined.stock
-    frames = [{"n": 0, "t": 0.0, "rings": rings_of(material)}]
+    frames = [{"n": 0, "t": 0.0, "rings": rings_of(machined.stock)}]
     ends = keyframe_ends(moves, target)
     if not ends:
         return frames
-    sweeper = _Sweeper(machined.machine, moves)
-    chuck = chuck_zone(material) if not material.is_empty else None
     cum = [0.0]
     for m in moves:
         cum.append(cum[-1] + float(m.duration))
-    done = 0
+    inner = [e for e in ends if e < len(moves)]
+    mats = dict(material_after(machined, inner)) if inner else {}
     last = (frames[0]["rings"], 0)  # rings of the last frame that carries them, its index
     for end in ends:
         if end == len(moves):
             frames.append({"n": end, "t": round(cum[end], 2),
                            "rings": rings_of(machined.material)})
             break
-        for b0 in range(done, end, REPLAY_BATCH):
-            if material.is_empty:
-                break
-            sw, _paths = sweeper.sweeps(list(moves[b0:min(end, b0 + REPLAY_BATCH)]))
-            geoms = [g for g in sw if g is not None and not g.is_empty]
-            if not geoms:
-                continue
-            material = diff(material, union(geoms))
-            parts = polygons(material)
-            if len(parts) > 1 and chuck is not None:
-                keep = [p for p in parts if p.intersects(chuck)]
-                material = clean(shapely.union_all(keep)) if keep else shapely.Polygon()
-        done = end
-        rings = rings_of(material, FRAME_SIMPLIFY)
+        rings = rings_of(mats[end], FRAME_SIMPLIFY)
         if rings == last[0]:
             frames.append({"n": end, "t": round(cum[end], 2), "rings": last[1]})
         else:
