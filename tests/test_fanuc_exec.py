@@ -378,3 +378,10 @@ def test_alarms_point_at_their_line_and_column(body, line, col, text, tmp_path):
     r = cli("run", str(p), "--dialect", "fanuc0it")
     assert r.returncode == 2 and r.stderr.startswith(f"{p}:{line}:{col}: alarm: ")
     assert r.stderr.count("\n") == 1
+
+
+def test_g65_l_repeats_with_fresh_locals_m98_l_shares_them():
+    tp = run("%1\nG65 P10 L3 A1\nM30\n%10\n#1=#1+1\nG00 U#1\nM99\n")
+    assert ends(tp) == [(1.0, 0.0), (2.0, 0.0), (3.0, 0.0)]  # #1 = 2 on every run
+    tp = run("%1\n#1=1\nM98 P10 L3\nM30\n%10\n#1=#1+1\nG00 U#1\nM99\n")
+    assert ends(tp) == [(1.0, 0.0), (2.5, 0.0), (4.5, 0.0)]  # 2, 3, 4: the caller's #1
