@@ -241,9 +241,6 @@ VARIANTS = ["face_cycle", "face_passes", "thread_passes", "two_start", "two_star
 @pytest.mark.parametrize("dialect", ["fanuc0it", "haas"])
 @pytest.mark.parametrize("key", VARIANTS)
 def test_operation_variants_in_fanuc_and_haas(tmp_path, key, dialect, comp):
-    if key == "g73" and comp == "control":
-        pytest.skip("the verifier raises a shapely error (a LinearRing of 3 points in "
-                    "sim/verify.py _deepest) on this part in every dialect, HNC-21T's too")
     shape, stock, kw, machine = _variants()[key]
     if machine:  # a spindle limit high enough that facing needs no G97 cap: the G94 cycle
         m = tmp_path / machine
