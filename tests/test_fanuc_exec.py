@@ -385,3 +385,16 @@ def test_g65_l_repeats_with_fresh_locals_m98_l_shares_them():
     assert ends(tp) == [(1.0, 0.0), (2.0, 0.0), (3.0, 0.0)]  # #1 = 2 on every run
     tp = run("%1\n#1=1\nM98 P10 L3\nM30\n%10\n#1=#1+1\nG00 U#1\nM99\n")
     assert ends(tp) == [(1.0, 0.0), (2.5, 0.0), (4.5, 0.0)]  # 2, 3, 4: the caller's #1
+
+
+@needs_reader
+def test_haas_accepts_g10_and_g187_without_effect_and_refuses_g154():
+    tp = nc.run("%\nO0001\nG187 P1 E0.01\nG10 P1 X0. Z0.\nG00 X10. Z0.\nM30\n%\n", dialect="haas",
+                start=(0.0, 0.0))
+    assert [m.end for m in tp.moves] == [(5.0, 0.0)]
+    with pytest.raises(NCError) as e:
+        nc.run("%\nO0001\nG187 P1\nM30\n%\n", dialect="fanuc0it")
+    assert e.value.line == 3 and "G187" in e.value.message
+    with pytest.raises(NCError) as e:
+        nc.run("%\nO0001\nG154 P1\nM30\n%\n", dialect="haas")
+    assert e.value.line == 3 and "G54-G59" in e.value.message

@@ -32,12 +32,15 @@ def _table():
 
 
 def make(name: str, title: str, templates: str, fallback, cycles, syntax=syntax_factory,
-         ranges=None, features=frozenset()) -> Dialect:
-    """A FANUC-family dialect value (FANUC 0i-T itself, Haas over it)."""
+         ranges=None, features=frozenset(), extra_codes=None) -> Dialect:
+    """A FANUC-family dialect value (FANUC 0i-T itself, Haas over it); ``extra_codes`` add
+    to (or replace entries of) FANUC's code table."""
     from . import codes, memory
+    table = dict(codes.CODES)
+    table.update(extra_codes or {})
     return Dialect(
         name=name, title=title, templates=templates, template_fallback=fallback,
-        syntax_factory=syntax, codes=codes.CODES, power_on=codes.POWER_ON,
+        syntax_factory=syntax, codes=table, power_on=codes.POWER_ON,
         ranges=ranges if ranges is not None else codes.RANGES,
         unknown_letters=codes.UNKNOWN_LETTERS, memory=memory.MEMORY_MAP,
         call_letters=memory.ARGUMENTS, cycles=cycles, cycle_motion=codes.CYCLE_MOTION,

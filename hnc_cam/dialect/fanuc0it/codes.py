@@ -80,7 +80,8 @@ _REFUSED = {77: "G77 is system B/C's G90: only G-code system A is read (G90 is t
             17: "the lathe works in the ZX plane (G18)", 19: "the lathe works in the ZX plane (G18)",
             10: "G10 (programmable data input) is not simulated: set the offsets in the machine file",
             27: "G27 (reference return check) is not simulated",
-            30: "G30 (second reference point) is not simulated: use G28"}
+            30: "G30 (second reference point) is not simulated: use G28",
+            154: "G154 P1-P99 (Haas additional work offsets) is not simulated: use G54-G59"}
 _MAX_MACRO_LEVELS = 4
 
 
