@@ -218,6 +218,16 @@ def test_no_note_when_every_coordinate_has_a_point_or_is_zero():
     assert STD.load("O1\n(X20 IN A COMMENT)\nG00 X1.\nM30\n").notes == []
 
 
+def test_the_pass_count_of_a_first_g73_block_is_not_a_coordinate():
+    # G73 U(Δi) W(Δk) R(d): d is a count, written without a point; the note still finds the
+    # first real coordinate without one, also on a G73 block
+    assert STD.load("O1\nG00 X52. Z2.\nG73 U3. W0. R3\nM30\n").notes == []
+    src = STD.load("O1\nG00 X52. Z2.\nG73 U3 W0. R3\nM30\n")
+    assert [(n[0], n[1]) for n in src.notes] == [(3, 5)]
+    src = STD.load("O1\nG73 P10 Q20 U0.4 W0.1 R3 F0.2\nM30\n")
+    assert [(n[0], n[1]) for n in src.notes] == [(2, 23)]
+
+
 def test_note_in_calculator_mode_only_when_forms_are_mixed():
     assert CALC.load("O1\nG00 X40 Z2\nG01 Z-25 F0.2\nM30\n").notes == []
     src = CALC.load("O1\nG00 X40. Z2.\nG01 Z-25 F0.2\nM30\n")

@@ -135,3 +135,22 @@ def test_fanuc_numbers_carry_a_point_whatever_the_format():
     assert "G00 G40 Z80.\n" in plain and "X100.\n" in plain
     zero = render(p, dialect="fanuc0it", number_format="zero")
     assert "Z80.0\n" in zero and "T0101\n" in zero and "S180 " in zero
+
+
+@pytest.mark.parametrize("dialect", ["fanuc0it", "haas"])
+def test_g73_passes_lie_where_the_hnc_program_puts_them(dialect):
+    """The plan's pattern relief is the HNC-21T's total stock (passes at relief·(d − k)/d);
+    FANUC's Δi and Haas's I are the first pass's distance from the last, so the same plan
+    rendered in each dialect cuts its G73 passes at the same places."""
+    from hnc_cam import nc
+
+    plan = _plan("g73", comp="cam")
+
+    def passes(d):
+        tp = nc.run(render(plan, dialect=d), MACH, dialect=d)
+        return [(round(m.start[0], 4), round(m.start[1], 4), round(m.end[0], 4),
+                 round(m.end[1], 4)) for m in tp.moves if m.op == "G73" and m.kind != "rapid"]
+
+    hnc = passes("hnc21t")
+    assert len(hnc) > 4
+    assert passes(dialect) == hnc

@@ -90,7 +90,9 @@ class RoughCut:
     goes up and down in X (a cycle of type II). ``depth``: cut per pass (radius for turn,
     Z for face); ``retract``: lift after each pass; ``allowance_x`` (radius, a magnitude: an
     ``id`` contour leaves it inward) and ``allowance_z``: finishing stock. Pattern only:
-    ``relief_x`` (radius) / ``relief_z``, the first pass's distance from the last, and
+    ``relief_x`` (radius) / ``relief_z``, the total roughing stock of the pattern (as the
+    HNC-21T's ΔI/ΔK: pass k of ``count`` lies ``relief·(count − k)/count`` outside the last, so
+    the first pass's distance from the last is ``relief·(count − 1)/count``, FANUC's Δi), and
     ``count`` passes."""
     strategy: str
     side: str

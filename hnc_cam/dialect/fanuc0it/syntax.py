@@ -587,6 +587,15 @@ def _macro_a(p: _FP, n: Optional[int]) -> P.Parsed:
                 f"H80-H86, H99)", hcol)
 
 
+_G73_FIRST = re.compile(r"G0*73(?!\d)", re.A)
+
+
+def _count_word(s: str, m: "re.Match[str]") -> bool:
+    """Whether the pointless word ``m`` of statement ``s`` is the pass count ``R`` of a first
+    G73 block (``G73 U W R(d)``, no P): a count, not a coordinate, so not a decimal-point case."""
+    return m.group(1) == "R" and _G73_FIRST.search(s) is not None and "P" not in s
+
+
 class FanucSyntax:
     """The FANUC 0i-T reader (module doc). ``calculator``: parameter 3401#0 DPI = 1 (a number
     without a decimal point is mm); ``block_delete``: the block-delete switch is on."""
@@ -776,7 +785,7 @@ class FanucSyntax:
             if src.kind[i] is not P.OTHER:
                 continue
             if pointless is None:
-                m = _POINTLESS.search(s)
+                m = next((m for m in _POINTLESS.finditer(s) if not _count_word(s, m)), None)
                 if m is not None and not self._macro_a_line(s):
                     pointless = (src.lineno[i], m.start(1) + 1, m.group(1), m.group(2))
             if not pointed and _POINTED.search(s) and not self._macro_a_line(s):
