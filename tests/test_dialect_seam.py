@@ -85,7 +85,7 @@ def test_hnc_alarm_on_a_fanuc_file_carries_the_hint(tmp_path):
     assert r.returncode == 2
     line = r.stderr.strip().splitlines()[-1]
     assert line.startswith(f"{p}:1:")
-    assert "FANUC-framed" in line  # the HNC alarm's own wording stays; no second hint
+    assert "FANUC-framed" in line and line.count("try --dialect fanuc0it") == 1
     p.write_text("%1\nG92 X40 Z2\nG01 X20 Z-5 ,C1 F100\nG01 X30\nM30\n")
     r = cli("run", str(p))
     assert r.returncode == 2

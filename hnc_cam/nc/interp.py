@@ -649,8 +649,8 @@ class Interp(HncMemory):
                 and src.kind[e] == P.HDR:
             return (f"{msg}: the file looks like a FANUC-framed program ('%' alone on line "
                     f"{src.lineno[first]}, then the header {src.text[e].strip()} on line "
-                    f"{src.lineno[e]}); on the HNC-21T the first header starts the main program: "
-                    f"remove the lone '%' lines")
+                    f"{src.lineno[e]}): try --dialect fanuc0it (on the HNC-21T the first header "
+                    f"starts the main program: remove the lone '%' lines)")
         if e < len(src.kind) and src.kind[e] == P.HDR:
             return (f"{msg}: the main program is empty (the next header, on line {src.lineno[e]}, "
                     f"starts a subprogram)")
