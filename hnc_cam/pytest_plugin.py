@@ -80,7 +80,7 @@ def roundtrip_report(path: str | Path, part: Any, stock: str | None, tol: float,
     machined = simulate(tp, st, machine, model=model)
     rep = verify(machined, model, tol=tol, threads=threads, strict=strict)
     write_report(path, machined, rep, model, title=f"round trip of {prog.plan.name}",
-                 plan=prog.plan, library=lib, stock=st.spec)
+                 plan=prog.plan, library=lib, stock=st.spec, labels=getattr(prog, "labels", None))
     return rep
 
 

@@ -249,3 +249,20 @@ def test_generate_refused_by_verification_still_writes_its_report(tmp_path):
     assert 'class="badge fail"' in text and "FAIL at tolerance 0.0001 mm" in text
     marks = page_json(text)["findings"]["marks"]
     assert any(m["kind"] == "overcut" and m["size"] > 0.0001 for m in marks)
+
+
+@pytest.mark.cad
+def test_setup_sheet_names_the_cycles_of_the_programs_dialect():
+    from hnc_cam.plan.api import generate
+
+    part = REPO / "parts" / "stepped_shaft.py"
+    fanuc = generate(str(part), dialect="fanuc0it", verify=False)
+    hnc = generate(str(part), verify=False)
+    f_ops = D.plan_operations(fanuc.plan, fanuc.labels)
+    h_ops = D.plan_operations(hnc.plan, hnc.labels)
+    assert [o["name"] for o in f_ops] == [o["name"] for o in h_ops]
+    f_cycles = {o["name"]: o["cycle"] for o in f_ops}
+    h_cycles = {o["name"]: o["cycle"] for o in h_ops}
+    assert f_cycles["finish"].startswith("G70") and not h_cycles["finish"].startswith("G70")
+    # the same cycle names as the program's own summary line
+    assert [f"{o['name']} {o['cycle']}" for o in f_ops] == fanuc.operations

@@ -72,7 +72,7 @@ def program_report(path: str | Path, prog, tol: float = 0.01, index_href: str | 
     write_report(path, machined, report, plan.profile,
                  title=title or f"O{plan.program_number:04d} {plan.name}", plan=plan,
                  warnings=list(getattr(prog, "warnings", []) or []), index_href=index_href,
-                 comp=getattr(plan, "comp", None))
+                 comp=getattr(plan, "comp", None), labels=getattr(prog, "labels", None))
     return report
 
 

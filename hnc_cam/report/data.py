@@ -318,13 +318,16 @@ def tools_table(moves: Sequence[Any], machine, plan=None, library=None) -> list[
     return rows
 
 
-def plan_operations(plan) -> list[dict[str, Any]]:
+def plan_operations(plan, labels: dict[str, str] | None = None) -> list[dict[str, Any]]:
     """The planner's operations as plain values (read duck-typed: name, cycle, tool, speed,
-    feed, reason, notes)."""
+    feed, reason, notes); ``labels``: the program's dialect's names of its cycles (a generated
+    program's ``labels``), so a FANUC program's page says G70 where the HNC-21T's says contour."""
     out = []
+    key = getattr(plan, "label_key", None)
     for op in getattr(plan, "operations", None) or ():
         unit = "m/min" if getattr(op, "speed_mode", "G96") == "G96" else "rpm"
-        out.append({"name": op.name, "cycle": op.cycle,
+        cycle = (labels or {}).get(key(op), op.cycle) if key is not None else op.cycle
+        out.append({"name": op.name, "cycle": cycle,
                     "tool": f"T{op.tool.number:02d}{op.tool.register:02d}",
                     "speed": f"{op.speed_mode} {op.speed:g} {unit}",
                     "feed": f"{op.feed:g} mm/rev", "reason": op.reason,

@@ -130,7 +130,7 @@ def render_page(machined, report=None, model=None, *, title: str | None = None, 
                 params: dict | None = None, stock: str | None = None, library=None,
                 part: str | None = None, comp: str | None = None,
                 warnings: Sequence[str] = (), index_href: str | None = None,
-                chuck=None) -> str:
+                chuck=None, labels: dict | None = None) -> str:
     """The whole page as text. ``plan`` (a generated program's plan) and ``library`` (a tool
     library) are read as plain values for the setup sheet."""
     from .. import __version__
@@ -156,7 +156,7 @@ def render_page(machined, report=None, model=None, *, title: str | None = None, 
                                                                         "as programmed"),
         "tools": D.tools_table(tp.moves, machined.machine, plan=plan, library=library),
         "operations": D.operations_run(tp.moves),
-        "plan_ops": D.plan_operations(plan) if plan is not None else [],
+        "plan_ops": D.plan_operations(plan, labels) if plan is not None else [],
     }
     verdict = D.verdict(report, machined)
     warn_rows = []
