@@ -1025,3 +1025,17 @@ def test_e2e_g73_as_printed_with_calculator_input():
     for p in (dia(60.2, 0.1), dia(56.8667, 0.1), dia(53.5333, 0.1), dia(50.2, 0.1),
               dia(50.2, -49.9), dia(46.8667, -49.9), dia(43.5333, -49.9), dia(40.2, -49.9)):
         assert has_end(g73, p, tol=2e-4), p
+
+
+def test_e2e_type_by_the_letters_of_block_ns():
+    """Block ns with X only is type I even when the profile turns back in X (PS0064 at the
+    G71 block); with ``W0`` beside X the same profile is type II and cuts the pocket."""
+    body = "N20 G01 Z-10.\nN30 X30. Z-15.\nN40 X24. Z-20.\nN50 X40. Z-30.\nM30\n%\n"
+    head = "%\nO0110\nG97 S500 M03\nG00 X42. Z2.\nG71 U1. R0.5\nG71 P10 Q50 U0.2 W0 F0.2\n"
+    with pytest.raises(NCError, match=r"type I profile is not monotonic in X.*PS0064") as e:
+        fanuc(head + "N10 G00 X20.\n" + body)
+    assert e.value.line == 6
+    g71 = op_moves(fanuc(head + "N10 G00 X20. W0\n" + body), "G71")
+    pocket = [mv.end for mv in g71 if mv.kind == "line" and -20.0 <= mv.end[1] < -15.0]
+    assert pocket and min(x for x, _ in pocket) < 13.0  # passes below the X30 crest
+    assert min(x for x, _ in pocket) >= 12.1 - 1e-6  # the pocket bottom X24 + U0.2 is left

@@ -318,6 +318,7 @@ class Interp(HncMemory):
         self.comp_mode = ""
         self.op = "G00"
         self.dry: Optional[list] = None
+        self.prof_letters: Optional[tuple] = None  # (ns, nf, cycle stmt, letters) of the last profile
         # macro variables
         self.levels = [[None] * 50 for _ in range(_MAX_LEVEL + 1)]
         self.ars = [[0] * 50 for _ in range(_MAX_LEVEL + 1)]
@@ -1642,6 +1643,7 @@ class Interp(HncMemory):
         self.dry = []
         self.comp_mode = ""
         self.corner = None
+        letters = []
         try:
             for i in range(i_ns, i_nf + 1):
                 k = src.kind[i]
@@ -1655,6 +1657,7 @@ class Interp(HncMemory):
                     raise src.alarm("assignments inside the profile of a compound cycle are not supported", i, 1)
                 if any(m in (98, 99) for m in c.ms) or 65 in c.gs:
                     raise self.balarm(c, "M98/M99 inside the profile of a compound cycle", "M")
+                letters.append((c.line, c.letters))
                 r = self._block(c)
                 if r == 3:
                     raise self.balarm(c, "M02/M30 inside the profile of a compound cycle", "M")
@@ -1670,6 +1673,7 @@ class Interp(HncMemory):
             snap_ms.apply(self)
             self.cyc_words = snap_cw
             self.blocks = blocks
+        self.prof_letters = (ns, nf, b.stmt, letters)
         return out
 
 
@@ -1725,6 +1729,17 @@ class CycleCtx:
 
     def profile(self, ns: int, nf: int):
         return self._it.profile(int(ns), int(nf), self._b)
+
+    def profile_letters(self, ns: int, nf: int) -> list:
+        """The letters written in each block N``ns``..N``nf`` of the profile, in file order:
+        [(source line, frozenset of letters)] (a FANUC G71/G72 tells type I from type II by
+        the axis words of block ns). Dry-runs the profile unless :meth:`profile` just did."""
+        it = self._it
+        got = getattr(it, "prof_letters", None)
+        if got is None or got[:3] != (int(ns), int(nf), self._b.stmt):
+            it.profile(int(ns), int(nf), self._b)
+            got = it.prof_letters
+        return list(got[3])
 
     def _op(self):
         self._it.op = f"G{self.code}"

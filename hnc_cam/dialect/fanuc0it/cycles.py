@@ -247,12 +247,16 @@ def _ns_axes(item: tuple) -> Optional[set[str]]:
     return None
 
 
-def _is_type2(ctx: Any, items: list, segs: list, face: bool) -> bool:
-    """Type II when block ns writes both axes (§6). When the profile does not say which
-    words block ns had: type II when its move has both components, or when the rest of the
-    profile is not monotonic along the level axis (a block ns with ``W0`` cannot be told from
-    one without it by its motion)."""
+def _is_type2(ctx: Any, items: list, segs: list, face: bool, ns: int = 0, nf: int = 0) -> bool:
+    """Type II when block ns writes both axes (§6), ``W0`` included: the letters come from
+    ``ctx.profile_letters`` (or a fourth element of the profile item). A context that gives
+    neither: type II when the move of block ns has both components, or when the rest of the
+    profile is not monotonic along the level axis."""
     axes = _ns_axes(items[0])
+    if axes is None and hasattr(ctx, "profile_letters"):
+        blocks = ctx.profile_letters(ns, nf)
+        if blocks:
+            axes = set(blocks[0][1]) & set("XZUW")
     if axes is not None:
         return bool(axes & {"X", "U"}) and bool(axes & {"Z", "W"})
     s0 = segs[0]
@@ -339,7 +343,7 @@ def _stock_removal(ctx: Any, face: bool, depth: Optional[float] = None,
     segs = [p[0] for p in items]
     lines = [p[1] for p in items]
     motions = [p[2] for p in items]
-    type2 = yasnac_type2 or _is_type2(ctx, items, segs, face)
+    type2 = yasnac_type2 or _is_type2(ctx, items, segs, face, ns, nf)
     if type2 and not _setting(ctx, "g71_type2"):
         ctx.alarm(f"G{code}: block N{ns} (line {lines[0]}) writes both X(U) and Z(W), a type "
                   f"II profile; this machine has no type II ([parameters] g71_type2 = false)",
