@@ -446,3 +446,65 @@ def test_bar_ending_at_the_left_face_gets_a_square_left_corner(tmp_path, comp):
     f.write_text(KNOB)
     program, report = assert_roundtrip(str(f), comp=comp)
     assert report.passed and report.max_undercut_mm <= 0.01
+
+
+# ---------------------------------------------------------------- roughing cycles and the limit
+
+def _free_run(prog, dialect="hnc21t"):
+    """The program run on a machine that does not clamp G96 (the HNC-21T's G96 has no clamp
+    word: only the program keeps the spindle within the limit)."""
+    import dataclasses
+    from hnc_cam.plan.api import _interpret
+    return _interpret(prog.text, dataclasses.replace(MACH, max_rpm=100000.0), "<free>",
+                      dialect=dialect)
+
+
+def _flange():
+    # a 120 mm flange 12 mm long with a 20 mm hub in front: face-dominated, G72 to the hub
+    return TurnedProfile(chain((0, 0), (10, 0), (10, -3), (60, -3), (60, -12), (0, -12)),
+                         name="flange120")
+
+
+@pytest.mark.parametrize("part,stock,cycle", [
+    (_pin(), "14x36+1", "G71"),          # a 6 mm pin: G96 would need ~4800 rpm at the pin
+    (_flange(), "124x14+1", "G72"),      # a large face roughed down to the 20 mm hub
+])
+def test_roughing_cycles_keep_within_the_spindle_limit_without_a_clamp(part, stock, cycle):
+    prog = generate(part, stock=stock)
+    assert prog.report.passed
+    rough = [op for op in prog.plan.operations if op.kind == "rough"]
+    assert [op.cycle for op in rough] == [cycle]
+    tp = _free_run(prog)
+    moves = [m for m in tp.moves if m.op == cycle]
+    assert moves
+    assert max(m.spindle for m in moves) <= MACH.max_rpm + 1e-6
+    # one G97 speed for the cycle: the roughing speed at the largest diameter it reaches
+    t = rough[0].tool
+    r_hi = max(max(abs(m.start[0]), abs(m.end[0])) for m in moves if m.kind != "rapid")
+    assert {m.spindle for m in moves} == {rough[0].unclamped.value}
+    assert rough[0].unclamped.value <= t.vc_rough * 1000 / (2 * math.pi * r_hi) + 1e-6
+    # every operation of every tool keeps within the limit on a machine that does not clamp
+    assert max(m.spindle for m in tp.moves) <= MACH.max_rpm + 1e-6
+
+
+@pytest.mark.parametrize("stock,capped", [("80x45+1", False), ("80x45", True)])
+def test_roughing_keeps_g96_unless_the_cycle_reaches_the_critical_diameter(stock, capped):
+    # an 80 mm bar turned to 60: after facing the cycle's contour starts near the face's
+    # edge (G96 stays under the limit); unfaced, the cycle runs its face to the centre
+    prof = TurnedProfile(chain((0, 0), (28, 0), (30, -2), (30, -40), (0, -40)), name="d60")
+    prog = generate(prof, stock=stock)
+    rough = [op for op in prog.plan.operations if op.kind == "rough"]
+    assert [op.unclamped is not None for op in rough] == [capped]
+    tp = _free_run(prog)
+    g71 = [m for m in tp.moves if m.op == "G71"]
+    assert (min(min(abs(m.start[0]), abs(m.end[0])) for m in g71) < 10.0) == capped
+    assert (len({round(m.spindle, 6) for m in g71}) == 1) == capped
+    assert max(m.spindle for m in tp.moves) <= MACH.max_rpm + 1e-6
+
+
+def test_a_tool_limit_lowers_the_roughing_speed():
+    lib = _lib({1: {"max_rpm": 900.0}})
+    prog = generate(_flange(), stock="124x14+1", tools=lib)
+    tp = _free_run(prog)
+    rough = [m for m in tp.moves if m.op == "G72"]
+    assert rough and max(m.spindle for m in rough) <= 900.0 + 1e-6

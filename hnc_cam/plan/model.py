@@ -178,6 +178,10 @@ class Operation:
     #: the spindle limit for this operation's tool (rpm): the lower of the machine's and the
     #: tool's; a dialect with a clamp word writes it before a constant surface speed
     max_rpm: float = 0.0
+    #: the spindle a dialect without a clamp word (the HNC-21T) writes instead of
+    #: ``spindle``/``speed``: G97 rpm for a roughing cycle whose G96 would need more than
+    #: ``max_rpm`` at the smallest diameter it reaches (None: ``spindle``/``speed``)
+    unclamped: Spindle | None = None
     feed: float = 0.0  # mm/rev
     blocks: list[Block] = field(default_factory=list)
     ns: str = ""
@@ -192,6 +196,9 @@ class Operation:
     #: False when the previous operation ran the same tool at the same speed: the spindle
     #: is not set again
     set_spindle: bool = True
+    #: as ``set_spindle`` for a dialect that writes ``unclamped``: the previous operation
+    #: ran the same tool but one of the two at the unclamped G97 speed
+    set_unclamped: bool = True
     #: the operation ends at another speed than it started (a spindle limit inside it)
     spindle_changed: bool = False
     contour: list[Segment] = field(default_factory=list)  # program geometry of the blocks

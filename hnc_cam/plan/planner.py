@@ -31,7 +31,10 @@ Rules (each operation records its reason, which the program prints as a comment)
   machine's max rpm (on the HNC-21T a system parameter, manual 3.3.6, stated in the header)
   and the tool's ``max_rpm``. G96 has no clamp word: facing passes, finishing contours and
   grooves switch to G97 at the limit inside the diameter where G96 would exceed it
-  (:func:`_cap_contour`); the roughing cycles do not (a cycle cannot change speed inside).
+  (:func:`_cap_contour`). A roughing cycle cannot change speed inside: where its G96 would
+  exceed the limit at the smallest diameter it reaches, the HNC-21T program runs the whole
+  cycle in G97 at the rpm of the cutting speed at the largest diameter it reaches, at most
+  the limit (:func:`_cap_rough`; the FANUC and Haas programs keep G96 under ``G50 S``).
 * **Threads** declared by the part: ``G76`` (or ``G82`` passes) to the standard's depth
   (:attr:`hnc_cam.geometry.Thread.depth`); the end runs one lead into the relief where the
   insert's flanks clear what follows; the start is three leads (plus the flank infeed) before
@@ -185,7 +188,13 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
         lim = rpm_limit(t, machine)
         r_cap = t.vc_rough * 1000.0 / (2 * math.pi * lim)
         cap_note = ""
-        if max(x_end, 0.0) < r_cap - 1e-9 < r_stock:
+        spindle, speed = "css", t.vc_rough
+        if max(x_end, 0.0) < r_cap - 1e-9 and r_cap + 1e-9 >= r_stock:
+            # the whole face (and the approach) is inside that diameter: G97 at the limit
+            spindle, speed = "rpm", lim
+            cap_note = (f"; G96 S{_fmt(t.vc_rough)} needs more than {_fmt(lim)} rpm "
+                        f"inside diameter {_fmt(2 * r_cap)}, the whole face: G97 S{_fmt(lim)}")
+        elif max(x_end, 0.0) < r_cap - 1e-9 < r_stock:
             cut.method = "passes"
             cut.cap_x, cut.cap_rpm = r_cap, lim
             cap_note = (f"; G96 S{_fmt(t.vc_rough)} needs more than {_fmt(lim)} rpm "
@@ -195,8 +204,8 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
             reason=(f"stock has {_fmt(face_stock)} mm face stock: facing to Z0 in {n} "
                     f"{'G81' if cut.method == 'cycle' else 'G01'} pass{'es' if n > 1 else ''} "
                     f"of at most {_fmt(t.depth)} mm" + cap_note),
-            start=(x_a, face_stock + opts.z_clear), speed=t.vc_rough, feed=t.feed_rough,
-            passes=levels, face=cut))
+            start=(x_a, face_stock + opts.z_clear), spindle=spindle, speed=speed,
+            feed=t.feed_rough, passes=levels, face=cut))
         z_face = 0.0
     z_a = z_face + opts.z_clear
 
@@ -228,6 +237,8 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
         op.max_rpm = rpm_limit(op.tool, machine)
         if op.blocks and op.name in ("finish", "bore_finish", "profile") and op.css:
             _cap_contour(op, rpm_limit(op.tool, machine))
+        if op.kind == "rough" and op.css:
+            _cap_rough(op, ops, op.max_rpm)
         plan.notes.extend(op.notes)
         # a start behind the stock's face, outside it: X first, then Z (a combined rapid's
         # dog-leg could run through the stock on the way from the tool-change point)
@@ -255,6 +266,7 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
             if (prev.spindle, prev.speed) == (op.spindle, op.speed) and \
                     not prev.spindle_changed:
                 op.set_spindle = False
+            op.set_unclamped = op.set_spindle or prev.unclamped != op.unclamped
         prev = op
     plan.operations = ops
     return plan
@@ -265,6 +277,49 @@ def rpm_limit(t: Tool, machine: Machine | None) -> float:
     ``max_rpm`` (when given)."""
     lim = machine.max_rpm if machine is not None else 3000.0
     return min(lim, t.max_rpm) if t.max_rpm > 0 else lim
+
+
+def _x_range(op: Operation, ops: Sequence[Operation]) -> tuple[float, float]:
+    """The smallest and largest radius an operation's tool reaches while it runs: its start
+    point and every block of its contour (its own blocks or the ns..nf contour of another
+    operation it refers to), arcs over the X range they sweep."""
+    blocks = op.blocks
+    if not blocks and op.ns:
+        blocks = next((o.blocks for o in ops if o.blocks and o.ns == op.ns), [])
+    x = abs(op.start[0])
+    lo = hi = x
+    for b in blocks:
+        nx = abs(b.x) if b.x is not None else x
+        lo, hi = min(lo, x, nx), max(hi, x, nx)
+        if b.span is not None:
+            a, c = b.span
+            lo = min(lo, min(abs(a), abs(c)) if a * c > 0 else 0.0)
+            hi = max(hi, abs(a), abs(c))
+        x = nx
+    return lo, hi
+
+
+def _cap_rough(op: Operation, ops: Sequence[Operation], limit: float) -> None:
+    """A roughing cycle cannot change the spindle inside it, and the HNC-21T's G96 has no
+    clamp word: where the cycle's G96 would need more than ``limit`` rpm at the smallest
+    radius it reaches, a dialect without a clamp word runs the whole cycle (and its
+    semi-finishing pass) in G97 at the lower of ``limit`` and the rpm of the cutting speed at
+    the largest radius it reaches. No move then cuts faster than the tool's surface speed
+    nor spins faster than the limit; the smaller diameters cut slower than G96 would (the
+    price of one speed for the cycle). Dialects with a clamp word (``G50 S``) keep G96."""
+    vc = op.speed
+    lo, hi = _x_range(op, ops)
+    hi += op.rough.retract  # a pass's lift: G72 feeds in from the start plus its retract
+    r_c = vc * 1000.0 / (2 * math.pi * limit)
+    if lo >= r_c - 1e-9:
+        return
+    rpm = min(limit, vc * 1000.0 / (2 * math.pi * max(hi, 1e-3)))
+    rpm = math.floor(rpm + 1e-9)  # whole rpm, never above the limit
+    op.unclamped = Spindle("rpm", float(rpm))
+    op.reason += (f"; G96 S{_fmt(vc)} needs more than {_fmt(limit)} rpm inside diameter "
+                  f"{_fmt(2 * r_c)}, which the cycle reaches: without a G96 clamp word "
+                  f"(HNC-21T) it runs G97 S{_fmt(rpm)} (the surface speed at diameter "
+                  f"{_fmt(2 * hi)}, at most the limit)")
 
 
 def _cap_contour(op: Operation, limit: float) -> None:
