@@ -1039,3 +1039,23 @@ def test_e2e_type_by_the_letters_of_block_ns():
     pocket = [mv.end for mv in g71 if mv.kind == "line" and -20.0 <= mv.end[1] < -15.0]
     assert pocket and min(x for x, _ in pocket) < 13.0  # passes below the X30 crest
     assert min(x for x, _ in pocket) >= 12.1 - 1e-6  # the pocket bottom X24 + U0.2 is left
+
+
+def test_e2e_modal_g90_repeat_block_switches_x_and_u():
+    """A repeat block of a modal G90/G94/G92 that writes one of a pair (X/U, Z/W) replaces the
+    kept word of the other form: ``U-6.`` after ``X48.`` cuts at A.x − 6, ``X44.`` after it
+    at X44, ``W-20.`` after ``Z-30.`` at A.z − 20."""
+    tp = fanuc("%\nO0111\nG97 S500 M03\nG00 X52. Z2.\nG90 X48. Z-30. F0.2\nU-6.\nX44.\n"
+               "W-20.\nG00 X60.\nM30\n%\n")
+    g90 = op_moves(tp, "G90")
+    by_line = {}
+    for mv in g90:
+        by_line.setdefault(mv.line, []).append(mv)
+    assert sorted(by_line) == [5, 6, 7, 8]
+    # each pass: rapid to X, feed to Z, feed up to A.x, rapid back to A
+    assert by_line[5][0].end == pytest.approx(dia(48, 2))
+    assert by_line[6][0].end == pytest.approx(dia(46, 2))
+    assert by_line[6][1].end == pytest.approx(dia(46, -30))
+    assert by_line[7][0].end == pytest.approx(dia(44, 2))
+    assert by_line[8][1].end == pytest.approx(dia(44, -18))
+    assert by_line[8][-1].end == pytest.approx(dia(52, 2))

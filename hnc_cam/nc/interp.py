@@ -1576,6 +1576,11 @@ class Interp(HncMemory):
         if code in self.modal_cycles:
             if self.cyc_code == code:
                 merged = dict(self.cyc_words)
+                for ab, inc in (("X", "U"), ("Z", "W")):  # a new X drops the kept U, and so on
+                    if ab in words:
+                        merged.pop(inc, None)
+                    if inc in words:
+                        merged.pop(ab, None)
                 merged.update(words)
                 words = merged
             self.cyc_code = code
