@@ -1059,3 +1059,17 @@ def test_e2e_modal_g90_repeat_block_switches_x_and_u():
     assert by_line[7][0].end == pytest.approx(dia(44, 2))
     assert by_line[8][1].end == pytest.approx(dia(44, -18))
     assert by_line[8][-1].end == pytest.approx(dia(52, 2))
+
+
+def test_e2e_g70_returns_to_a_in_rapid():
+    """After the finishing pass the tool goes back in rapid to A, where it stood before the
+    G70 block (here not the G71's start point)."""
+    prog = O9007.replace("N135 G70 P50 Q130", "G00 X48. Z4.\nN135 G70 P50 Q130")
+    tp = fanuc(prog)
+    line = next(i + 1 for i, t in enumerate(prog.splitlines()) if "G70" in t)
+    at_g70 = [m for m in tp.moves if m.line == line]
+    assert at_g70 and at_g70[-1].kind == "rapid" and at_g70[-1].end == pytest.approx(dia(48, 4))
+    before = tp.moves.index(at_g70[0]) - 1
+    assert tp.moves[before].end == pytest.approx(dia(44, -82))  # the profile's end nf
+    after = [m for m in tp.moves if m.line == line + 1]  # N140 X50. starts from A
+    assert after and after[0].start[1] == pytest.approx(4.0)

@@ -331,7 +331,9 @@ class FanucInterp(Interp):
 
     def _g70(self, b: Blk, w: dict):
         """G70 P(ns) Q(nf): the blocks N ns..N nf run through the executor (compensation,
-        F S T of the profile included); execution then continues after the G70 block."""
+        F S T of the profile included), then the tool returns in rapid to the cycle start
+        point A (where it stood before the G70 block); execution then continues after the
+        G70 block."""
         if self.dry is not None:
             raise self.balarm(b, "G70 inside the profile of a compound cycle", "G")
         if self.corner is not None:
@@ -352,6 +354,7 @@ class FanucInterp(Interp):
         if b.stmt in range(i_ns, i_nf + 1):
             raise self.balarm(b, "G70 inside its own profile", "P")
         src = self.src
+        ax, az = self.x, self.z
         for i in range(i_ns, i_nf + 1):
             k = src.kind[i]
             if k == P.HDR:
@@ -377,6 +380,13 @@ class FanucInterp(Interp):
                                   "G" if r == 4 else "M")
         if self.corner is not None:
             self._corner_not_followed()
+        x0, z0 = self.x, self.z
+        save_op, self.op = self.op, "G70"
+        self.x, self.z = ax, az
+        try:
+            self._emit_line(True, x0, z0, ax, az, b.line)
+        finally:
+            self.op = save_op
         return None
 
     # -- calls ----------------------------------------------------------------------------------
