@@ -53,8 +53,8 @@ def _norm_name(name: str) -> str:
 
 def key_line(text: str | None, table: str, key: str, index: int | None = None) -> int | None:
     """1-based line of ``key = ...`` inside the section ``[table]`` (or the ``index``-th
-    ``[[table]]``; ``table = ""`` is the top level), else the section's header line, else
-    None."""
+    ``[[table]]``; ``table = ""`` is the top level, where a key may also be a section's
+    header ``[key]``), else the section's header line, else None."""
     if not text:
         return None
     key_re = re.compile(rf"^\s*(?:{re.escape(key)}|\"{re.escape(key)}\"|'{re.escape(key)}')\s*=")
@@ -62,10 +62,13 @@ def key_line(text: str | None, table: str, key: str, index: int | None = None) -
     count = -1
     inside = table == "" and index is None
     header_line = None
+    top_header = None
     for n, line in enumerate(text.splitlines(), 1):
         m = _HEADER.match(line)
         if m:
             section = _norm_name(m.group(2))
+            if table == "" and top_header is None and section.split(".")[0] == key:
+                top_header = n
             if section == table:
                 if m.group(1) == "[[":
                     count += 1
@@ -79,7 +82,7 @@ def key_line(text: str | None, table: str, key: str, index: int | None = None) -
             continue
         if inside and key_re.match(line):
             return n
-    return header_line
+    return header_line if header_line is not None else top_header
 
 
 def _place(where: str, text: str | None, table: str, key: str, index: int | None) -> str:

@@ -219,6 +219,9 @@ class Machine:
     block_delete: bool = False  # the block-delete switch: "/" blocks skipped when on
     #: [parameters]: the control's parameters a dialect's cycles read (e.g. g71_depth = 2.0)
     parameters: dict[str, Any] = field(default_factory=dict)
+    #: [chuck] max_rpm: the chuck's rated speed (rpm; 0 = not given); the planner's spindle
+    #: limits are the lowest of this, ``max_rpm`` and the tool's
+    chuck_max_rpm: float = 0.0
 
     def register(self, number: int) -> Register:
         """Offset register ``number``; one absent from the table is a sharp point."""
@@ -302,7 +305,8 @@ MACHINE_FILE_SCHEMA = {
          "register": Key("any"), "m_codes": Key("table"), "limits": Key("table"),
          "controller": Key("str", choices=("hnc21t", "fanuc0it", "haas")),
          "decimal_point": Key("str", choices=("standard", "calculator")),
-         "block_delete": Key("bool"), "parameters": Key("table")},
+         "block_delete": Key("bool"), "parameters": Key("table"), "chuck": Key("table")},
+    "chuck": {"max_rpm": Key("float", lo=0, lo_open=True, hi=100_000, unit="rpm")},
     "machine": {"name": Key("str"), "rapid_x": Key("float", lo=0, lo_open=True, unit="mm/min"),
                 "rapid_z": Key("float", lo=0, lo_open=True, unit="mm/min"),
                 "reference": Key("table"), "max_rpm": Key("float", lo=0, lo_open=True, unit="rpm"),
@@ -339,6 +343,9 @@ def _check_machine_file(data: Mapping[str, Any], where: str, text: str) -> None:
     lim = data.get("limits")
     if isinstance(lim, Mapping):
         check_table(lim, S["limits"], where, text=text, table="limits", error=ToolError)
+    ch = data.get("chuck")
+    if isinstance(ch, Mapping):
+        check_table(ch, S["chuck"], where, text=text, table="chuck", error=ToolError)
     wo = data.get("work_offsets")
     if isinstance(wo, Mapping):
         names = {f"G{n}": Key("table") for n in range(54, 60)}
@@ -454,7 +461,8 @@ def load_machine(path: str | Path | None = None, tools: "ToolLibrary | None" = N
                    controller=data.get("controller"),
                    decimal_point=data.get("decimal_point", base.decimal_point),
                    block_delete=data.get("block_delete", base.block_delete),
-                   parameters=_parameters(data.get("parameters"), where, text))
+                   parameters=_parameters(data.get("parameters"), where, text),
+                   chuck_max_rpm=float((data.get("chuck") or {}).get("max_rpm", 0.0)))
     regs: dict[int, Register] = {}
     use_lib = data.get("use_tool_library", True)
     if use_lib:

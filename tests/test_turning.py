@@ -508,3 +508,46 @@ def test_a_tool_limit_lowers_the_roughing_speed():
     tp = _free_run(prog)
     rough = [m for m in tp.moves if m.op == "G72"]
     assert rough and max(m.spindle for m in rough) <= 900.0 + 1e-6
+
+
+# ---------------------------------------------------------------- the chuck's speed limit
+
+def _chuck_machine(tmp_path, body):
+    src = tmp_path / "lathe.toml"
+    src.write_text('[machine]\nmax_rpm = 4000.0\n\n' + body)
+    return src
+
+
+@pytest.mark.parametrize("dialect", ["hnc21t", "fanuc0it", "haas"])
+@pytest.mark.parametrize("part,stock", [(_pin(), "14x36+1"), (_flange(), "124x14+1"),
+                                        (_stud_to_shoulder(), "30x50+1")])
+def test_chuck_rated_speed_caps_every_move_in_every_dialect(tmp_path, dialect, part, stock):
+    mach = _chuck_machine(tmp_path, "[chuck]\nmax_rpm = 1500\n")
+    assert load_machine(mach).chuck_max_rpm == 1500.0
+    prog = generate(part, stock=stock, machine=mach, dialect=dialect)
+    assert prog.report.passed
+    # the interpreter clamps G96 at the machine's 4000 rpm only: the program keeps 1500
+    assert max(m.spindle for m in prog.toolpath.moves) <= 1500.0 + 1e-6
+    if dialect != "hnc21t":
+        import re
+        assert set(re.findall(r"G50 S(\d+)", prog.text)) == {"1500"}
+    # without the chuck table the same part runs faster somewhere
+    free = generate(part, stock=stock, machine=_chuck_machine(tmp_path, ""), dialect=dialect,
+                    verify=False)
+    assert max(m.spindle for m in free.toolpath.moves) > 1500.0 + 1e-6
+
+
+@pytest.mark.parametrize("body,line,what", [
+    ("[chuck]\nmax_rmp = 1500\n", 5, "did you mean 'max_rpm'"),
+    ("[chuck]\nmax_rpm = -1\n", 5, "max_rpm"),
+    ("[chuck]\nmax_rpm = \"fast\"\n", 5, "max_rpm"),
+    ("[chuk]\nmax_rpm = 1500\n", 4, "did you mean 'chuck'"),
+])
+def test_bad_chuck_table_is_one_line_naming_file_and_line(tmp_path, capsys, body, line, what):
+    from hnc_cam.cli import main
+    mach = _chuck_machine(tmp_path, body)
+    out = tmp_path / "o.nc"
+    rc = main(["generate", PARTS + "stepped_shaft.py", "--machine", str(mach), "-o", str(out)])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert rc == 2 and not out.exists() and len(err) == 1
+    assert f"lathe.toml:{line}" in err[0] and what in err[0]

@@ -27,9 +27,10 @@ Rules (each operation records its reason, which the program prints as a comment)
   with a negative E for a bore with undercuts) with the boring bar; finished with the same or
   a finishing boring bar.
 * **Finishing**: the ns..nf contour after roughing (tool change when the library's finishing
-  tool is another tool) at G96 surface speed; the spindle limit is the lower of the
-  machine's max rpm (on the HNC-21T a system parameter, manual 3.3.6, stated in the header)
-  and the tool's ``max_rpm``. G96 has no clamp word: facing passes, finishing contours and
+  tool is another tool) at G96 surface speed; the spindle limit is the lowest of the
+  machine's max rpm (on the HNC-21T a system parameter, manual 3.3.6, stated in the header),
+  the chuck's rated speed (the machine file's ``[chuck] max_rpm``) and the tool's
+  ``max_rpm``; every cap below (G97, FANUC/Haas ``G50 S``, threads) uses it. G96 has no clamp word: facing passes, finishing contours and
   grooves switch to G97 at the limit inside the diameter where G96 would exceed it
   (:func:`_cap_contour`). A roughing cycle cannot change speed inside: where its G96 would
   exceed the limit at the smallest diameter it reaches, the HNC-21T program runs the whole
@@ -273,9 +274,12 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
 
 
 def rpm_limit(t: Tool, machine: Machine | None) -> float:
-    """The spindle limit for tool ``t``: the lower of the machine's max rpm and the tool's own
-    ``max_rpm`` (when given)."""
+    """The spindle limit for tool ``t``: the lowest of the machine's max rpm, the chuck's
+    rated speed (``[chuck] max_rpm``, when given) and the tool's own ``max_rpm`` (when
+    given)."""
     lim = machine.max_rpm if machine is not None else 3000.0
+    if machine is not None and machine.chuck_max_rpm > 0:
+        lim = min(lim, machine.chuck_max_rpm)
     return min(lim, t.max_rpm) if t.max_rpm > 0 else lim
 
 
