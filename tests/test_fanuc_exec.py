@@ -179,6 +179,17 @@ def test_commons_and_kept_commons_and_unknown_variables():
     assert e.line == 2 and "#60" in e.message
 
 
+def test_variable_number_written_with_a_decimal_point():
+    """``#[30.0]`` in a word is variable #30 (the reader hands the number's text); ``#[30.5]``
+    is an alarm at its line, not a crash."""
+    text = "%\nO0001\n#30=5.\nG00 X#[30.0] Z#[30.] \nM30\n%\n"
+    tp = nc.run(text, dialect="fanuc0it", start=(0.0, 0.0))
+    assert ends(tp)[-1] == (2.5, 5.0)
+    with pytest.raises(NCError) as e:
+        nc.run(text.replace("#[30.]", "#[30.5]"), dialect="fanuc0it", start=(0.0, 0.0))
+    assert e.value.line == 4 and "#30.5" in e.value.message
+
+
 def test_system_variables():
     tp = run("%1\nG00 X40 Z2\nG01 Z-5 F0.3\n#100=#5001\n#101=#5002\n#102=#4001\n#103=#4005\n"
              "#104=#4109\n#3901=#3901+1\nG00 X#100 Z[#101+#102+#103/99+#104+#3901]\nM30\n")

@@ -509,6 +509,11 @@ class FanucInterp(Interp):
     def _read(self, n, strict_vacant: bool = True):
         if n is None:
             return None
+        if isinstance(n, str):  # the number's text of ``#30.0`` / ``#[30.0]``
+            try:
+                n = float(n)
+            except ValueError:
+                raise EvalError(f"invalid variable #{n}: not a number") from None
         if isinstance(n, float) and not n.is_integer() or n != n:
             raise EvalError(f"invalid variable #{n:g}: not an integer")
         n = int(n)
