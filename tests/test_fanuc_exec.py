@@ -190,6 +190,18 @@ def test_variable_number_written_with_a_decimal_point():
     assert e.value.line == 4 and "#30.5" in e.value.message
 
 
+def test_shared_warning_names_the_dialects_g_code():
+    """Feed per revolution with the spindle stopped: the warning names FANUC's G99 (HNC's
+    text names G95); the move's time is 0 either way."""
+    tp = nc.run("%\nO0001\nG99 M05\nG00 X20. Z2.\nG01 Z-5. F0.2\nM30\n%\n", dialect="fanuc0it")
+    msgs = [w.message for w in tp.warnings if w.line == 5]
+    assert any(m.startswith("feed per revolution (G99) with the spindle stopped") for m in msgs)
+    assert not any("G95" in m for w in tp.warnings for m in [w.message])
+    assert [m.duration for m in tp.moves if m.line == 5] == [0.0]
+    hnc = nc.run("%1\nG95 M05\nG00 X20 Z2\nG01 Z-5 F0.2\nM30\n")
+    assert any(w.line == 4 and w.message.startswith("feed per revolution (G95)") for w in hnc.warnings)
+
+
 def test_system_variables():
     tp = run("%1\nG00 X40 Z2\nG01 Z-5 F0.3\n#100=#5001\n#101=#5002\n#102=#4001\n#103=#4005\n"
              "#104=#4109\n#3901=#3901+1\nG00 X#100 Z[#101+#102+#103/99+#104+#3901]\nM30\n")

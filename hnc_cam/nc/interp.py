@@ -351,6 +351,14 @@ class Interp(HncMemory):
             self._warned.add(once)
         self.warnings.append(Warning_(line, message))
 
+    def _g_named(self, attr: str, value: Any, default: int) -> str:
+        """The G code of this dialect that sets modal ``attr`` to ``value`` (G95 per revolution
+        on HNC, G99 on FANUC), for the texts of the shared warnings; ``default`` if none."""
+        for code, c in self.g_spec.items():
+            if c.phase == "modal" and c.handler is not None and tuple(c.handler) == (attr, value):
+                return f"G{code:02d}"
+        return f"G{default:02d}"
+
     # -- compile ----------------------------------------------------------------------------
     def _compile(self, i: int):
         src = self.src
@@ -1289,8 +1297,9 @@ class Interp(HncMemory):
                 return self.m.default_feed
         if self.per_rev:
             if rpm <= 0:
-                self.warn(line, "feed per revolution (G95) with the spindle stopped or at S0: the "
-                                "move cannot run; time counted as 0", ("g95", line))
+                self.warn(line, f"feed per revolution ({self._g_named('per_rev', True, 95)}) with the "
+                                f"spindle stopped or at S0: the move cannot run; time counted as 0",
+                          ("g95", line))
                 return 0.0
             return F * rpm
         if F <= 0:
