@@ -1073,3 +1073,15 @@ def test_e2e_g70_returns_to_a_in_rapid():
     assert tp.moves[before].end == pytest.approx(dia(44, -82))  # the profile's end nf
     after = [m for m in tp.moves if m.line == line + 1]  # N140 X50. starts from A
     assert after and after[0].start[1] == pytest.approx(4.0)
+
+
+def test_e2e_g92_start_angle_up_to_360000():
+    """Q of G92 is the spindle start angle in 0.001° up to 360000: Q180000 is 180°; more than
+    360000 is an alarm at the word."""
+    text = "%\nO0112\nG97 S500 M03\nG00 X32. Z4.\nG92 X29.2 Z-20. F1.5 Q180000\nM30\n%\n"
+    th = [m for m in op_moves(fanuc(text), "G92") if m.kind == "thread"]
+    assert th and all(m.angle == pytest.approx(180.0) for m in th)
+    assert th[0].end == pytest.approx(dia(29.2, -20.0))
+    with pytest.raises(NCError) as e:
+        fanuc(text.replace("Q180000", "Q360001"))
+    assert e.value.line == 5 and e.value.col == text.splitlines()[4].index("Q") + 1

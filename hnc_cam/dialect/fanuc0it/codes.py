@@ -69,6 +69,8 @@ RANGES: dict[str, tuple[float, float, bool]] = {
     "G": (0, 999, True), "M": (0, 999, True), "N": (0, 99999, True), "T": (0, 9999, True),
     "F": (0, 100000, False), "S": (0, 99999, False), "P": (-99999999, 99999999, False),
     "L": (0, 9999, True), "H": (0, 999, True),
+    # Q: also the thread start angle of G92/G76 in 0.001° (up to 360000)
+    "Q": (-360000, 360000, False),
 }
 UNKNOWN_LETTERS = {"O": "O is a program number, not a word inside a block",
                    "Y": "this lathe has no Y axis"}
