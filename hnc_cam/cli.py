@@ -164,6 +164,9 @@ def build_parser() -> argparse.ArgumentParser:
     _add_gen_options(p)
     _add_profile_options(p)
     p.add_argument("-o", "--output", metavar="OUT", help="program file (default: stdout)")
+    p.add_argument("--json", metavar="OUT", help="write the plan as JSON (each operation's "
+                   "cycle, tool, spindle and cap, feed, reason, zone; the verification "
+                   "figures); - = stdout")
     _add_report(p, junit=False)
     _add_dialect(p)
     p.set_defaults(func=("hnc_cam.plan.command", "generate_command"))

@@ -179,3 +179,64 @@ def test_bundled_part_program_golden(part, comp):
         path.parent.mkdir(exist_ok=True)
         path.write_text(text)
     assert text == path.read_text()
+
+
+# ---------------------------------------------------------------- the plan as JSON
+
+@pytest.mark.parametrize("dialect", ["hnc21t", "fanuc0it"])
+def test_json_plan_has_each_operation_as_explain_says_it(tmp_path, capsys, dialect):
+    import json
+    out, js = tmp_path / "o.nc", tmp_path / "plan.json"
+    rc = main(["generate", str(PARTS / "threaded_stud.py"), "--explain", "--dialect", dialect,
+               "--json", str(js), "-o", str(out)])
+    err = capsys.readouterr().err
+    assert rc == 0 and out.exists()
+    doc = json.loads(js.read_text())
+    ops = doc["operations"]
+    explain = [ln for ln in err.splitlines() if ln.startswith("  ") and ". " in ln
+               and not ln.startswith("  note:")]
+    # every operation of --explain, in order, with its label line and reason
+    assert [f"  {o['index']}. {o['summary']}: {o['reason']}" for o in ops] == explain
+    prog = generate(PARTS / "threaded_stud.py", dialect=dialect)
+    assert [o["name"] for o in ops] == [op.name for op in prog.plan.operations]
+    assert [o["cycle"] for o in ops] == [c.split(" ", 1)[1] for c in prog.operations]
+    for o, op in zip(ops, prog.plan.operations):
+        assert o["reason"] and o["spindle"]["cap_rpm"] == pytest.approx(op.max_rpm)
+        assert o["spindle"]["cap_rpm"] <= doc["machine_max_rpm"]
+        assert o["tool"]["number"] == op.tool.number and o["feed_mm_rev"] == pytest.approx(op.feed)
+        z = o["zone"]
+        assert z["diameter_min"] <= z["diameter_max"] and z["z_min"] <= z["z_max"]
+    # the thread's zone reaches its root and its end
+    th = [o for o in ops if o["kind"] == "thread"][0]
+    top = [op for op in prog.plan.operations if op.kind == "thread"][0].thread
+    assert th["zone"]["diameter_min"] == pytest.approx(2 * top.x_root, abs=1e-4)
+    assert th["zone"]["z_min"] <= top.z_end + 1e-4
+    v = doc["verification"]
+    assert v["pass"] is True and v["max_overcut_mm"] <= 0.01
+    # the HNC-21T roughing cycle of this stud is capped: the JSON says at what speed
+    rough = [o for o in ops if o["name"] == "rough"][0]
+    assert (rough["spindle"]["unclamped_rpm"] is not None) == \
+        ([op for op in prog.plan.operations if op.name == "rough"][0].unclamped is not None)
+
+
+def test_json_to_stdout_and_unverified(tmp_path, capsys):
+    import json
+    out = tmp_path / "o.nc"
+    rc = main(["generate", str(PARTS / "stepped_shaft.py"), "--no-verify", "--json", "-",
+               "-o", str(out)])
+    doc = json.loads(capsys.readouterr().out)
+    assert rc == 0 and doc["verification"] is None and doc["operations"]
+
+
+def test_json_to_stdout_with_the_program_on_stdout_is_refused(tmp_path, capsys):
+    rc = main(["generate", str(PARTS / "stepped_shaft.py"), "--json", "-"])
+    cap = capsys.readouterr()
+    err = cap.err.strip().splitlines()
+    assert rc == 2 and len(err) == 1 and "--json -" in err[0] and cap.out == ""
+
+
+def test_json_is_absent_when_the_plan_is_refused(tmp_path, capsys):
+    js = tmp_path / "plan.json"
+    rc = main(["generate", str(PARTS / "threaded_stud.py"), "--set", "thread_length=2.2",
+               "--json", str(js), "-o", str(tmp_path / "o.nc")])
+    assert rc == 2 and not js.exists()

@@ -69,6 +69,9 @@ def _generate_command(args: argparse.Namespace) -> int:
     from .api import generate
 
     params = parse_set(args.params or [])
+    if getattr(args, "json", None) == "-" and not args.output:
+        raise PlanError("--json - writes the plan to stdout, where the program goes without "
+                        "-o: give the program a file with -o (or the JSON a file)")
     part: Any = args.part
     kw = profile_options(args)
     if kw:  # --axis/--zero/--envelope/--fit-tol: profile here, then plan the loaded part
@@ -86,6 +89,9 @@ def _generate_command(args: argparse.Namespace) -> int:
     if getattr(args, "report", None):
         from ..report import program_report
         program_report(args.report, prog, tol=getattr(args, "tol", 0.01))
+    if getattr(args, "json", None):
+        from .export import plan_json_text
+        write_atomic(args.json, plan_json_text(prog))
     if getattr(args, "explain", False):
         print(prog.plan.explain(prog.labels), file=sys.stderr)
     print(prog.summary(), file=sys.stderr)
