@@ -773,15 +773,25 @@ class Interp(HncMemory):
             return 0
 
     # -- blocks -------------------------------------------------------------------------------
+    #: addresses whose computed value is rounded to a whole number before its range check
+    #: (none on the HNC-21T, where a fraction there is out of range; FANUC rounds G M S T)
+    round_words: frozenset = frozenset()
+
+    def _word_value(self, e: Expr, line: int):
+        """The value of a word written as an expression; None leaves the address out (a
+        dialect whose null variable in a word means "no word"; never on the HNC-21T)."""
+        return self._eval(e, line)
+
     def _words(self, b: Blk) -> dict:
-        """All word values of a block (expressions evaluated), G and M included as lists."""
+        """All word values of a block (expressions evaluated), G and M not among them."""
         w = dict(b.words)
         if b.dyn:
             for L, e, col in b.dyn:
-                v = self._eval(e, b.line)
                 if L in ("G", "M"):
                     continue
-                w[L] = v
+                v = self._word_value(e, b.line)
+                if v is not None:
+                    w[L] = v
         return w
 
     def _dyn(self, b: Blk) -> tuple[dict, tuple, tuple]:
@@ -789,7 +799,11 @@ class Interp(HncMemory):
         gs = list(b.gs)
         ms = list(b.ms)
         for L, e, col in b.dyn:
-            v = self._eval(e, b.line)
+            v = self._word_value(e, b.line)
+            if v is None:
+                continue
+            if L in self.round_words:
+                v = float(round(v))
             err = _range_error(L, v, self.ranges, self.range_ref)
             if err:
                 raise self.alarm(err, b.line, col)

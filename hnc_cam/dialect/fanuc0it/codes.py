@@ -90,6 +90,9 @@ _MAX_MACRO_LEVELS = 4
 class FanucInterp(Interp):
     """The interpreter with FANUC 0i-T's codes, calls and memory (see the module doc)."""
 
+    #: integer addresses: a computed real value is rounded
+    round_words = frozenset("GMST")
+
     def __init__(self, src, machine=None, **kw):
         super().__init__(src, machine, **kw)
         self.diam = True  # X is a diameter (parameter 1006#3)
@@ -122,38 +125,6 @@ class FanucInterp(Interp):
             if v is None:
                 return None
         return self._eval(e, line)
-
-    def _words(self, b: Blk) -> dict:
-        w = dict(b.words)
-        if b.dyn:
-            for L, e, col in b.dyn:
-                if L in ("G", "M"):
-                    continue
-                v = self._word_value(e, b.line)
-                if v is not None:
-                    w[L] = v
-        return w
-
-    def _dyn(self, b: Blk):
-        w = dict(b.words)
-        gs = list(b.gs)
-        ms = list(b.ms)
-        for L, e, col in b.dyn:
-            v = self._word_value(e, b.line)
-            if v is None:
-                continue
-            if L in ("G", "M", "S", "T"):  # integer addresses: a real value is rounded
-                v = float(round(v))
-            err = _range(L, v, self.ranges)
-            if err:
-                raise self.alarm(err, b.line, col)
-            if L == "G":
-                gs.append(int(v))
-            elif L == "M":
-                ms.append(int(v))
-            else:
-                w[L] = v
-        return w, tuple(gs), tuple(ms)
 
     # -- blocks ------------------------------------------------------------------------------
     def _block(self, b: Blk):
@@ -635,11 +606,6 @@ class FanucInterp(Interp):
 
     def _no_end(self) -> str:
         return "end of program without M02/M30"
-
-
-def _range(letter: str, v: float, ranges: dict) -> Optional[str]:
-    from ...nc.interp import _range_error
-    return _range_error(letter, v, ranges, MESSAGES["range_ref"])
 
 
 def _n_of(text: str) -> Optional[int]:
