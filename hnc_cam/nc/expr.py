@@ -190,10 +190,7 @@ def K_ATAN(a, b=1.0):
     return d + 360.0 if d < 0.0 else d
 
 
-def K_SQRT(a):
-    if a < 0:
-        raise EvalError(f"SQRT of a negative number ({a:g})")
-    return math.sqrt(a)
+K_SQRT = F_SQRT  # no angle in it: the HNC-21T's function
 
 
 def K_ABS(a):
@@ -206,11 +203,7 @@ def K_LN(a):
     return math.log(a)
 
 
-def K_EXP(a):
-    try:
-        return math.exp(a)
-    except OverflowError:
-        raise EvalError(f"EXP[{a:g}] overflows") from None
+K_EXP = F_EXP
 
 
 def K_ROUND(a):
@@ -218,9 +211,7 @@ def K_ROUND(a):
     return float(math.floor(abs(a) + 0.5)) * (1.0 if a >= 0 else -1.0)
 
 
-def K_FIX(a):
-    """Toward zero: FIX[1.2] = 1, FIX[-1.2] = -1."""
-    return float(math.trunc(a))
+K_FIX = F_INT  # toward zero: FIX[1.2] = 1, FIX[-1.2] = -1
 
 
 def K_FUP(a):

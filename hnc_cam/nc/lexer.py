@@ -43,10 +43,11 @@ FAST_SCAN = re.compile(r"\s*+([A-Z])\s*+([-+]?(?:\d+\.?\d*|\.\d+))\s*+|\s*+(.)",
 Token = tuple  # (kind, value, col)
 
 
-def clean(raw: str) -> str:
-    """Upper-case ``raw`` and replace its comments by blanks (columns are kept)."""
+def clean(raw: str, semicolon: bool = True) -> str:
+    """Upper-case ``raw`` and replace its comments ``( ... )`` by blanks (columns are kept);
+    with ``semicolon`` (the HNC-21T), a ``;`` starts a comment to the end of the line."""
     s = raw.upper()
-    if "(" not in s and ";" not in s:
+    if "(" not in s and (not semicolon or ";" not in s):
         return s
     out = []
     depth = False
@@ -58,7 +59,7 @@ def clean(raw: str) -> str:
         elif ch == "(":
             depth = True
             out.append(" ")
-        elif ch == ";":
+        elif ch == ";" and semicolon:
             break
         else:
             out.append(ch)

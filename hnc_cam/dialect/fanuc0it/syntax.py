@@ -56,6 +56,7 @@ from typing import Optional
 from ...errors import NCError
 from ...nc import parser as P
 from ...nc.expr import FanucExpr, constant_value
+from ...nc.lexer import clean as _clean
 from ...nc.lexer import printable
 
 #: the multi-letter words of macro B
@@ -129,23 +130,9 @@ _PLAIN_START = frozenset("ABCDEFGHIJKLMNPQRSTUVWXYZ#0123456789[]=+-*,.")
 
 
 def clean(raw: str) -> str:
-    """Upper case, comments ``( ... )`` blanked (columns kept). ``;`` is not touched."""
-    s = raw.upper()
-    if "(" not in s:
-        return s
-    out = []
-    inside = False
-    for ch in s:
-        if inside:
-            out.append(" ")
-            if ch == ")":
-                inside = False
-        elif ch == "(":
-            inside = True
-            out.append(" ")
-        else:
-            out.append(ch)
-    return "".join(out)
+    """Upper case, comments ``( ... )`` blanked (columns kept). ``;`` is not touched: it ends a
+    block here, not a comment."""
+    return _clean(raw, semicolon=False)
 
 
 def _tape_mark(raw: str) -> bool:
@@ -647,7 +634,6 @@ class FanucSyntax:
                     notes.append((rest[0] + 1, 1, f"the tape ends with the '%' on line {i + 1}: "
                                   f"{len(rest)} line(s) after it are not read"))
                 break
-        calc = self.calculator
         bdel = self.block_delete
         hdr_at: list[int] = []
         loops: list[int] = []
