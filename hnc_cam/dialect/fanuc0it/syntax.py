@@ -652,21 +652,6 @@ class FanucSyntax:
                 s = r  # one string for the raw and the cleaned line
             if not s:
                 continue
-            if s[0] in _PLAIN_START and ";" not in s:
-                # the common line: one block starting with a word or a macro statement
-                lineno.append(i + 1)
-                stext.append(s)
-                number.append(None)
-                if "IF" not in s and "GO" not in s and "WH" not in s and "DO" not in s \
-                        and "EN" not in s and "H" not in s:
-                    kind.append(OTHER)
-                    continue
-                k, lid = _classify(s)
-                kind.append(k)
-                if k is WHILE or k is ENDW:
-                    loop_id[len(kind) - 1] = lid
-                    loops.append(len(kind) - 1)
-                continue
             if ";" in s:
                 # each block keeps its columns by leading blanks: bounded (before the blocks
                 # are built), so that a long line of many ';' blocks cannot take memory
@@ -682,34 +667,36 @@ class FanucSyntax:
                                   f"their own", i + 1, 1, printable(r.strip()), file)
                 parts = self._split_blocks(s)
             else:
-                parts = [s]
+                parts = (s,)
             for s in parts:
                 c0 = s[0]
-                if c0 == " " or c0 == "\t":
-                    c0 = s.lstrip()[:1]
-                if c0 == "/":
-                    if bdel:
+                if c0 not in _PLAIN_START:
+                    # not the common block starting with a word or a macro statement
+                    if c0 == " " or c0 == "\t":
+                        c0 = s.lstrip()[:1]
+                    if c0 == "/":
+                        if bdel:
+                            continue
+                        m = _SLASH.match(s)
+                        s = " " * m.end() + s[m.end():]
+                        if not s.strip():
+                            continue
+                        c0 = s.lstrip()[:1]
+                    if c0 == "%":
+                        raise NCError(self._percent_message(s), i + 1, s.index("%") + 1,
+                                      printable(r.strip()), file)
+                    if c0 == "O" or c0 == ":":
+                        m = _HEADER.match(s)
+                        if m is None:
+                            raise NCError("a program starts with O and its number (1-8 digits) alone "
+                                          "on its line, as O1234 (a comment may follow)", i + 1,
+                                          s.index(c0) + 1, printable(r.strip()), file)
+                        hdr_at.append(len(kind))
+                        lineno.append(i + 1)
+                        stext.append(s)
+                        kind.append(HDR)
+                        number.append(int(m.group(1)))
                         continue
-                    m = _SLASH.match(s)
-                    s = " " * m.end() + s[m.end():]
-                    if not s.strip():
-                        continue
-                    c0 = s.lstrip()[:1]
-                if c0 == "%":
-                    raise NCError(self._percent_message(s), i + 1, s.index("%") + 1,
-                                  printable(r.strip()), file)
-                if c0 == "O" or c0 == ":":
-                    m = _HEADER.match(s)
-                    if m is None:
-                        raise NCError("a program starts with O and its number (1-8 digits) alone on "
-                                      "its line, as O1234 (a comment may follow)", i + 1,
-                                      s.index(c0) + 1, printable(r.strip()), file)
-                    hdr_at.append(len(kind))
-                    lineno.append(i + 1)
-                    stext.append(s)
-                    kind.append(HDR)
-                    number.append(int(m.group(1)))
-                    continue
                 lineno.append(i + 1)
                 stext.append(s)
                 number.append(None)
