@@ -316,6 +316,9 @@ def word_col(text: str, letter: str, value: Optional[float] = None) -> int:
 
 
 class _P:
+    #: compiles an expression node of this dialect (HNC-21T: functions in radians)
+    expr_type = Expr
+
     def __init__(self, toks, text, line, file, block):
         self.t = toks
         self.i = 0
@@ -323,6 +326,12 @@ class _P:
         self.line = line
         self.file = file
         self.block = block
+
+    def assign_target(self, idx, col: int):
+        """The target of ``#idx = …``: its number when constant (checked when written), else
+        the compiled index expression."""
+        cv = constant_value(idx)
+        return cv if cv is not None else Expr(idx, col)
 
     def err(self, msg: str, col: Optional[int] = None) -> NCError:
         if col is None:
@@ -495,8 +504,11 @@ class _P:
 
 
 def _assignments(p: _P) -> list:
-    """``#n = expr`` (one or more) up to the end of the line."""
+    """``#n = expr`` (one or more) up to the end of the line: ``(target, value, col)`` with the
+    target a number or an expression; ``p.expr_type`` compiles the expressions (the dialect's
+    functions) and ``p.assign_target`` may refuse a constant target."""
     assigns = []
+    make = p.expr_type
     while p.peek()[0] is not None:
         k, v, c = p.peek()
         if not (k == "op" and v == "#"):
@@ -508,9 +520,7 @@ def _assignments(p: _P) -> list:
             raise p.err("bad expression: nothing after '='")
         ecol = p.peek()[2]
         val = p.expr()
-        cv = constant_value(idx)
-        target = cv if cv is not None else Expr(idx, c)
-        assigns.append((target, Expr(val, ecol), c))
+        assigns.append((p.assign_target(idx, c), make(val, ecol), c))
     return assigns
 
 

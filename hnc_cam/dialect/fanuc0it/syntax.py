@@ -358,25 +358,17 @@ class _FP(P._P):
         raise self.err(f"word {letter} has no value: expected a number or [expression], found {found}",
                        col)
 
+    expr_type = FanucExpr
+
+    def assign_target(self, idx, col: int):
+        """A constant target must be a variable number: whole and not negative."""
+        cv = constant_value(idx)
+        if cv is not None and (not cv.is_integer() or cv < 0):
+            raise self.err(f"invalid variable #{cv:g}", col)
+        return int(cv) if cv is not None else FanucExpr(idx, col)
+
     def assignments(self) -> list:
-        out = []
-        while self.peek()[0] is not None:
-            k, v, c = self.peek()
-            if not (k == "op" and v == "#"):
-                raise self.err(f"bad expression: expected '#' to start an assignment, found {v!r}")
-            self.i += 1
-            idx = self.var_index()
-            self.expect_op("=", "in the assignment")
-            if self.peek()[0] is None:
-                raise self.err("bad expression: nothing after '='")
-            ecol = self.peek()[2]
-            val = self.expr()
-            cv = constant_value(idx)
-            if cv is not None and (not cv.is_integer() or cv < 0):
-                raise self.err(f"invalid variable #{cv:g}", c)
-            target = int(cv) if cv is not None else FanucExpr(idx, c)
-            out.append((target, FanucExpr(val, ecol), c))
-        return out
+        return P._assignments(self)
 
     def words(self, n: Optional[int]) -> list:
         words = []
