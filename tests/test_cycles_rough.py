@@ -28,6 +28,8 @@ from hnc_cam.geometry.roughing import (Frame, RoughingError, first_non_monotonic
                                        is_monotonic, pattern_repeat, rough_turn)
 from hnc_cam.nc import cycles_rough
 
+from cyclefake import FakeCycleContext
+
 CHORD = 1e-4
 
 
@@ -442,54 +444,25 @@ def test_g73_bore_and_every_quadrant():
 
 # --------------------------------------------------------------------------- cycle module
 
-class FakeCtx:
-    """The CycleContext protocol over a fixed profile; records the emitted moves."""
+class FakeCtx(FakeCycleContext):
+    """The cycle context over a fixed profile ``(segments, motions)``; records each leg with
+    its start: ``(kind, start, end[, centre, cw])``."""
 
     def __init__(self, code: int, words: dict, pos: Point, profile=None, *,
-                 diameter_mode: bool = True, blocks: Optional[dict] = None):
-        self.code = code
-        self.line = 4
-        self.incremental = False
-        self.diameter_mode = diameter_mode
-        self.words = dict(words)
-        self._pos = pos
-        self._profile = profile
-        self.moves: list[tuple] = []
-        self.warnings: list[str] = []
+                 diameter_mode: bool = True):
+        def items(ns, nf):
+            if profile is None:
+                raise NCError(f"block N{ns} not found", line=4)
+            segs, mot = profile
+            return [(s, 10 + i, m) for i, (s, m) in enumerate(zip(segs, mot))]
+        super().__init__(code, words, pos, profile=items, diameter_mode=diameter_mode, line=4)
 
-    @property
-    def pos(self):
-        return self._pos
-
-    def word(self, letter):
-        return self.words.get(letter)
-
-    def has(self, letter):
-        return letter in self.words
-
-    def alarm(self, message, letter=None):
-        raise NCError(message, line=self.line, col=0)
-
-    def warn(self, message):
-        self.warnings.append(message)
-
-    def profile(self, ns, nf):
-        if self._profile is None:
-            raise NCError(f"block N{ns} not found", line=self.line)
-        segs, mot = self._profile
-        return [(s, 10 + i, m) for i, (s, m) in enumerate(zip(segs, mot))]
-
-    def rapid(self, x, z):
-        self.moves.append(("rapid", self._pos, (x, z)))
-        self._pos = (x, z)
-
-    def feed(self, x, z, feed=None):
-        self.moves.append(("feed", self._pos, (x, z)))
+    def _leg(self, kind, x, z, *extra):
+        self.moves.append((kind, self._pos, (x, z), *extra))
         self._pos = (x, z)
 
     def arc(self, x, z, center, cw, feed=None):
-        self.moves.append(("arc", self._pos, (x, z), center, cw))
-        self._pos = (x, z)
+        self._leg("arc", x, z, center, cw)
 
 
 def test_execute_g71_3327_words():

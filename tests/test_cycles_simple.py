@@ -8,7 +8,6 @@ example programs through the interpreter when it is available.
 from __future__ import annotations
 
 import math
-from typing import Optional
 
 import pytest
 from hypothesis import given, settings
@@ -18,54 +17,7 @@ from hnc_cam.errors import NCError
 from hnc_cam.nc import cycles_simple
 from hnc_cam.nc.cycles_simple import execute, g76_depths, start_angles
 
-
-class FakeCtx:
-    """The CycleContext protocol, recording the legs as tuples."""
-
-    def __init__(self, code: int, words: dict[str, float], pos=(0.0, 0.0), *,
-                 incremental: bool = False, diameter_mode: bool = True):
-        self.code = code
-        self.line = 7
-        self.incremental = incremental
-        self.diameter_mode = diameter_mode
-        self.words = dict(words)
-        self._pos = (float(pos[0]), float(pos[1]))
-        self.moves: list[tuple] = []
-        self.warnings: list[str] = []
-
-    @property
-    def pos(self):
-        return self._pos
-
-    def word(self, letter: str) -> Optional[float]:
-        return self.words.get(letter)
-
-    def has(self, letter: str) -> bool:
-        return letter in self.words
-
-    def alarm(self, message: str, letter: Optional[str] = None):
-        raise NCError(message, line=self.line, col=0)
-
-    def warn(self, message: str) -> None:
-        self.warnings.append(message)
-
-    def rapid(self, x, z):
-        self.moves.append(("rapid", (x, z)))
-        self._pos = (x, z)
-
-    def feed(self, x, z, feed=None):
-        self.moves.append(("feed", (x, z)))
-        self._pos = (x, z)
-
-    def arc(self, *a, **k):  # pragma: no cover - not used by these cycles
-        raise AssertionError("no arcs in simple cycles")
-
-    def thread(self, x, z, lead, angle=0.0, thread_angle=0.0):
-        self.moves.append(("thread", (x, z), lead, angle, thread_angle))
-        self._pos = (x, z)
-
-    def dwell(self, seconds):  # pragma: no cover
-        raise AssertionError
+from cyclefake import FakeCycleContext as FakeCtx
 
 
 def run(code, words, pos, **kw) -> FakeCtx:

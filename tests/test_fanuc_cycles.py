@@ -9,7 +9,6 @@ dialect is available.
 from __future__ import annotations
 
 import math
-from typing import Optional
 
 import pytest
 
@@ -18,81 +17,13 @@ from hnc_cam.geometry.primitives import Arc, Line
 from hnc_cam.dialect.fanuc0it import cycles as fc
 from hnc_cam.nc import cycles_rough, cycles_simple
 
+from cyclefake import FakeCycleContext as FakeCtx, run_cycle
+
 TAN30 = math.tan(math.radians(30.0))
 
 
-class FakeCtx:
-    """The cycle context (CycleContext protocol + store, setting, resume_after), recording
-    the legs as (kind, (x radius, z)[, lead, angle, tool angle])."""
-
-    def __init__(self, code: int, words: dict, pos, *, store=None, settings=None,
-                 profile=None, max_passes: int = 10_000, moves_left: int = 500_000):
-        self.code = code
-        self.line = 40
-        self.incremental = False
-        self.diameter_mode = True
-        self.words = dict(words)
-        self._pos = (float(pos[0]), float(pos[1]))
-        self.moves: list[tuple] = []
-        self.warnings: list[str] = []
-        self.store = {} if store is None else store
-        self.settings = settings or {}
-        self._profile = profile or {}
-        self.resumed: Optional[int] = None
-        self.max_passes = max_passes
-        self.moves_left = moves_left
-
-    @property
-    def pos(self):
-        return self._pos
-
-    def word(self, letter):
-        return self.words.get(letter)
-
-    def has(self, letter):
-        return letter in self.words
-
-    def alarm(self, message, letter=None):
-        raise NCError(message, line=self.line, col=0)
-
-    def warn(self, message):
-        self.warnings.append(message)
-
-    def setting(self, key, default):
-        return self.settings.get(key, default)
-
-    def profile(self, ns, nf):
-        if (ns, nf) not in self._profile:
-            raise NCError(f"profile start block N{ns} (P) not found", line=self.line, col=0)
-        return self._profile[(ns, nf)]
-
-    def resume_after(self, nf):
-        self.resumed = nf
-
-    def rapid(self, x, z):
-        self.moves.append(("rapid", (x, z)))
-        self._pos = (x, z)
-
-    def feed(self, x, z, feed=None):
-        self.moves.append(("feed", (x, z)))
-        self._pos = (x, z)
-
-    def arc(self, x, z, center, cw, feed=None):
-        self.moves.append(("arc", (x, z)))
-        self._pos = (x, z)
-
-    def thread(self, x, z, lead, angle=0.0, thread_angle=0.0):
-        self.moves.append(("thread", (x, z), lead, angle, thread_angle))
-        self._pos = (x, z)
-
-    def dwell(self, seconds):  # pragma: no cover - no cycle here dwells
-        raise AssertionError
-
-
 def run(code, words, pos, table=fc.CYCLES, **kw) -> FakeCtx:
-    ctx = FakeCtx(code, words, pos, **kw)
-    table[code](ctx)
-    return ctx
+    return run_cycle(table, code, words, pos, **kw)
 
 
 def near(p, q, tol=1e-4):
