@@ -1,0 +1,441 @@
+"""SINUMERIK 802S/802C cycles LCYC82/83/840/85/93/95/97 (hnc_cam.dialect.siemens802.cycles).
+
+The handlers run on the shared fake cycle context extended with the 802 members (R
+parameters, ``_CNAME``, the contour subprogram, the plane); positions are (x radius, z).
+The document's examples (LCYC82, LCYC83, LCYC840) are transcribed with their positions."""
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from hnc_cam.errors import NCError
+from hnc_cam.geometry.primitives import Arc, Line
+from hnc_cam.dialect.siemens802 import cycles as sc
+
+from cyclefake import FakeCycleContext
+
+
+class Ctx802(FakeCycleContext):
+    """The fake with the 802 members: ``r``/``set_r``, ``text``, ``contour``, ``plane``."""
+
+    def __init__(self, name, r, pos, *, plane=18, contours=None, texts=None, **kw):
+        code = int(name[4:])
+        super().__init__(code, {}, pos, **kw)
+        self.name = name
+        self.R = dict(r)
+        self.plane = plane
+        self.contours = contours or {}
+        self.texts = texts or {}
+        self.feeds = []
+
+    def r(self, n):
+        return float(self.R.get(n, 0.0))
+
+    def set_r(self, n, v):
+        self.R[n] = float(v)
+
+    def text(self, name):
+        return self.texts.get(name)
+
+    def contour(self, name):
+        if name not in self.contours:
+            raise NCError(f"subprogram {name} not found", line=self.line, col=0)
+        return self.contours[name]
+
+    def tool_nose(self):
+        return (0.0, 0)
+
+    def feed(self, x, z, feed=None):
+        self.feeds.append(feed)
+        super().feed(x, z, feed)
+
+    def arc(self, x, z, center, cw, feed=None):
+        self.feeds.append(feed)
+        super().arc(x, z, center, cw, feed)
+
+
+def run(name, r, pos, **kw) -> Ctx802:
+    ctx = Ctx802(name, r, pos, **kw)
+    sc.CYCLES[name](ctx)
+    return ctx
+
+
+def legs(ctx, kinds=("rapid", "feed", "thread", "arc")):
+    return [(m[0], (round(m[1][0], 6), round(m[1][1], 6))) for m in ctx.moves if m[0] in kinds]
+
+
+def alarm_of(name, r, pos=(0.0, 100.0), **kw) -> str:
+    with pytest.raises(NCError) as exc:
+        run(name, r, pos, **kw)
+    return str(exc.value)
+
+
+# --------------------------------------------------------------------------- drilling
+
+
+def test_lcyc82_document_example():
+    # N20 Z110 X0; R101=110 R102=4 R103=102 R104=75 R105=2; G17 LCYC82
+    ctx = run("LCYC82", {101: 110, 102: 4, 103: 102, 104: 75, 105: 2}, (0.0, 110.0), plane=17)
+    assert legs(ctx) == [("rapid", (0.0, 106.0)), ("feed", (0.0, 75.0)), ("rapid", (0.0, 110.0))]
+    assert ("dwell", 2.0) in ctx.moves
+    # the tool ends on the retraction plane above the hole it drilled: X0 Z110 (the
+    # document's "X24 Z110" does not follow from its program, which drills at X0)
+    assert ctx.pos == (0.0, 110.0)
+
+
+def test_lcyc83_document_example_chip_removal():
+    r = {101: 155, 102: 1, 103: 150, 104: 5, 105: 0, 109: 0, 110: 100, 111: 20, 107: 500,
+         127: 1, 108: 400}
+    ctx = run("LCYC83", r, (0.0, 155.0), plane=17)
+    feeds = [(p[1], f) for (k, p), f in zip([m for m in ctx.moves if m[0] == "feed"], ctx.feeds)]
+    # strokes 50, 30, 20, 20 then the 25 left split in two: Z100 70 50 30 17.5 5
+    assert [round(z, 6) for z, _ in feeds] == [100.0, 70.0, 50.0, 30.0, 17.5, 5.0]
+    assert [f for _, f in feeds] == [400, 500, 500, 500, 500, 500]
+    # chip removal: back to the safety plane Z151 in rapid, re-entry 145/50 = 2.9 mm before
+    rapids = [p[1] for k, p in legs(ctx) if k == "rapid"]
+    assert rapids == [151.0, 151.0, 102.9, 151.0, 72.9, 151.0, 52.9, 151.0, 32.9, 151.0, 20.4,
+                      155.0]
+    assert ctx.pos == (0.0, 155.0)
+
+
+def test_lcyc83_chip_breaking_backs_off_one_mm():
+    r = {101: 10, 102: 2, 103: 0, 104: -30, 110: -10, 111: 0, 107: 0.1, 127: 0, 105: 0.5}
+    ctx = run("LCYC83", r, (0.0, 10.0), plane=17)
+    zs = [(k, p[1]) for k, p in legs(ctx)]
+    assert zs == [("rapid", 2.0), ("feed", -10.0), ("feed", -9.0), ("feed", -20.0),
+                  ("feed", -19.0), ("feed", -30.0), ("rapid", 10.0)]
+    assert sum(1 for m in ctx.moves if m[0] == "dwell") == 3
+
+
+def test_drill_strokes_degression():
+    assert sc.drill_strokes(50, 145, 20) == [50, 80, 100, 120, 132.5, 145]
+    assert sc.drill_strokes(10, 30, 0) == [10, 20, 30]
+    assert sc.drill_strokes(10, 15, 0) == [10, 15]
+    assert sc.drill_strokes(10, 25, 0) == [10, 17.5, 25]
+    assert sc.drill_strokes(30, 30, 5) == [30]
+    assert sc.anticipation(20) == 0.6 and sc.anticipation(400) == 7.0
+
+
+def test_lcyc840_document_example():
+    # N20 X35 Z60; R101=60 R102=2 R103=56 R104=15 R106=0.5 R126=3
+    ctx = run("LCYC840", {101: 60, 102: 2, 103: 56, 104: 15, 105: 1, 106: 0.5, 126: 3},
+              (17.5, 60.0), plane=17)
+    assert legs(ctx) == [("rapid", (17.5, 58.0)), ("thread", (17.5, 15.0)),
+                         ("thread", (17.5, 58.0)), ("rapid", (17.5, 60.0))]
+    assert all(m[2] == 0.5 for m in ctx.moves if m[0] == "thread")
+
+
+def test_lcyc85_feeds_in_and_out():
+    ctx = run("LCYC85", {101: 5, 102: 1, 103: 0, 104: -20, 105: 1, 107: 0.2, 108: 0.5},
+              (10.0, 5.0), plane=17)
+    assert legs(ctx) == [("rapid", (10.0, 1.0)), ("feed", (10.0, -20.0)), ("feed", (10.0, 1.0)),
+                         ("rapid", (10.0, 5.0))]
+    assert ctx.feeds == [0.2, 0.5]
+    assert ("dwell", 1.0) in ctx.moves
+
+
+@pytest.mark.parametrize("name", ["LCYC82", "LCYC83", "LCYC840", "LCYC85"])
+def test_drilling_alarms(name):
+    base = {101: 10, 102: 1, 103: 0, 104: -20, 106: 1, 126: 3, 110: -5, 127: 0}
+    assert alarm_of(name, base, plane=18).startswith("17040 ")
+    assert alarm_of(name, {**base, 104: 0}, plane=17).startswith("61101 ")
+    assert alarm_of(name, {**base, 103: 20}, plane=17).startswith("61101 ")
+
+
+def test_lcyc83_and_840_own_alarms():
+    base = {101: 10, 102: 1, 103: 0, 104: -20, 127: 0}
+    assert alarm_of("LCYC83", {**base, 110: -25}, plane=17).startswith("61107 ")
+    assert alarm_of("LCYC83", {**base, 110: 0}, plane=17).startswith("61107 ")
+    assert "R127" in alarm_of("LCYC83", {**base, 110: -5, 127: 2}, plane=17)
+    assert alarm_of("LCYC840", {**base, 126: 3}, plane=17).startswith("61001 ")
+    assert alarm_of("LCYC840", {**base, 106: 1, 126: 5}, plane=17).startswith("61102 ")
+
+
+# --------------------------------------------------------------------------- LCYC95
+
+
+def chain(*pts_dia):
+    """Lines through the points (X diameter, Z)."""
+    pts = [(x / 2.0, z) for x, z in pts_dia]
+    return [Line(a, b) for a, b in zip(pts, pts[1:])]
+
+
+def items(segs, approach_from=None):
+    out = []
+    if approach_from is not None:
+        out.append((Line(approach_from, segs[0].start), 9, "rapid"))
+    out += [(s, 10 + i, "feed") for i, s in enumerate(segs)]
+    return out
+
+
+def mirror_x(segs):
+    return [Line((-s.start[0], s.start[1]), (-s.end[0], s.end[1])) for s in segs]
+
+
+# a stepped shaft: X20 Z0 -> Z-20 -> X30 -> X40 Z-30 -> Z-50 -> X60
+SHAFT = chain((20, 0), (20, -20), (30, -20), (40, -30), (40, -50), (60, -50))
+
+
+def run95(r105, segs, pos, allowance=0.5, infeed=2.0, retract=1.0, **kw):
+    r = {105: r105, 106: allowance, 108: infeed, 109: 0, 110: retract, 111: 0.3, 112: 0.1}
+    return run("LCYC95", r, pos, texts={"_CNAME": "KONTUR1"},
+               contours={"KONTUR1": items(segs, pos)}, **kw)
+
+
+def level_cuts(ctx, axis):
+    """Feed legs that run along the cut axis (``axis``: 1 = Z, 0 = X): (level, start, end)."""
+    out, at = [], None
+    for m in ctx.moves:
+        if m[0] == "feed" and at is not None and abs(m[1][1 - axis] - at[1 - axis]) < 1e-9 \
+                and abs(m[1][axis] - at[axis]) > 1e-6:
+            out.append((m[1][1 - axis], at[axis], m[1][axis]))
+        if m[0] in ("rapid", "feed", "arc"):
+            at = m[1]
+    return out
+
+
+def profile_level(segs, v, axis, sign=1.0):
+    """The contour's coordinate along the level axis (signed by ``sign``: the stock lies
+    toward +sign) where the cut coordinate (``axis``) is ``v``: the highest hit."""
+    best = -math.inf
+    for s in segs:
+        a, b = s.start, s.end
+        lo, hi = sorted((a[axis], b[axis]))
+        if lo - 1e-9 <= v <= hi + 1e-9:
+            if abs(b[axis] - a[axis]) < 1e-12:
+                best = max(best, sign * a[1 - axis], sign * b[1 - axis])
+            else:
+                t = (v - a[axis]) / (b[axis] - a[axis])
+                best = max(best, sign * (a[1 - axis] + t * (b[1 - axis] - a[1 - axis])))
+    return best
+
+
+def assert_no_gouge(ctx, segs, cut_axis, cut_sign, lvl_sign, allowance):
+    """No feed ends inside the contour + allowance (the allowance is a translation by R106
+    toward the stock along the level axis and against the cut)."""
+    checked = 0
+    for m in ctx.moves:
+        if m[0] not in ("feed", "arc"):
+            continue
+        p = m[1]
+        v = p[cut_axis] + cut_sign * allowance - cut_sign * 1e-4  # a point on an offset wall
+        floor = profile_level(segs, v, cut_axis, lvl_sign)      # belongs to the face ahead
+        if floor > -math.inf:
+            assert lvl_sign * p[1 - cut_axis] >= floor + allowance - 1e-6, p
+            checked += 1
+    assert checked > 5
+
+
+def test_lcyc95_longitudinal_external_roughing_levels_and_allowance():
+    ctx = run95(1, SHAFT, (40.0, 5.0))
+    cuts = level_cuts(ctx, 1)
+    # the start level: the contour's top X60 (r 30) + R106 0.5 + R110 1 = r 31.5; equal
+    # depths not over R108 2 down to the deepest contour level r 10 + 0.5: 21 / 11 = 1.909
+    levels = sorted({round(c[0], 6) for c in cuts}, reverse=True)
+    step = 21.0 / 11
+    assert levels[:3] == [round(31.5 - step * k, 6) for k in (1, 2, 3)]
+    assert all(c[2] < c[1] for c in cuts)  # every cut toward -Z
+    assert_no_gouge(ctx, SHAFT, 1, -1.0, 1.0, 0.5)
+    assert ctx.pos == (31.5, 1.5)  # back on the start point
+    assert set(f for f in ctx.feeds) == {0.3}
+
+
+def test_lcyc95_finishing_follows_the_contour_at_the_finishing_feed():
+    ctx = run95(5, SHAFT, (40.0, 5.0))
+    ends = [m[1] for m in ctx.moves if m[0] == "feed"]
+    assert [(round(x, 6), round(z, 6)) for x, z in ends] == \
+        [(10.0, 0.0), (10.0, -20.0), (15.0, -20.0), (20.0, -30.0), (20.0, -50.0), (30.0, -50.0)]
+    assert set(ctx.feeds) == {0.1}
+    assert ctx.pos == (31.5, 1.5)
+
+
+def test_lcyc95_complete_roughs_then_finishes():
+    ctx = run95(9, SHAFT, (40.0, 5.0))
+    assert set(ctx.feeds) == {0.3, 0.1}
+    assert ctx.feeds.index(0.1) > max(i for i, f in enumerate(ctx.feeds) if f == 0.3)
+
+
+def test_lcyc95_contour_written_backwards_is_the_same_job():
+    fwd = run95(1, SHAFT, (40.0, 5.0))
+    back = run95(1, [s.reversed() for s in reversed(SHAFT)], (40.0, 5.0))
+    assert level_cuts(fwd, 1) == level_cuts(back, 1)
+
+
+def test_lcyc95_internal_longitudinal():
+    # a bore from X20: X60 at the front, stepping in to X20 at Z-50
+    hole = chain((60, 0), (60, -20), (50, -20), (40, -30), (40, -50), (20, -50))
+    ctx = run95(3, hole, (5.0, 5.0))
+    cuts = level_cuts(ctx, 1)
+    assert cuts and all(c[2] < c[1] for c in cuts)
+    assert_no_gouge(ctx, hole, 1, -1.0, -1.0, 0.5)
+    levels = sorted({round(c[0], 6) for c in cuts})
+    # start level r 10 - 0.5 - 1 = 8.5; the last level at the deepest r 30 - 0.5
+    assert levels[-1] == pytest.approx(29.5) and levels[0] > 8.5
+
+
+def test_lcyc95_face_external_cuts_along_x():
+    # the front of a flange, X60 down to the centre: Z-10 at the rim, Z0 at the centre
+    face = chain((60, -10), (40, -10), (40, -5), (20, -5), (20, 0), (0, 0))
+    ctx = run95(2, face, (40.0, 10.0))
+    cuts = level_cuts(ctx, 0)
+    assert cuts and all(c[2] < c[1] for c in cuts)  # toward the centre
+    assert_no_gouge(ctx, face, 0, -1.0, 1.0, 0.5)
+    # levels step down in Z from the start level Z0 + 0.5 + 1 toward the rim's Z-10 + 0.5
+    levels = sorted({round(c[0], 6) for c in cuts})
+    assert levels[0] == pytest.approx(-9.5) and levels[-1] < 1.5
+
+
+def test_lcyc95_face_internal_cuts_outward():
+    # an inner face at the bottom of a counterbore: X20 at Z-10 out to X60 at Z0
+    face = chain((20, -10), (40, -10), (40, -5), (60, -5), (60, 0), (80, 0))
+    ctx = run95(4, face, (5.0, 10.0))
+    cuts = level_cuts(ctx, 0)
+    assert cuts and all(c[2] > c[1] for c in cuts)  # outward
+    assert_no_gouge(ctx, face, 0, 1.0, 1.0, 0.5)
+
+
+@pytest.mark.parametrize("r105", [1, 2, 3, 4])
+def test_lcyc95_roughing_ends_with_the_offset_contour(r105):
+    shapes = {1: SHAFT, 3: chain((60, 0), (60, -20), (50, -20), (40, -30), (40, -50), (20, -50)),
+              2: chain((60, -10), (40, -10), (40, -5), (20, -5), (20, 0), (0, 0)),
+              4: chain((20, -10), (40, -10), (40, -5), (60, -5), (60, 0), (80, 0))}
+    segs = shapes[r105]
+    ctx = run95(r105, segs, (45.0, 10.0) if r105 != 3 else (5.0, 10.0))
+    ends = {(round(m[1][0], 6), round(m[1][1], 6)) for m in ctx.moves if m[0] == "feed"}
+    face = r105 in (2, 4)
+    lvl = [0.0, 0.0]
+    lvl[1 if face else 0] = -0.5 if r105 == 3 else 0.5
+    cut = [0.0, 0.0]
+    d = segs[-1].end[0 if face else 1] - segs[0].start[0 if face else 1]
+    cut[0 if face else 1] = 0.5 if d > 0 else -0.5
+    off = (lvl[0] - cut[0], lvl[1] - cut[1])
+    # every corner of the contour + allowance is reached by the last roughing pass
+    for s in segs:
+        p = (round(s.end[0] + off[0], 6), round(s.end[1] + off[1], 6))
+        assert p in ends, p
+
+
+def test_lcyc95_alarms():
+    assert alarm_of("LCYC95", {105: 13, 108: 1}, texts={"_CNAME": "K"}).startswith("61002 ")
+    assert alarm_of("LCYC95", {105: 1, 108: 0}, texts={"_CNAME": "K"}).startswith("61610 ")
+    assert alarm_of("LCYC95", {105: 1, 108: 1}).startswith("61606 ")
+    under = chain((20, 0), (20, -20), (30, -10), (40, -30))  # turns back toward +Z
+    msg = alarm_of("LCYC95", {105: 1, 108: 1}, pos=(40.0, 5.0), texts={"_CNAME": "K"},
+                   contours={"K": items(under, (40.0, 5.0))})
+    assert msg.startswith("61605 ") and "line 11" in msg
+    assert alarm_of("LCYC95", {105: 1, 108: 1}, texts={"_CNAME": "K"},
+                    diameter_mode=False).startswith("17040 ")
+
+
+# --------------------------------------------------------------------------- LCYC97
+
+
+def test_thread_depths_constant_area_sum_to_depth():
+    d = sc.thread_depths(1.3, 0.1, 6)
+    assert len(d) == 7 and d[-1] == pytest.approx(1.3) and d[-2] == pytest.approx(1.2)
+    # constant chip area: the n-th depth squared grows linearly
+    sq = [x * x for x in d[:6]]
+    assert all(b - a == pytest.approx(sq[0]) for a, b in zip([0.0] + sq, sq))
+
+
+def test_lcyc97_external_thread_passes():
+    r = {100: 42, 101: 0, 102: 42, 103: -35, 104: 2, 105: 1, 106: 0.1, 109: 4, 110: 2,
+         111: 1.23, 112: 0, 113: 4, 114: 1}
+    ctx = run("LCYC97", r, (30.0, 10.0))
+    threads = [m for m in ctx.moves if m[0] == "thread"]
+    assert len(threads) == 5
+    ends = [m[1] for m in threads]
+    assert all(z == pytest.approx(-37.0) for _, z in ends)  # R103 + run-out R110
+    depths = [21.0 - x for x, _ in ends]
+    assert depths[-1] == pytest.approx(1.23) and depths[-2] == pytest.approx(1.13)
+    # every pass starts at the run-in point Z4 on its own depth
+    starts = [ctx.moves[i - 1][1] for i, m in enumerate(ctx.moves) if m[0] == "thread"]
+    assert all(z == pytest.approx(4.0) for _, z in starts)
+    assert [21.0 - x for x, _ in starts] == pytest.approx(depths)
+    assert all(m[2] == 2 for m in threads)
+    assert ctx.pos == pytest.approx((22.0, 4.0))
+
+
+def test_lcyc97_taper_multi_start_internal():
+    r = {100: 30, 101: 0, 102: 34, 103: -20, 104: 3, 105: 2, 106: 0, 109: 0, 110: 0,
+         111: 1, 112: 30, 113: 2, 114: 2}
+    ctx = run("LCYC97", r, (10.0, 5.0))
+    threads = [m for m in ctx.moves if m[0] == "thread"]
+    assert len(threads) == 4
+    assert [m[3] for m in threads] == [30.0, 210.0, 30.0, 210.0]
+    starts = [ctx.moves[i - 1][1] for i, m in enumerate(ctx.moves) if m[0] == "thread"]
+    # internal: the crest is the bore R100/R102; the passes go outward to crest + R111
+    assert starts[-1] == pytest.approx((16.0, 0.0))
+    assert threads[-1][1] == pytest.approx((18.0, -20.0))
+
+
+def test_lcyc97_alarms():
+    r = {100: 42, 101: 0, 102: 42, 103: -35, 104: 2, 105: 1, 111: 1.2, 113: 3, 114: 1}
+    assert alarm_of("LCYC97", {**r, 105: 3}).startswith("61002 ")
+    assert alarm_of("LCYC97", {**r, 104: 0}).startswith("61001 ")
+    assert "R111" in alarm_of("LCYC97", {**r, 111: 0})
+    assert "R113" in alarm_of("LCYC97", {**r, 113: 0})
+    assert alarm_of("LCYC97", r, diameter_mode=False).startswith("17040 ")
+
+
+# --------------------------------------------------------------------------- LCYC93
+
+
+def groove_ctx(r105=1, over=None):
+    r = {100: 40, 101: -20, 105: r105, 106: 0.2, 107: 3, 108: 2, 114: 10, 115: 4, 116: 0,
+         117: 0, 118: 0, 119: 0.5}
+    r.update(over or {})
+    return run("LCYC93", r, (25.0, 0.0))
+
+
+def test_lcyc93_external_groove_covers_width_and_depth():
+    ctx = groove_ctx()
+    feeds = [m[1] for m in ctx.moves if m[0] == "feed"]
+    xs = [x for x, _ in feeds]
+    zs = [z for _, z in feeds]
+    # the finished groove: X40 -> 4 deep (r 16), Z-20 .. Z-10 with a 3 mm tool: the tool's
+    # reference corner spans Z-20 .. Z-13 and reaches r 16 exactly, never deeper
+    assert min(xs) == pytest.approx(16.0)
+    assert min(zs) == pytest.approx(-20.0) and max(zs) == pytest.approx(-13.0)
+    # roughing plunges: 2 mm infeeds to 4 - 0.2 deep with a 1 mm back-off between
+    rough = [x for x in xs if x > 16.0 + 1e-9]
+    assert pytest.approx(16.2) in rough and pytest.approx(19.0) in rough
+    cols = sorted({round(z, 6) for (x, z) in feeds if abs(x - 16.2) < 1e-9})
+    assert cols[0] == pytest.approx(-19.8) and cols[-1] == pytest.approx(-13.2)
+    assert all(b - a <= 3.0 + 1e-9 for a, b in zip(cols, cols[1:]))
+    assert any(m[0] == "dwell" and m[1] == 0.5 for m in ctx.moves)
+    assert ctx.pos == pytest.approx((21.0, -20.0))
+
+
+def test_lcyc93_right_start_and_internal_mirror():
+    right = groove_ctx(5)
+    zs = [m[1][1] for m in right.moves if m[0] == "feed"]
+    assert max(zs) == pytest.approx(-20.0) and min(zs) == pytest.approx(-27.0)
+    internal = run("LCYC93", {100: 40, 101: -20, 105: 3, 107: 3, 108: 2, 114: 10, 115: 4},
+                   (15.0, 0.0))
+    xs = [m[1][0] for m in internal.moves if m[0] == "feed"]
+    assert max(xs) == pytest.approx(24.0)
+
+
+def test_lcyc93_angled_flanks_and_chamfers_stay_in_the_form():
+    ctx = groove_ctx(1, {116: 15, 117: 0.5, 118: 0.5})
+    t = math.tan(math.radians(15))
+    for m in ctx.moves:
+        if m[0] != "feed":
+            continue
+        x, z = m[1]
+        d = 20.0 - x
+        if d <= 1e-9:
+            continue
+        w = z + 20.0  # the reference corner; the tool spans w .. w + 3
+        assert w >= d * t - 1e-6 - 0.5 and w + 3 <= 10 - d * t + 1e-6 + 0.5
+
+
+def test_lcyc93_alarms():
+    assert alarm_of("LCYC93", {105: 9, 107: 3, 114: 10, 115: 4}).startswith("61002 ")
+    assert alarm_of("LCYC93", {105: 1, 107: 12, 114: 10, 115: 4}).startswith("61602 ")
+    assert alarm_of("LCYC93", {105: 1, 107: 3, 114: 10, 115: 4, 116: 60}).startswith("61603 ")
+    assert alarm_of("LCYC93", {105: 1, 107: 3, 114: 0, 115: 4}).startswith("61603 ")
+    assert alarm_of("LCYC93", {105: 1, 107: 3, 114: 10, 115: 4},
+                    diameter_mode=False).startswith("17040 ")
