@@ -439,3 +439,40 @@ def test_lcyc93_alarms():
     assert alarm_of("LCYC93", {105: 1, 107: 3, 114: 0, 115: 4}).startswith("61603 ")
     assert alarm_of("LCYC93", {105: 1, 107: 3, 114: 10, 115: 4},
                     diameter_mode=False).startswith("17040 ")
+
+
+# --------------------------------------------------------------------------- LCYC94
+
+
+def test_lcyc94_form_e_external_shoulder_on_the_left():
+    # a shaft X40 meeting a shoulder face at Z-30 that lies toward -Z: tip position 3
+    ctx = run("LCYC94", {100: 40, 101: -30, 105: 55, 107: 3}, (30.0, 0.0))
+    pts = [m[1] for m in ctx.moves if m[0] in ("feed", "arc")]
+    # DIN 509 for 18 < d <= 80: r 0.6, t 0.3, f 2.5; the run-out at 15 degrees
+    assert pts[0] == pytest.approx((20.0, -27.5))
+    run_out = 0.3 / math.tan(math.radians(15))
+    assert pts[1] == pytest.approx((19.7, -27.5 - run_out))
+    assert pts[2] == pytest.approx((19.7, -29.4))
+    assert pts[3] == pytest.approx((20.3, -30.0))  # the radius ends on the shoulder face
+    assert [m[0] for m in ctx.moves if m[0] in ("feed", "arc")][3] == "arc"
+    assert min(p[0] for p in pts) == pytest.approx(19.7)  # never deeper than t
+    assert max(p[1] for p in pts) <= -27.5 + 1e-9 and min(p[1] for p in pts) >= -30.0 - 1e-9
+    assert ctx.pos == pytest.approx((21.0, -26.5))
+
+
+def test_lcyc94_form_f_cuts_into_the_face_internal_mirror():
+    # a bore X60 against a face at Z-20 toward -Z, boring bar: tip position 2 (+X, -Z)
+    ctx = run("LCYC94", {100: 60, 101: -20, 105: 56, 107: 2}, (20.0, 5.0))
+    pts = [m[1] for m in ctx.moves if m[0] in ("feed", "arc")]
+    assert max(p[0] for p in pts) == pytest.approx(30.3)  # into the bore wall by t
+    assert min(p[1] for p in pts) == pytest.approx(-20.2)  # into the face by t2
+    face = [p for p in pts if abs(p[1] + 20.0) < 1e-9]
+    assert face  # the 8 degree flank comes back to the face plane
+
+
+def test_lcyc94_alarms():
+    assert alarm_of("LCYC94", {100: 40, 105: 57, 107: 3}).startswith("61609 ")
+    assert alarm_of("LCYC94", {100: 40, 105: 55, 107: 5}).startswith("61608 ")
+    assert alarm_of("LCYC94", {100: 2, 105: 55, 107: 3}).startswith("61601 ")
+    assert alarm_of("LCYC94", {100: 40, 105: 55, 107: 3},
+                    diameter_mode=False).startswith("17040 ")

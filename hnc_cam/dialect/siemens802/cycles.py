@@ -20,6 +20,7 @@ from typing import Any, Callable, Optional
 from ...geometry.corner import CornerError, corner
 from ...geometry.primitives import Arc, Line, Point, reverse_chain
 from ...geometry.roughing import RoughingError, first_non_monotonic, rough_turn
+from ...geometry.tip import tip_direction
 from ...nc.cycles_simple import thread_passes
 from ..fanuc0it.cycles import peck_moves
 
@@ -615,6 +616,78 @@ def lcyc93(ctx: Any) -> None:
     legs.rapid(world(0.0, top))
 
 
+# --------------------------------------------------------------------------- LCYC94
+
+#: DIN 509 undercut sizes by finished diameter (series 1 of the standard): (diameter up to,
+#: radius r, depth t1, length f, face depth t2 of form F)
+UNDERCUTS = ((18.0, 0.6, 0.2, 2.0, 0.1), (80.0, 0.6, 0.3, 2.5, 0.2),
+             (math.inf, 1.0, 0.4, 4.0, 0.3))
+#: the run-out flank toward the shaft and the face flank of form F (degrees, DIN 509)
+UNDERCUT_RUNOUT = 15.0
+UNDERCUT_FACE = 8.0
+#: LCYC94 starts and ends this far (mm) outside the shaft and beyond the undercut's length
+UNDERCUT_CLEARANCE = 1.0
+
+
+def undercut_outline(form: str, diameter: float) -> list:
+    """The finished DIN 509 undercut (form ``"E"`` or ``"F"``) in its own frame: ``a`` along
+    the shaft away from the shoulder face (a = 0 on the face), ``d`` into the shaft (d = 0
+    on its surface). Items: ``("line", end)`` and ``("arc", end, centre)`` from the point
+    where the run-out leaves the shaft surface to the point where the outline meets the
+    shoulder face again."""
+    r, t, f, t2 = next((r, t, f, t2) for top, r, t, f, t2 in UNDERCUTS if diameter <= top)
+    back = t2 if form == "F" else 0.0
+    out = [("line", (f, 0.0)), ("line", (f - t / math.tan(math.radians(UNDERCUT_RUNOUT)), t)),
+           ("line", (r - back, t)), ("arc", (-back, t - r), (r - back, t - r))]
+    if back:
+        out.append(("line", (0.0, t - r - back / math.tan(math.radians(UNDERCUT_FACE)))))
+    return out
+
+
+def lcyc94(ctx: Any) -> None:
+    """Undercut form E or F (DIN 509) at the corner (R100, R101) in the direction of the tool
+    tip R107: rapid to the start point, the outline in one feed pass, rapid back."""
+    _need_g23(ctx)
+    form = {55.0: "E", 56.0: "F"}.get(_r(ctx, 105))
+    if form is None:
+        _alarm(ctx, 61609, f"R105={_r(ctx, 105):g}: the form must be 55 (E) or 56 (F)")
+    tip = _r(ctx, 107)
+    if tip not in (1.0, 2.0, 3.0, 4.0):
+        _alarm(ctx, 61608, f"R107={tip:g}: the tool point position must be 1-4 for an undercut")
+    diameter = _r(ctx, 100)
+    if diameter < 3.0:
+        _alarm(ctx, 61601, f"R100={diameter:g}: the finished diameter must be at least 3 mm")
+    sx, sz = tip_direction(int(tip))
+    x0, z0 = diameter / 2.0, _r(ctx, 101)
+
+    def world(a: float, d: float) -> Point:
+        return (x0 + sx * d, z0 - sz * a)
+
+    outline = undercut_outline(form, diameter)
+    length = outline[0][1][0]
+    start = world(length + UNDERCUT_CLEARANCE, -UNDERCUT_CLEARANCE)
+    legs = _Legs(ctx)
+    p = ctx.pos
+    if sx * (p[0] - start[0]) > 1e-9:  # inside the shaft's diameter: out along X first
+        legs.rapid((start[0], p[1]))
+    legs.rapid(start)
+    legs.rapid(world(length + UNDERCUT_CLEARANCE, 0.0))
+    for item in outline:
+        end = world(*item[1])
+        if item[0] == "line":
+            legs.feed(end)
+            continue
+        c = world(*item[2])
+        arc = Arc(legs.at, end, c, True)
+        if abs(arc.sweep) > math.pi:
+            arc = Arc(legs.at, end, c, False)
+        legs.arc(arc)
+    a_face = outline[-1][1]
+    if a_face[1] > -UNDERCUT_CLEARANCE:
+        legs.feed(world(0.0, -UNDERCUT_CLEARANCE))
+    legs.rapid(start)
+
+
 # --------------------------------------------------------------------------- table
 
 CYCLES: dict[str, Callable[[Any], None]] = {
@@ -623,6 +696,7 @@ CYCLES: dict[str, Callable[[Any], None]] = {
     "LCYC840": lcyc840,
     "LCYC85": lcyc85,
     "LCYC93": lcyc93,
+    "LCYC94": lcyc94,
     "LCYC95": lcyc95,
     "LCYC97": lcyc97,
 }
