@@ -24,8 +24,10 @@ def cli(*args, cwd=None):
 # ------------------------------------------------------------------------------ registry
 
 def test_registry_names_and_values():
-    assert dialect.names() == ("hnc21t", "fanuc0it", "haas")
-    h, f, a = (dialect.get(n) for n in dialect.names())
+    assert dialect.names() == ("hnc21t", "fanuc0it", "haas", "siemens802")
+    h, f, a, s = (dialect.get(n) for n in dialect.names())
+    assert (s.name, s.title, s.templates, s.template_fallback) == (
+        "siemens802", "SINUMERIK 802S/802C (turning)", "siemens802", None)
     assert (h.name, h.templates, h.template_fallback) == ("hnc21t", "hnc21t", None)
     assert (f.name, f.title, f.templates, f.template_fallback) == (
         "fanuc0it", "FANUC 0i-T (G-code system A)", "fanuc0it", None)

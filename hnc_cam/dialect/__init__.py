@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 from typing import Any, Callable, Mapping, Optional
 
 DEFAULT = "hnc21t"
-_NAMES = ("hnc21t", "fanuc0it", "haas")
+_NAMES = ("hnc21t", "fanuc0it", "haas", "siemens802")
 
 
 @dataclass(frozen=True)
@@ -125,6 +125,12 @@ _IF_GOTO = re.compile(r"IF\s*\[.*\]\s*GOTO\s*[#\d\[]")
 _GOTO = re.compile(r"(?:^|[\s\d\]])GOTO\s*[#\d\[]")
 _COMMA_CORNER = re.compile(r"[\d.]\s*,\s*[CR]\s*[-+]?[\d.]")
 _DO_END = re.compile(r"\bDO\s*[123]\b")
+_SIEMENS = "looks like a SINUMERIK 802 program ({why}): try --dialect siemens802"
+_S_HEADER = re.compile(r"%_N_\w+_(?:MPF|SPF)\s*$")
+_S_WORDS = ((re.compile(r"(?:^|[\s\d])R\d{1,3}\s*=\s*[-+(\dR.]"), "R parameter assignments Rn="),
+            (re.compile(r"\bLCYC\d{2,3}\b"), "an LCYC cycle call"),
+            (re.compile(r"\bGOTO[FB]\b"), "GOTOF/GOTOB"),
+            (re.compile(r"(?:^|[\s\d])(?:CR|AR|RND|CHF|LIMS)\s*=\s*[-+\d.R]"), "CR=/AR=/RND=/CHF=/LIMS= words"))
 
 
 def _strip_comment(s: str) -> str:
@@ -147,6 +153,14 @@ def sniff(text: str) -> Optional[str]:
     body = [(i, s) for i, s in body if s]
     if not body:
         return None
+    for i, s in body:
+        if s.startswith("%_N_") and _S_HEADER.match(s):
+            return _SIEMENS.format(why=f"a program header {s.split()[0]}")
+    for i, s in body:
+        if "=" in s or "LCYC" in s or "GOTO" in s:
+            for rx, why in _S_WORDS:
+                if rx.search(s):
+                    return _SIEMENS.format(why=why)
     # FANUC framing: '%' alone, then an O number
     if body[0][1] == "%" and len(body) > 1 and _O_HEADER.match(body[1][1]):
         return _FANUC.format(why=f"% then {body[1][1].split()[0]}")

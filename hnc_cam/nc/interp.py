@@ -1664,6 +1664,19 @@ class Interp(HncMemory):
             raise self.balarm(b, f"profile start block N{ns} (P) not found in this program", "P")
         if i_nf is None:
             raise self.balarm(b, f"profile end block N{nf} (Q) not found after N{ns} in this program", "Q")
+        out, letters = self._dry_run(i_ns, i_nf, b, f"N{ns}")
+        self.prof_letters = (ns, nf, b.stmt, letters)
+        return out
+
+    def dry_run(self, i_ns: int, i_nf: int, b: Blk) -> list:
+        """The statements ``i_ns``..``i_nf`` dry-run as a profile (:meth:`profile` by statement
+        index: a dialect's contour subprogram)."""
+        src = self.src
+        n = _n_of(src.text[i_ns])
+        return self._dry_run(i_ns, i_nf, b, f"N{n}" if n is not None else f"on line {src.lineno[i_ns]}")[0]
+
+    def _dry_run(self, i_ns: int, i_nf: int, b: Blk, first: str) -> tuple[list, list]:
+        src = self.src
         snap = [getattr(self, k) for k in self._STATE]
         snap_ms = ModalState.of(self)
         snap_cw = dict(self.cyc_words)
@@ -1690,7 +1703,7 @@ class Interp(HncMemory):
                 if r == 3:
                     raise self.balarm(c, "M02/M30 inside the profile of a compound cycle", "M")
                 if i == i_ns and self.motion not in (0, 1):
-                    raise self.balarm(c, f"the first profile block N{ns} must be G00 or G01", "G")
+                    raise self.balarm(c, f"the first profile block {first} must be G00 or G01", "G")
             if self.corner is not None:
                 self._corner_not_followed()
             out = self.dry
@@ -1701,8 +1714,7 @@ class Interp(HncMemory):
             snap_ms.apply(self)
             self.cyc_words = snap_cw
             self.blocks = blocks
-        self.prof_letters = (ns, nf, b.stmt, letters)
-        return out
+        return out, letters
 
 
 def _missing(module: str) -> bool:
@@ -1735,6 +1747,8 @@ class CycleCtx:
         self._b = b
         self._w = words
         self.code = code
+        #: the cycle's name: the label of its moves (``G71``; a SINUMERIK cycle ``LCYC95``)
+        self.name = f"G{code}"
         self.line = b.line
         self.incremental = not it.absolute
         self.diameter_mode = it.diam
@@ -1769,8 +1783,32 @@ class CycleCtx:
             got = it.prof_letters
         return list(got[3])
 
+    # -- SINUMERIK 802 cycles: R parameters, text variables, contour subprograms, plane, tool
+    def r(self, n: int) -> float:
+        """R parameter ``n`` (0.0 when never written)."""
+        return self._it.r(n)
+
+    def set_r(self, n: int, value: float) -> None:
+        self._it.set_r(n, value)
+
+    def text(self, name: str) -> Optional[str]:
+        """A string variable (``_CNAME``), None when never assigned."""
+        return self._it.texts.get(name.upper())
+
+    def contour(self, name: str) -> list:
+        """The subprogram ``name`` dry-run as a profile (the value of :meth:`profile`)."""
+        return self._it.contour(str(name).upper(), self._b)
+
+    @property
+    def plane(self) -> int:
+        return getattr(self._it, "plane", 18)
+
+    def tool_nose(self) -> tuple:
+        """(nose radius, tip direction) of the active tool edge; (0.0, 0) without one."""
+        return self._it.tool_nose()
+
     def _op(self):
-        self._it.op = f"G{self.code}"
+        self._it.op = self.name
 
     def rapid(self, x: float, z: float) -> None:
         it = self._it
@@ -1845,7 +1883,7 @@ class CycleCtx:
         x, z = it.x + it.tdx, it.z + it.tdz
         it.moves.append(Move("dwell", (x, z), (x, z), self.line, None, None, None, it.tool, it.reg,
                              it._rpm(it.x), it.sdir, it.coolant, float(seconds), 0.0, 0.0, 0.0,
-                             f"G{self.code}", it.comp))
+                             self.name, it.comp))
 
 
 # ------------------------------------------------------------------------------------------
