@@ -476,3 +476,183 @@ def test_lcyc94_alarms():
     assert alarm_of("LCYC94", {100: 2, 105: 55, 107: 3}).startswith("61601 ")
     assert alarm_of("LCYC94", {100: 40, 105: 55, 107: 3},
                     diameter_mode=False).startswith("17040 ")
+
+
+def test_lcyc95_finishing_compensates_the_nose_radius():
+    # a taper X30 Z-20 -> X40 Z-30 finished with a 0.8 mm nose, tip 3: the imaginary tip
+    # runs parallel to the taper, shifted so that the nose touches it (G42 for an OD cut)
+    class Nose(Ctx802):
+        def tool_nose(self):
+            return (0.8, 3)
+
+    segs = chain((20, 0), (20, -20), (30, -20), (40, -30), (40, -50), (60, -50))
+    ctx = Nose("LCYC95", {105: 5, 110: 1, 112: 0.1}, (40.0, 5.0), texts={"_CNAME": "K"},
+               contours={"K": items(segs, (40.0, 5.0))})
+    sc.CYCLES["LCYC95"](ctx)
+    feeds = [m[1] for m in ctx.moves if m[0] in ("feed", "arc")]
+    # on the cylinders and faces the tip P lies on the contour (tip 3 touches both axes)
+    assert any(abs(x - 10.0) < 1e-9 for x, z in feeds)
+    assert any(abs(x - 20.0) < 1e-9 for x, z in feeds)
+    # on the taper X30 Z-20 -> X40 Z-30 the nose centre (P + (r, r) for tip 3) runs r off the
+    # line, on the stock side
+    kinds = [m[0] for m in ctx.moves if m[0] in ("feed", "arc")]
+    i = next(k for k, (x, z) in enumerate(feeds) if kinds[k] == "feed" and 19.0 < x < 21.0
+             and -31.0 < z < -29.0)
+    ux, uz = 5 / math.sqrt(125), -10 / math.sqrt(125)
+    for x, z in (feeds[i - 1], feeds[i]):
+        cx, cz = x + 0.8 - 15.0, z + 0.8 + 20.0
+        assert cx * uz - cz * ux == pytest.approx(-0.8)
+    assert ctx.pos == (31.0, 1.0)
+
+
+# --------------------------------------------------------------------------- end to end
+
+
+def run802(text: str):
+    """Run a program through the 802 reader (skips while the dialect is not registered)."""
+    from hnc_cam import dialect, nc
+    if "siemens802" not in dialect.names():
+        pytest.skip("the siemens802 dialect is not registered yet")
+    return nc.run(text, dialect="siemens802")
+
+
+def cyc(tp, name):
+    return [m for m in tp.moves if m.op == name]
+
+
+def ends(moves):
+    return [(m.kind, (round(m.end[0], 6), round(m.end[1], 6))) for m in moves]
+
+
+LCYC82_DOC = """%_N_LCYC82_MPF
+N10 G0 G18 G90 F500 T2 D1 S500 M4 ;
+N20 Z110 X0
+N25 G17
+N30 R101=110 R102=4 R103=102 R104=75
+N35 R105=2
+N40 LCYC82
+N50 M2
+"""
+
+LCYC83_DOC = """%_N_LCYC83_MPF
+N100 G0 G18 G90 T4 S500 M3
+N110 Z155
+N120 X0
+N125 G17
+N130 R101=155 R102=1 R103=150 R104=5 R105=0 R109=0 R110=100
+N135 R111=20 R107=500 R127=1 R108=400
+N140 LCYC83
+N199 M2
+"""
+
+LCYC840_DOC = """%_N_LCYC840_MPF
+N10 G0 G17 G90 S300 M3 D1 T1
+N20 X35 Z60
+N30 R101=60 R102=2 R103=56 R104=15 R105=1
+N40 R106=0.5 R126=3
+N45 LCYC840
+N50 M2
+"""
+
+
+def test_document_lcyc82_runs():
+    tp = run802(LCYC82_DOC)
+    moves = cyc(tp, "LCYC82")
+    assert ends(moves) == [("rapid", (0.0, 106.0)), ("line", (0.0, 75.0)), ("dwell", (0.0, 75.0)),
+                           ("rapid", (0.0, 110.0))]
+    assert moves[2].duration == pytest.approx(2.0)
+
+
+def test_document_lcyc83_runs():
+    tp = run802(LCYC83_DOC)
+    lines = [m.end[1] for m in cyc(tp, "LCYC83") if m.kind == "line"]
+    assert lines == pytest.approx([100.0, 70.0, 50.0, 30.0, 17.5, 5.0])
+    assert cyc(tp, "LCYC83")[-1].end == pytest.approx((0.0, 155.0))
+
+
+def test_document_lcyc840_runs():
+    tp = run802(LCYC840_DOC)
+    moves = cyc(tp, "LCYC840")
+    assert [m.kind for m in moves] == ["rapid", "thread", "thread", "rapid"]
+    assert moves[1].end == pytest.approx((17.5, 15.0)) and moves[2].end == pytest.approx((17.5, 58.0))
+
+
+STEPPED = """%_N_SHAFT_MPF
+;$PATH=/_N_MPF_DIR
+N10 G18 G23 G90 G95 T1 D1 S800 M3
+N20 G0 X50 Z5
+N30 _CNAME="KONTUR1"
+N40 R105=9 R106=0.3 R108=1.5 R109=0 R110=1 R111=0.25 R112=0.1
+N50 LCYC95
+N60 G0 X80 Z50
+N70 M2
+%_N_KONTUR1_SPF
+;$PATH=/_N_SPF_DIR
+N100 G1 X16 Z0
+N110 X20 Z-2
+N120 Z-20
+N130 G3 X30 Z-25 CR=5
+N140 G1 X36 Z-40
+N150 Z-60
+N160 X46
+N170 RET
+"""
+
+
+def test_lcyc95_program_verifies_against_its_part():
+    from hnc_cam.geometry import TurnedProfile
+    from hnc_cam.sim import simulate, verify
+    from hnc_cam.tooling import Stock
+    tp = run802(STEPPED)
+    assert cyc(tp, "LCYC95") and not tp.warnings
+    prof = TurnedProfile(outside=[
+        Line((0, 0), (8, 0)), Line((8, 0), (10, -2)), Line((10, -2), (10, -20)),
+        Arc((10, -20), (15, -25), (10, -25), False), Line((15, -25), (18, -40)),
+        Line((18, -40), (18, -60)), Line((18, -60), (0, -60))], name="stepped")
+    m = simulate(tp, Stock.parse("45x62+0"), None, model=prof)
+    rep = verify(m, prof, tol=0.01)
+    assert rep.passed, rep.summary()
+    assert rep.max_overcut_mm <= 0.01 and rep.max_undercut_mm <= 0.01
+
+
+def test_lcyc95_roughing_only_leaves_the_allowance():
+    from hnc_cam.geometry import TurnedProfile
+    from hnc_cam.sim import simulate, verify
+    from hnc_cam.tooling import Stock
+    tp = run802(STEPPED.replace("R105=9", "R105=1"))
+    prof = TurnedProfile(outside=[
+        Line((0, 0), (8, 0)), Line((8, 0), (10, -2)), Line((10, -2), (10, -20)),
+        Arc((10, -20), (15, -25), (10, -25), False), Line((15, -25), (18, -40)),
+        Line((18, -40), (18, -60)), Line((18, -60), (0, -60))], name="stepped")
+    m = simulate(tp, Stock.parse("45x62+0"), None, model=prof)
+    rep = verify(m, prof, tol=0.01)
+    # the allowance is left (the part is not finished) and nothing is cut into it
+    assert not rep.passed and rep.max_overcut_mm <= 0.01
+
+
+def test_lcyc95_contour_alarm_names_the_line():
+    bad = STEPPED.replace("N140 G1 X36 Z-40", "N140 G1 X36 Z-10")  # runs back toward +Z
+    from hnc_cam.errors import NCError
+    with pytest.raises(NCError) as exc:
+        run802(bad)
+    assert "61605" in str(exc.value) and "line 16" in str(exc.value)  # N140
+
+
+def test_lcyc97_and_lcyc93_in_a_program():
+    tp = run802("""%_N_T_MPF
+N10 G18 G23 G90 G95 T1 D1 S500 M3
+N20 G0 X50 Z10
+N30 R100=42 R101=0 R102=42 R103=-30 R104=2 R105=1 R106=0.05 R109=4 R110=2
+N40 R111=1.23 R112=0 R113=5 R114=1
+N50 LCYC97
+N60 G0 X50 Z-30
+N70 R100=42 R101=-40 R105=1 R106=0.1 R107=3 R108=1 R114=8 R115=3 R116=0 R117=0 R118=0 R119=0
+N80 LCYC93
+N90 M2
+""")
+    th = [m for m in cyc(tp, "LCYC97") if m.kind == "thread"]
+    assert len(th) == 6 and th[-1].end == pytest.approx((21.0 - 1.23, -32.0))
+    gr = [m for m in cyc(tp, "LCYC93") if m.kind == "line"]
+    assert min(m.end[0] for m in gr) == pytest.approx(18.0)
+    assert min(m.end[1] for m in gr) == pytest.approx(-40.0)
+    assert max(m.end[1] for m in gr) == pytest.approx(-35.0)

@@ -21,6 +21,7 @@ from ...geometry.corner import CornerError, corner
 from ...geometry.primitives import Arc, Line, Point, reverse_chain
 from ...geometry.roughing import RoughingError, first_non_monotonic, rough_turn
 from ...geometry.tip import tip_direction
+from ...nc.compensation import CompItem, compensate_moves
 from ...nc.cycles_simple import thread_passes
 from ..fanuc0it.cycles import peck_moves
 
@@ -390,19 +391,36 @@ def lcyc95(ctx: Any) -> None:
         legs.rapid(a)
     if stage != 0:
         legs.rapid(e)
-        legs.feed(p0, f_finish)
-        for s, m in zip(segs, motions):
+        p = list(segs[-1].end)
+        p[lvl_axis] = lvl_sign * (level(segs[-1].end) + retract)
+        out = (p[0], p[1])
+        radius, tip = ctx.tool_nose() if hasattr(ctx, "tool_nose") else (0.0, 0)
+        if radius > 0:
+            # the tool nose radius compensation of the finishing pass: the tool on the stock
+            # side of the contour, G41 or G42 by the cutting direction (view Z right, X up)
+            side = 41 if -cut_vec[0] * lvl_vec[1] + cut_vec[1] * lvl_vec[0] > 0 else 42
+            items = [CompItem(Line(e, p0), "feed", lines[0], "start", None)]
+            items += [CompItem(sg, m, ln, "normal", None) for sg, m, ln in zip(segs, motions, lines)]
+            items.append(CompItem(Line(segs[-1].end, out), "rapid", lines[-1], "cancel", None))
+            path = compensate_moves(items, radius, int(tip), side)
+            for it in items:
+                for note in it.notes:
+                    ctx.warn(f"{_name(ctx)}: {note}")
+            path = [(sg, it.kind) for sg, it in path]
+        else:
+            path = [(Line(e, p0), "feed")] + list(zip(segs, motions)) + \
+                [(Line(segs[-1].end, out), "rapid")]
+        for sg, m in path:
             if m == "rapid":
-                legs.rapid(s.end)
-            elif isinstance(s, Arc):
-                legs.arc(s, f_finish)
+                legs.rapid(sg.end)
+            elif isinstance(sg, Arc):
+                legs.arc(sg, f_finish)
             else:
-                legs.feed(s.end, f_finish)
-        p = list(legs.at)
-        p[lvl_axis] = lvl_sign * (level(legs.at) + retract)
-        legs.rapid((p[0], p[1]))
-        p[lvl_axis] = a[lvl_axis]
-        legs.rapid((p[0], p[1]))
+                legs.feed(sg.end, f_finish)
+        legs.rapid(out)
+        q = list(out)
+        q[lvl_axis] = a[lvl_axis]
+        legs.rapid((q[0], q[1]))
         legs.rapid(a)
 
 
