@@ -59,7 +59,7 @@ MESSAGES = {"unknown_g": "unknown G code G{g} (SINUMERIK 802S/802C turning)",
             "range_ref": "SINUMERIK 802S/802C"}
 #: motion-group codes that are not G0-G3 (the executor hands them to SiemensInterp._cycle)
 CYCLE_MOTION = frozenset({5, 33})
-POWER_ON = {1: 0, 9: 40, 11: 500, 8: 71, 3: 90, 14: 95, 16: 18, 2: 23}
+POWER_ON = {1: 0, 9: 40, 11: 500, 8: 71, 3: 90, 14: 94, 16: 18, 2: 23}
 #: word ranges of the document's address table (min, max, whole number)
 RANGES: dict[str, tuple[float, float, bool]] = {
     "G": (0, 999, True), "M": (0, 99, True), "N": (0, 9999, True), "T": (0, 32000, True),
@@ -99,7 +99,9 @@ class SiemensInterp(SiemensMemory, Interp):
         self.lims: Optional[float] = None  # G96 LIMS=
         self.s_min = 0.0  # G25
         self.s_max: Optional[float] = None  # G26
-        self.g158x = self.g158z = 0.0
+        #: G158 X Z: the programmable offset (radius, z) added to absolute targets; the toolpath
+        #: stays in the settable work system (G54-G57), where the part is
+        self.g158: Optional[tuple[float, float]] = None
         self.chf: Optional[float] = None  # CHF= of the pending corner (its chamfer length)
         self.thread_start: Optional[tuple] = None  # (x, z, angle) where a G33 chain may go on
         self.ext: dict[str, int] = {}  # subprograms read from files beside the program
@@ -128,7 +130,10 @@ class SiemensInterp(SiemensMemory, Interp):
     def _compile(self, i: int):
         call = self.src.calls.get(i) if hasattr(self.src, "calls") else None
         if call is None:
-            return Interp._compile(self, i)
+            b = Interp._compile(self, i)
+            if b.__class__ is Blk and not b.plain and ("AR" in b.letters or "CR" in b.letters):
+                b.axes = True  # G2 I.. K.. AR=..: the arc moves without X/Z words
+            return b
         b = Blk(i, self.src.lineno[i], self.src.text[i])
         b.plain = False
         b.letters = frozenset({"L"})
@@ -197,10 +202,9 @@ class SiemensInterp(SiemensMemory, Interp):
                 L = sorted(extra)[0]
                 raise self.balarm(b, f"word {L} has no meaning in a G158 block (G158 X.. Z..)", L)
             u = self.unit
-            self.g158x = w.get("X", 0.0) * u  # always a radius (the document)
-            self.g158z = w.get("Z", 0.0) * u
-            self.g52x, self.g52z = self.g158x, self.g158z
-            self._set_origin()
+            # always a radius (the document); a later G158 replaces it, G158 alone cancels it
+            gx, gz = w.get("X", 0.0) * u, w.get("Z", 0.0) * u
+            self.g158 = (gx, gz) if (gx or gz) else None
         return None
 
     def _home(self, b: Blk, g: int, w: dict) -> None:
@@ -231,6 +235,11 @@ class SiemensInterp(SiemensMemory, Interp):
         r = Interp._gcodes(self, b, gs)
         for g in gs:
             if 94 <= g <= 97:
+                if self.css and g != 96:
+                    # G96 off: the spindle keeps the speed it last turned at (the document)
+                    sdir, self.sdir = self.sdir, 3
+                    self.s_rpm = self._rpm(self.x)
+                    self.sdir = sdir
                 if g == 94:
                     self.per_rev, self.css = False, False
                 elif g == 95:
@@ -348,7 +357,38 @@ class SiemensInterp(SiemensMemory, Interp):
         Interp._dwell(self, b, {"P": seconds})
 
     # -- motion --------------------------------------------------------------------------------
+    def _target(self, b: Blk, w: dict, g53: bool = False) -> tuple[float, float]:
+        """X/Z targets: in G90 X is a diameter in G23 (a radius in G22); in G91 an X
+        increment is a radius value (the document's G0 and G1 examples: from X69, G91 X-10.5
+        reaches X48)."""
+        if self.absolute or g53:
+            return Interp._target(self, b, w, g53)
+        u = self.unit
+        X = w.get("X")
+        Z = w.get("Z")
+        return (self.x if X is None else self.x + X * u), (self.z if Z is None else self.z + Z * u)
+
+    def _shift(self, w: dict, g53: bool) -> dict:
+        """The words of an absolute move with the G158 offset added (X, Z, and IX, KZ of G5)."""
+        if self.g158 is None or g53 or not self.absolute:
+            return w
+        gx, gz = self.g158
+        u = self.unit
+        sx = 0.5 * u if self.diam else u
+        w = dict(w)
+        for a, off, sc in (("X", gx, sx), ("IX", gx, sx), ("Z", gz, u), ("KZ", gz, u)):
+            if a in w:
+                w[a] = w[a] + off / sc
+        return w
+
+    def _g00(self, b: Blk, w: dict, g53: bool = False):
+        if self.g158 is not None:
+            w = self._shift(w, g53)
+        return Interp._g00(self, b, w, g53)
+
     def _g01(self, b: Blk, w: dict, g53: bool = False):
+        if self.g158 is not None:
+            w = self._shift(w, g53)
         if b.extra and ("CHF" in w or "RND" in w):
             w = dict(w)
             if "CHF" in w and "RND" in w:
@@ -378,6 +418,8 @@ class SiemensInterp(SiemensMemory, Interp):
         return Interp._resolve_corner(self, c, x2, z2, line2)
 
     def _arc(self, b: Blk, w: dict, cw: bool, g53: bool = False):
+        if self.g158 is not None:
+            w = self._shift(w, g53)
         if "CHF" in w or "RND" in w:
             raise self.balarm(b, "CHF=/RND= after an arc: this reader cuts corners between two "
                                  "lines only", "CHF" if "CHF" in w else "RND")
@@ -429,6 +471,8 @@ class SiemensInterp(SiemensMemory, Interp):
         return None
 
     def _cycle(self, code: int, b: Blk, w: dict):
+        if self.g158 is not None:
+            w = self._shift(w, False)
         if code == 5:
             return self._g5(b, w)
         if code == 33:
@@ -452,7 +496,7 @@ class SiemensInterp(SiemensMemory, Interp):
             xm = w["IX"] * sx if "IX" in w else x0
             zm = w["KZ"] * u if "KZ" in w else z0
         else:
-            xm = x0 + w.get("IX", 0.0) * sx
+            xm = x0 + w.get("IX", 0.0) * u
             zm = z0 + w.get("KZ", 0.0) * u
         # the circle through the three points
         ax, az = xm - x0, zm - z0
