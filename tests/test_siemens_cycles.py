@@ -656,3 +656,23 @@ N90 M2
     assert min(m.end[0] for m in gr) == pytest.approx(18.0)
     assert min(m.end[1] for m in gr) == pytest.approx(-40.0)
     assert max(m.end[1] for m in gr) == pytest.approx(-35.0)
+
+
+def test_lcyc840_reverses_and_stops_the_spindle_where_the_context_can():
+    class Spin(Ctx802):
+        def spindle(self, m):
+            self.moves.append(("spindle", m))
+
+    ctx = Spin("LCYC840", {101: 60, 102: 2, 103: 56, 104: 15, 106: 0.5, 126: 4}, (0.0, 60.0),
+               plane=17)
+    sc.CYCLES["LCYC840"](ctx)
+    kinds = [m[0] if m[0] != "spindle" else m for m in ctx.moves]
+    assert kinds == ["rapid", ("spindle", 4), "thread", ("spindle", 3), "thread", "rapid",
+                     ("spindle", 5)]
+
+
+def test_lcyc93_approaches_axis_by_axis():
+    ctx = groove_ctx()
+    # from X50 Z0: along Z at X50 to the first plunge column, then down to 1 mm above X40
+    assert ctx.moves[0] == ("rapid", (25.0, -19.8))
+    assert ctx.moves[1] == ("rapid", (21.0, -19.8))

@@ -242,10 +242,17 @@ def lcyc840(ctx: Any) -> None:
         _alarm(ctx, 61102, f"R126={sdir:g}: the spindle direction must be 3 (M3) or 4 (M4)")
     x = ctx.pos[0]
     legs = _Legs(ctx)
+    spindle = getattr(ctx, "spindle", None)  # M3/M4/M5 from a cycle, where the context has it
     legs.rapid((x, safe))
+    if spindle is not None:
+        spindle(int(sdir))
     legs.thread((x, dp), lead)
+    if spindle is not None:
+        spindle(7 - int(sdir))  # reversed: M3 <-> M4
     legs.thread((x, safe), lead)
     legs.rapid((x, rtp))
+    if spindle is not None:
+        spindle(5)
 
 
 def lcyc85(ctx: Any) -> None:
@@ -593,6 +600,9 @@ def lcyc93(ctx: Any) -> None:
     pd = ((p[1] - sz) if face else (p[0] - sx)) * ds
     if pd > top + 1e-9:  # inside the surface: out along the depth first
         legs.rapid(world(pw, top))
+        pd = top
+    first = allowance if depth - allowance > _TOL else 0.0
+    legs.rapid(world(first, pd))  # across at the start depth, then down to the clearance
     # roughing: columns from the start edge across, each plunged in R108 infeeds
     cols: list[float] = []
     if rough_outline is not None:
