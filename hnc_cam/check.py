@@ -38,9 +38,11 @@ from .io import write_atomic
 
 
 def _machine(args: argparse.Namespace):
-    from .tooling import load_machine, load_tools
+    from .tooling import load_machine, load_tools, with_grip
     tools = load_tools(args.tools) if getattr(args, "tools", None) else None
-    return load_machine(getattr(args, "machine", None), tools)
+    mach = load_machine(getattr(args, "machine", None), tools)
+    grip = getattr(args, "grip", None)
+    return mach if grip is None else with_grip(mach, grip)
 
 
 def _toolpath(path: str, machine, dialect: str | None = None):

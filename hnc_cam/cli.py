@@ -22,6 +22,24 @@ def _positive_mm(s: str) -> float:
     return v
 
 
+def _grip(s: str) -> float:
+    """A grip length: a finite number of mm above zero."""
+    try:
+        v = float(s)
+    except ValueError:
+        v = math.nan
+    if not (math.isfinite(v) and v > 0):
+        raise argparse.ArgumentTypeError(f"{s!r}: expected the grip length in the chuck, a "
+                                         f"positive number of mm")
+    return v
+
+
+def _add_grip(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--grip", type=_grip, metavar="MM", help="mm of the stock's left end held "
+                   "in the chuck's jaws (default: the machine file's [chuck] grip; none: the "
+                   "jaws are not modelled); stick-out = stock length - grip")
+
+
 def _jobs(s: str) -> int:
     try:
         v = int(s)
@@ -92,6 +110,7 @@ def _add_gen_options(p: argparse.ArgumentParser) -> None:
                    "diameter (default: the material's, else 0.4,0.1)")
     p.add_argument("--explain", action="store_true", help="print the planner's reasoning for "
                    "each operation on stderr")
+    _add_grip(p)
 
 
 def _add_dialect(p: argparse.ArgumentParser) -> None:
@@ -136,6 +155,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--tools", metavar="FILE")
     p.add_argument("--json", metavar="OUT")
     p.add_argument("--plot", metavar="OUT", help="PNG or SVG")
+    _add_grip(p)
     _add_dialect(p)
     p.set_defaults(func=("hnc_cam.check", "simulate_command"))
 
@@ -154,6 +174,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", metavar="OUT")
     p.add_argument("--plot", metavar="OUT")
     _add_report(p, junit=True)
+    _add_grip(p)
     _add_dialect(p)
     p.set_defaults(func=("hnc_cam.check", "verify_command"))
 

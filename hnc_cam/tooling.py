@@ -222,6 +222,13 @@ class Machine:
     #: [chuck] max_rpm: the chuck's rated speed (rpm; 0 = not given); the planner's spindle
     #: limits are the lowest of this, ``max_rpm`` and the tool's
     chuck_max_rpm: float = 0.0
+    #: [chuck] jaws: the diameters they clamp (min, max), their length along Z and their
+    #: height above the gripped diameter (mm); ``grip``: how much of the stock's left end
+    #: they hold (mm; 0 = not given: the jaws are not modelled)
+    chuck_clamp: tuple[float, float] = (2.0, 250.0)
+    jaw_length: float = 30.0
+    jaw_height: float = 25.0
+    grip: float = 0.0
 
     def register(self, number: int) -> Register:
         """Offset register ``number``; one absent from the table is a sharp point."""
@@ -306,7 +313,12 @@ MACHINE_FILE_SCHEMA = {
          "controller": Key("str", choices=("hnc21t", "fanuc0it", "haas")),
          "decimal_point": Key("str", choices=("standard", "calculator")),
          "block_delete": Key("bool"), "parameters": Key("table"), "chuck": Key("table")},
-    "chuck": {"max_rpm": Key("float", lo=0, lo_open=True, hi=100_000, unit="rpm")},
+    "chuck": {"max_rpm": Key("float", lo=0, lo_open=True, hi=100_000, unit="rpm"),
+              "clamp_min": Key("float", lo=0, hi=5000, unit="mm"),
+              "clamp_max": Key("float", lo=0, lo_open=True, hi=5000, unit="mm"),
+              "jaw_length": Key("float", lo=0, lo_open=True, hi=1000, unit="mm"),
+              "jaw_height": Key("float", lo=0, lo_open=True, hi=1000, unit="mm"),
+              "grip": Key("float", lo=0, hi=1000, unit="mm")},
     "machine": {"name": Key("str"), "rapid_x": Key("float", lo=0, lo_open=True, unit="mm/min"),
                 "rapid_z": Key("float", lo=0, lo_open=True, unit="mm/min"),
                 "reference": Key("table"), "max_rpm": Key("float", lo=0, lo_open=True, unit="rpm"),
@@ -421,6 +433,36 @@ def _limits(tbl: Any, where: str) -> dict[str, int]:
     return out
 
 
+def _chuck(ch: Mapping[str, Any], base: Machine, where: str, text: str | None) -> dict[str, Any]:
+    """The [chuck] jaw keys as Machine fields; a clamping range upside down or a grip longer
+    than the jaws is refused with both numbers."""
+    lo = float(ch.get("clamp_min", base.chuck_clamp[0]))
+    hi = float(ch.get("clamp_max", base.chuck_clamp[1]))
+    jl = float(ch.get("jaw_length", base.jaw_length))
+    grip = float(ch.get("grip", base.grip))
+    if lo >= hi:
+        n = key_line(text, "chuck", "clamp_min")
+        raise ToolError(f"{where}{':' + str(n) if n else ''}: [chuck] clamp_min {lo:g} mm is not "
+                        f"below clamp_max {hi:g} mm")
+    if grip > jl:
+        n = key_line(text, "chuck", "grip")
+        raise ToolError(f"{where}{':' + str(n) if n else ''}: [chuck] grip {grip:g} mm is longer "
+                        f"than the jaws (jaw_length {jl:g} mm)")
+    return dict(chuck_clamp=(lo, hi), jaw_length=jl,
+                jaw_height=float(ch.get("jaw_height", base.jaw_height)), grip=grip)
+
+
+def with_grip(machine: Machine, grip: float) -> Machine:
+    """``machine`` holding the stock ``grip`` mm deep in its jaws (``--grip``); a grip
+    longer than the jaws is refused with both numbers."""
+    if not (math.isfinite(grip) and grip > 0):
+        raise ToolError(f"grip {grip:g} mm: the grip must be a positive number of mm")
+    if grip > machine.jaw_length + 1e-9:
+        raise ToolError(f"grip {grip:g} mm is longer than the chuck's jaws ({machine.jaw_length:g} "
+                        f"mm, the machine file's [chuck] jaw_length)")
+    return replace(machine, grip=float(grip))
+
+
 def load_machine(path: str | Path | None = None, tools: "ToolLibrary | None" = None) -> Machine:
     """Load a machine file (or the embedded default).
 
@@ -462,7 +504,8 @@ def load_machine(path: str | Path | None = None, tools: "ToolLibrary | None" = N
                    decimal_point=data.get("decimal_point", base.decimal_point),
                    block_delete=data.get("block_delete", base.block_delete),
                    parameters=_parameters(data.get("parameters"), where, text),
-                   chuck_max_rpm=float((data.get("chuck") or {}).get("max_rpm", 0.0)))
+                   chuck_max_rpm=float((data.get("chuck") or {}).get("max_rpm", 0.0)),
+                   **_chuck(data.get("chuck") or {}, base, where, text))
     regs: dict[int, Register] = {}
     use_lib = data.get("use_tool_library", True)
     if use_lib:

@@ -211,7 +211,7 @@ def generate(part: Any, stock: str | Stock | None = None, *, params: Mapping[str
              block_numbers: str = "every", thread_cycle: str = "g76",
              face_cycle: str = "g81", file: str = "<generated>",
              material: str | None = None, allowance: Any = None,
-             dialect: str | None = None) -> Program:
+             dialect: str | None = None, grip: float | None = None) -> Program:
     """Plan, render, interpret (and verify) a program for ``part``.
 
     ``part``: a part file path (``parts/*.py``, ``.step``/``.stp``), a loaded part
@@ -225,7 +225,8 @@ def generate(part: Any, stock: str | Stock | None = None, *, params: Mapping[str
     finishing allowance ``(X on diameter, Z)`` in mm or ``"X,Z"`` (default: the material's,
     else 0.4, 0.1 as in the manual's examples). ``dialect``: the controller the program is
     written for and read back as (``hnc21t``, ``fanuc0it``, ``haas``; default: the machine
-    file's ``controller``, else ``hnc21t``).
+    file's ``controller``, else ``hnc21t``). ``grip``: mm of the stock held in the chuck's
+    jaws (default: the machine file's ``[chuck] grip``; none: the jaws are not modelled).
     """
     from .. import __version__
     from ..post import cycle_labels, render
@@ -241,6 +242,9 @@ def generate(part: Any, stock: str | Stock | None = None, *, params: Mapping[str
         mach = machine
     else:
         mach = _load_machine(machine, lib)
+    if grip is not None:
+        from ..tooling import with_grip
+        mach = with_grip(mach, float(grip))
     if program_number is None:
         program_number = 1
     if not 0 <= int(program_number) <= 9999:
@@ -267,6 +271,7 @@ def generate(part: Any, stock: str | Stock | None = None, *, params: Mapping[str
     tp = _interpret(text, mach, file, dia)
     prog = Program(text=text, plan=plan, toolpath=tp, dialect=dia,
                    labels=cycle_labels(dia, templates))
+    prog.warnings.extend(plan.warnings)
     if tp is None:
         prog.warnings.append("the interpreter is not available: program not run")
         return prog

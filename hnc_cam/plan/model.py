@@ -314,6 +314,9 @@ class Plan:
     profile: Any = None  # the TurnedProfile planned (program zero on the right face)
     shift: float = 0.0  # Z shift applied to the model to put its right face at Z0
     leave_first: str = "z"  # the axis moved first to the tool-change point at the end
+    #: what the user should know but that does not stop the program (stick-out, ...): said
+    #: on stderr as ``warning:`` lines, not written into the program
+    warnings: list[str] = field(default_factory=list)
 
     @property
     def tools(self) -> list[Tool]:

@@ -70,6 +70,10 @@ from .tools import (PARTIAL_PROFILE_PITCH, back_reach, can_square_shoulder, cuts
 
 #: how far finishing contours run past the part's left end into the chuck-side stock, mm
 OVERRUN = 0.05
+#: the least distance in Z between the deepest cut (tool included) and the jaws' front face, mm
+CHUCK_CLEARANCE = 2.0
+#: stick-out over stock diameter above which a part held only in the chuck deflects and chatters
+STICKOUT_RATIO = 4.0
 
 
 @dataclass
@@ -270,7 +274,51 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
             op.set_unclamped = op.set_spindle or prev.unclamped != op.unclamped
         prev = op
     plan.operations = ops
+    _check_chuck(plan, name, z_min, r_stock)
     return plan
+
+
+def _check_chuck(plan: Plan, name: str, z_min: float, r_stock: float) -> None:
+    """Workholding, when the machine gives a grip: the chuck must hold the stock's diameter,
+    the grip must be shorter than the stock, and the deepest cut (the left-end passes run
+    the nose radius plus 0.3 mm past the part) must stay :data:`CHUCK_CLEARANCE` clear of the
+    jaws' front face; a stick-out over :data:`STICKOUT_RATIO` diameters is a warning (no
+    tailstock)."""
+    machine, stock = plan.machine, plan.stock
+    grip = float(getattr(machine, "grip", 0.0) or 0.0)
+    if grip <= 0:
+        return
+    if stock.kind == "offset":
+        length, z_left, z_right = -z_min + 2 * stock.allowance, z_min - stock.allowance, \
+            stock.allowance
+    else:
+        length, z_left, z_right = stock.length, stock.z_left, stock.z_right
+    dia = 2 * r_stock
+    lo, hi = machine.chuck_clamp
+    if grip >= length - 1e-9:
+        raise PlanError(f"grip {_fmt(grip)} mm is not shorter than the stock {stock.spec} "
+                        f"({_fmt(length)} mm long): nothing would stick out of the chuck")
+    if not lo - 1e-9 <= dia <= hi + 1e-9:
+        raise PlanError(f"stock {stock.spec}: diameter {_fmt(dia)} mm is outside the chuck's "
+                        f"clamping range {_fmt(lo)}-{_fmt(hi)} mm (machine file [chuck] "
+                        f"clamp_min/clamp_max)")
+    reach = max((op.tool.nose_radius for op in plan.operations), default=0.0) + 0.3
+    z_cut = z_min - reach
+    z_jaw = z_left + grip
+    stick = z_right - z_jaw
+    if z_cut - CHUCK_CLEARANCE < z_jaw - 1e-9:
+        need = z_right - (z_cut - CHUCK_CLEARANCE)
+        raise PlanError(f"part {name}: the cut reaches Z{_fmt(z_cut)}, less than "
+                        f"{_fmt(CHUCK_CLEARANCE)} mm from the chuck's jaws at Z{_fmt(z_jaw)} "
+                        f"(stock {stock.spec}, grip {_fmt(grip)} mm: stick-out {_fmt(stick)} mm); "
+                        f"it needs a stick-out of at least {_fmt(need)} mm: a stock at least "
+                        f"{_fmt(need + grip)} mm long, or a grip of at most "
+                        f"{_fmt(max(length - need, 0.0))} mm")
+    if stick > STICKOUT_RATIO * dia:
+        plan.warnings.append(
+            f"stick-out {_fmt(stick)} mm is {stick / dia:.1f} x the stock diameter "
+            f"{_fmt(dia)} mm (more than {_fmt(STICKOUT_RATIO)} without a tailstock): the part "
+            f"will deflect and chatter; grip more of it or make it from a shorter stock")
 
 
 def rpm_limit(t: Tool, machine: Machine | None) -> float:

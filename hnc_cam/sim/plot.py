@@ -5,7 +5,8 @@ the stock (light grey), the remaining material (light blue) and its outline, the
 (black), the toolpath of the controlled point (rapids dashed, feed moves coloured by operation:
 tool and cycle, see :func:`operation`), deviations beyond the tolerance (overcut red, reachable undercut
 orange, unreachable leftover purple hatched, each with its deepest point marked), collisions
-(red crosses where the move first touched material), a legend and the key figures. PNG or SVG by the file's suffix.
+(red crosses where the move first touched material), the chuck's jaws (grey, hatched) when
+the machine gives a grip, a legend and the key figures. PNG or SVG by the file's suffix.
 """
 from __future__ import annotations
 
@@ -112,6 +113,10 @@ def figure(machined: Machined, report: Any = None, model: Any = None, title: str
     if model is not None:
         mb = model.bbox()
         z0, x0, z1, x1 = min(z0, mb[1]), min(x0, mb[0]), max(z1, mb[3]), max(x1, mb[2])
+    jaws = getattr(machined, "jaws", None)
+    if jaws is not None:  # the jaws' front part, in the frame
+        jb = jaws.bounds
+        z0, x1 = min(z0, max(jb[0], jb[2] - 0.5 * (z1 - z0) - 5.0)), max(x1, jb[3])
     pad = max(3.0, 0.12 * max(z1 - z0, x1 - x0))
     xlim = (z0 - pad, z1 + pad)
     ylim = (min(x0, 0.0) - pad * 0.5, x1 + pad)
@@ -119,6 +124,9 @@ def figure(machined: Machined, report: Any = None, model: Any = None, title: str
     fig, ax = plt.subplots(figsize=(14, min(10.0, max(4.5, 10.0 * aspect + 1.6))), dpi=110)
     _fill(ax, machined.stock, facecolor="#eeeeee", edgecolor="#999999", lw=0.8, label="stock")
     _fill(ax, machined.material, facecolor="#cfe3f5", edgecolor="none", label="remaining material")
+    if jaws is not None:
+        _fill(ax, jaws, facecolor="#777777", edgecolor="#333333", lw=1.0, alpha=0.7,
+              hatch="//", label="chuck jaws")
     _outline(ax, machined.material, color="#1f4e79", lw=1.0, label="machined outline")
     if model is not None:
         from .region import profile_polygon

@@ -85,6 +85,20 @@ def chuck_zone(region: BaseGeometry, width: float = 1e-3) -> BaseGeometry:
     return box(z0 - 1.0, x0 - 1.0, z0 + width, x1 + 1.0)
 
 
+def jaw_region(region: BaseGeometry, machine) -> BaseGeometry | None:
+    """The chuck's jaws in (z, x): a solid ``jaw_length`` long in Z whose front face is
+    ``grip`` mm in from the stock's left end, from the largest radius of the stock inside
+    the grip up ``jaw_height`` mm; None when the machine gives no grip (jaws not modelled)
+    or the region is empty."""
+    grip = float(getattr(machine, "grip", 0.0) or 0.0)
+    if grip <= 0 or region.is_empty:
+        return None
+    z0 = region.bounds[0]
+    held = inter(region, box(z0 - 1.0, -1.0, z0 + grip, 1e9))
+    r = held.bounds[3] if not held.is_empty else region.bounds[3]
+    return box(z0 + grip - machine.jaw_length, r, z0 + grip, r + machine.jaw_height)
+
+
 def polygons(g: BaseGeometry) -> list[Polygon]:
     """The polygons of a geometry (ignoring lines and points left by overlays)."""
     if g.is_empty:

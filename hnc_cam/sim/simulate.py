@@ -44,7 +44,10 @@ the check's name (:data:`CHECKS`), e.g. ``"collision: rapid move cuts material .
 * ``feed``: a move at zero feed that touches material with the spindle turning (with the
   spindle stopped, as under G95, the move is one ``spindle`` finding);
 * ``non-cutting``: a feed move that removes material with a side of the tool that is not a
-  cutting edge (the back of a rhombic insert, the top of a grooving blade).
+  cutting edge (the back of a rhombic insert, the top of a grooving blade);
+* ``collision: chuck jaw``: any move whose tool outline touches the chuck's jaws (modelled
+  as a solid when the machine gives a grip, :func:`hnc_cam.sim.region.jaw_region`), once per
+  program line.
 
 A move "touches" material when it removes more than ``TOUCH_AREA`` (1e-4 mm^2) of a region at
 least ``TOUCH_THICK`` (5e-4 mm, the order of the chord error) thick, so that a tool gliding over a
@@ -72,7 +75,8 @@ from shapely.geometry.base import BaseGeometry
 from ..geometry import Arc
 from ..nc.toolpath import MOVE_KINDS, Move, Toolpath, columns
 from ..tooling import Machine, Stock, ToolLibrary, load_machine
-from .region import chuck_zone, clean, diff, inter, polygons, stock_region, union as union_of
+from .region import (chuck_zone, clean, diff, inter, jaw_region, polygons, stock_region,
+                     union as union_of)
 from .area import (clip_below, clip_outline, envelope, extremes, front_bands, overlap_areas, polygon_edges,
                    region_edges, ring_edges)
 from .tool import CHORD, ToolShape, sweep_hulls, tool_shape
@@ -169,6 +173,8 @@ class Machined:
     fallen: list[BaseGeometry] = field(default_factory=list)
     machine: Machine | None = None
     notes: list[Issue] = field(default_factory=list)
+    #: the chuck's jaws in (z, x) (None: not modelled, the machine gives no grip)
+    jaws: BaseGeometry | None = None
 
     @property
     def collisions(self) -> list[Issue]:
@@ -660,6 +666,8 @@ def _simulate(toolpath, stock, machine, tools, model, batch, snapshots, on_snaps
     start_region = clean(stock_region(stock, model))
     material: BaseGeometry = start_region
     chuck = chuck_zone(start_region) if not start_region.is_empty else None
+    jaws = jaw_region(start_region, machine)
+    jaw_lines: set[int] = set()
     moves = toolpath.moves
     n = len(moves)
     removed_area = np.zeros(n)
@@ -687,6 +695,8 @@ def _simulate(toolpath, stock, machine, tools, model, batch, snapshots, on_snaps
             has = has[run.sweeps[has] != None]  # noqa: E711
             if len(has):
                 boxes[c0 + has] = shapely.bounds(run.sweeps[has])
+                if jaws is not None:
+                    _jaw_hits(jaws, run.sweeps, has, cm, sweeper, toolpath, issues, jaw_lines)
             # batches also start with every pass (a feed move after a rapid): a pass that comes
             # back over the one before it would not be taken with bands in the same batch
             cuts = sorted({*range(0, len(cm), batch), len(cm), *run.pass_starts.tolist(),
@@ -742,7 +752,27 @@ def _simulate(toolpath, stock, machine, tools, model, batch, snapshots, on_snaps
     return Machined(material=material, stock=start_region, toolpath=toolpath, issues=issues,
                     removed_area=removed_area, sweep_bounds=boxes, shapes=dict(sweeper.shapes),
                     thread_spans=_thread_spans(moves, machine), fallen=fallen, machine=machine,
-                    notes=notes)
+                    notes=notes, jaws=jaws)
+
+
+def _jaw_hits(jaws: BaseGeometry, sweeps: np.ndarray, idx: np.ndarray, cm: list[Move],
+              sweeper: "_Sweeper", tp: Toolpath, issues: list[Issue], seen: set[int]) -> None:
+    """A ``collision: chuck jaw`` finding for each program line with a move whose sweep
+    touches the jaws (as a cut touches material: :func:`_touches`)."""
+    hit = idx[shapely.intersects(jaws, sweeps[idx])]
+    for k in hit.tolist():
+        m = cm[k]
+        if m.line in seen:
+            continue
+        rem = inter(jaws, sweeps[k])
+        if not _touches(rem):
+            continue
+        seen.add(m.line)
+        shape = sweeper.shape(m)
+        issues.append(Issue(m.line, tp.block(m.line),
+                            f"chuck jaw: the tool (register {m.register}) runs into the jaws "
+                            f"({rem.area:.3f} mm^2 at {_where(rem)})", "collision",
+                            first_contact(jaws, shape, sweeper.path_points(m))))
 
 
 def _settle(material: BaseGeometry, chuck: BaseGeometry | None,
