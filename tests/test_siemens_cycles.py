@@ -676,3 +676,40 @@ def test_lcyc93_approaches_axis_by_axis():
     # from X50 Z0: along Z at X50 to the first plunge column, then down to 1 mm above X40
     assert ctx.moves[0] == ("rapid", (25.0, -19.8))
     assert ctx.moves[1] == ("rapid", (21.0, -19.8))
+
+
+def test_pass_counts_are_bounded_before_planning():
+    assert "cycle_passes" in alarm_of("LCYC93", {100: 40, 101: -20, 105: 1, 107: 1e-9, 108: 1,
+                                                 114: 10, 115: 4})
+    assert "cycle_passes" in alarm_of("LCYC93", {100: 40, 101: -20, 105: 1, 107: 3, 108: 1e-9,
+                                                 114: 10, 115: 4})
+    assert "cycle_passes" in alarm_of("LCYC95", {105: 1, 108: 1e-9}, pos=(40.0, 5.0),
+                                      texts={"_CNAME": "K"}, contours={"K": items(SHAFT, (40.0, 5.0))})
+    assert "cycle_passes" in alarm_of("LCYC83", {101: 10, 103: 0, 104: -30, 110: -1e-7},
+                                      plane=17)
+    assert "cycle_passes" in alarm_of("LCYC97", {100: 42, 102: 42, 103: -35, 104: 2, 105: 1,
+                                                 111: 1, 113: 9000, 114: 9})
+    assert "finite" in alarm_of("LCYC82", {101: math.inf, 103: 0, 104: -5}, plane=17)
+
+
+@pytest.mark.parametrize("name", sorted(sc.CYCLES))
+def test_random_parameters_give_moves_or_an_alarm(name):
+    """Random transfer parameters (seeded): every run ends in legs or a cycle alarm, never
+    another exception, and within the pass limit."""
+    import random
+    rnd = random.Random(int(name[4:]))
+    values = [0, 1, -1, 0.5, 2, 3, 4, 5, 9, 12, 55, 56, 89.999, 90, 100, -50, 1e-6, 1e6, 0.001]
+    bore = chain((60, 0), (60, -20), (40, -30), (20, -30))
+    for _ in range(150):
+        r = {n: rnd.choice(values) if rnd.random() < 0.7 else rnd.uniform(-100, 100)
+             for n in list(range(100, 120)) + [126, 127]}
+        contour = rnd.choice([SHAFT, bore, SHAFT[:1], [s.reversed() for s in reversed(SHAFT)]])
+        ctx = Ctx802(name, r, (rnd.uniform(-5, 40), rnd.uniform(-60, 20)),
+                     plane=17 if name in ("LCYC82", "LCYC83", "LCYC840", "LCYC85") else 18,
+                     texts={"_CNAME": "K"}, max_passes=2000,
+                     contours={"K": items(contour, None)})
+        try:
+            sc.CYCLES[name](ctx)
+        except NCError:
+            continue
+        assert len(ctx.moves) < 200_000

@@ -63,7 +63,10 @@ def _alarm(ctx: Any, number: int, detail: str):
 
 
 def _r(ctx: Any, n: int) -> float:
-    return float(ctx.r(n))
+    v = float(ctx.r(n))
+    if not math.isfinite(v):
+        ctx.alarm(f"{_name(ctx)} R{n}={v}: not a finite number")
+    return v
 
 
 def _whole(ctx: Any, n: int, lo: int, hi: int, number: Optional[int], what: str) -> int:
@@ -473,6 +476,9 @@ def lcyc97(ctx: Any) -> None:
     limit = int(getattr(ctx, "max_passes", 10_000))
     cuts = _whole(ctx, 113, 1, limit, None, "the number of roughing cuts")
     starts = _whole(ctx, 114, 1, 99, None, "the number of thread starts")
+    if cuts * starts > limit:
+        ctx.alarm(f"{_name(ctx)}: {cuts} cuts of {starts} starts, more passes than the machine's "
+                  f"limit of {limit} ([limits] cycle_passes)")
     offset = _r(ctx, 112) % 360.0
     dz = 1.0 if z2 > z1 else -1.0
     slope = (x2 - x1) / (z2 - z1)
@@ -610,11 +616,11 @@ def lcyc93(ctx: Any) -> None:
         if hi < lo - 1e-9:
             _alarm(ctx, 61602, f"R107={tool:g} is wider than the groove less its allowance")
         n = max(1, math.ceil((hi - lo) / tool - 1e-9)) if hi - lo > 1e-9 else 0
-        cols = [lo + (hi - lo) * k / n for k in range(n + 1)] if n else [lo]
         limit = int(getattr(ctx, "max_passes", 10_000))
-        if len(cols) * math.ceil((depth + GROOVE_CLEARANCE) / infeed) > limit:
-            ctx.alarm(f"{_name(ctx)}: more plunges than the machine's limit of {limit} "
+        if (n + 1) * ((depth + GROOVE_CLEARANCE) / infeed) > limit:
+            ctx.alarm(f"{_name(ctx)}: more infeeds than the machine's limit of {limit} "
                       f"([limits] cycle_passes): R107={tool:g} R108={infeed:g}")
+        cols = [lo + (hi - lo) * k / n for k in range(n + 1)] if n else [lo]
     for w in cols:
         d = min(_bottom(rough_outline, w - allowance), _bottom(rough_outline, w + tool - allowance))
         if d <= 0:
