@@ -508,8 +508,9 @@ class SiemensInterp(SiemensMemory, Interp):
         a2, b2 = ax * ax + az * az, bx * bx + bz * bz
         cx = x0 + (bz * a2 - az * b2) / d
         cz = z0 + (ax * b2 - bx * a2) / d
-        # clockwise (G2 sense) when the intermediate point lies to the right of the chord
-        cw = (ax * bz - az * bx) < 0.0
+        # clockwise (the G2 sense, Z to the right and X up) when the intermediate point lies
+        # to the left of the chord's direction
+        cw = (ax * bz - az * bx) > 0.0
         self.op = "G05"
         self.x, self.z = x1, z1
         self._emit_arc(x0, z0, x1, z1, cx, cz, cw, b.line)
