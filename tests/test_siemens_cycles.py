@@ -411,7 +411,9 @@ def test_lcyc93_external_groove_covers_width_and_depth():
 def test_lcyc93_right_start_and_internal_mirror():
     right = groove_ctx(5)
     zs = [m[1][1] for m in right.moves if m[0] == "feed"]
-    assert max(zs) == pytest.approx(-20.0) and min(zs) == pytest.approx(-27.0)
+    # the groove Z-30 .. Z-20; the programmed point is the tool's -Z corner (a tip 3 tool,
+    # or no tool): from Z-30 to Z-23
+    assert max(zs) == pytest.approx(-23.0) and min(zs) == pytest.approx(-30.0)
     internal = run("LCYC93", {100: 40, 101: -20, 105: 3, 107: 3, 108: 2, 114: 10, 115: 4},
                    (15.0, 0.0))
     xs = [m[1][0] for m in internal.moves if m[0] == "feed"]
@@ -713,3 +715,53 @@ def test_random_parameters_give_moves_or_an_alarm(name):
         except NCError:
             continue
         assert len(ctx.moves) < 200_000
+
+
+def _verify(tp, pts, stock):
+    from hnc_cam.geometry import TurnedProfile
+    from hnc_cam.sim import simulate, verify
+    from hnc_cam.tooling import Stock
+    prof = TurnedProfile(outside=[Line(a, b) for a, b in zip(pts, pts[1:])], name="part")
+    return verify(simulate(tp, Stock.parse(stock), None, model=prof), prof, tol=0.01)
+
+
+@pytest.mark.parametrize("r105,z", [(1, -28), (5, -20)])
+def test_lcyc93_groove_verifies_with_the_grooving_tool(r105, z):
+    # the library's 3 mm grooving tool (T7, tip 3): an 8 x 3 groove in a 40 mm bar, from
+    # its left edge (R105=1 at Z-28) or its right edge (R105=5 at Z-20)
+    tp = run802(f"""%_N_GROOVE_MPF
+N10 G18 G23 G90 G95 T7 D1 S600 M3 F0.05
+N20 G0 X50 Z5
+N30 R100=40 R101={z} R105={r105} R106=0.1 R107=3 R108=1.5 R114=8 R115=3 R116=0 R117=0
+N35 R118=0 R119=0.2
+N40 LCYC93
+N50 G0 X60 Z20
+N60 M2
+""")
+    rep = _verify(tp, [(0, 0), (20, 0), (20, -20), (17, -20), (17, -28), (20, -28), (20, -50),
+                       (0, -50)], "40x50+0")
+    assert rep.passed, rep.summary()
+
+
+def test_lcyc95_face_complete_verifies():
+    tp = run802("""%_N_FACE_MPF
+N10 G18 G23 G90 G95 T1 D1 S800 M3
+N20 G0 X90 Z5
+N30 _CNAME="KF"
+N40 R105=10 R106=0.3 R108=1.5 R109=0 R110=1 R111=0.25 R112=0.1
+N50 LCYC95
+N60 G0 X90 Z50
+N70 M2
+%_N_KF_SPF
+N100 G1 X80 Z-10
+N110 X50
+N120 Z-6
+N130 X30 Z-4
+N140 X20
+N150 Z0
+N160 X0
+N170 RET
+""")
+    rep = _verify(tp, [(0, 0), (10, 0), (10, -4), (15, -4), (25, -6), (25, -10), (40, -10),
+                       (40, -30), (0, -30)], "80x30+0")
+    assert rep.passed, rep.summary()

@@ -599,16 +599,31 @@ def lcyc93(ctx: Any) -> None:
     def world(w: float, d: float) -> Point:
         return (sx + ws * w, sz + ds * d) if face else (sx + ds * d, sz + ws * w)
 
+    # the programmed point is the corner the tool's point position names (tip 3: the -Z
+    # corner of a longitudinal groove's tool, the -X corner of a face groove's); the width
+    # R107 lies from it toward +Z (+X), or toward -Z (-X) for a tip on the + side
+    _radius, tip = ctx.tool_nose() if hasattr(ctx, "tool_nose") else (0.0, 0)
+    try:
+        tx, tz = tip_direction(int(tip))
+    except (KeyError, ValueError):
+        tx, tz = 0, 0
+    toward = -(tx if face else tz) or 1  # the world sign of the width from the point
+    flip = toward * ws < 0  # the point is the corner at the far (high w) side
+
+    def tool_at(w: float, d: float) -> Point:
+        """The programmed point of the tool whose start-side corner is at ``w``."""
+        return world(w + tool if flip else w, d)
+
     legs = _Legs(ctx)
     top = -GROOVE_CLEARANCE
     p = ctx.pos
-    pw = ((p[0] - sx) if face else (p[1] - sz)) * ws
+    pw = ((p[0] - sx) if face else (p[1] - sz)) * ws - (tool if flip else 0.0)
     pd = ((p[1] - sz) if face else (p[0] - sx)) * ds
     if pd > top + 1e-9:  # inside the surface: out along the depth first
-        legs.rapid(world(pw, top))
+        legs.rapid(tool_at(pw, top))
         pd = top
     first = allowance if depth - allowance > _TOL else 0.0
-    legs.rapid(world(first, pd))  # across at the start depth, then down to the clearance
+    legs.rapid(tool_at(first, pd))  # across at the start depth, then down to the clearance
     # roughing: columns from the start edge across, each plunged in R108 infeeds
     cols: list[float] = []
     if rough_outline is not None:
@@ -625,15 +640,15 @@ def lcyc93(ctx: Any) -> None:
         d = min(_bottom(rough_outline, w - allowance), _bottom(rough_outline, w + tool - allowance))
         if d <= 0:
             continue
-        legs.rapid(world(w, top))
+        legs.rapid(tool_at(w, top))
         a, c = (top, 0.0), (d, 0.0)
         for kind, q in peck_moves(a, c, infeed, 1.0, GROOVE_BACKOFF, 0.0, along_z=False):
             if kind == "feed":
-                legs.feed(world(w, q[0]))
+                legs.feed(tool_at(w, q[0]))
                 if abs(q[0] - d) <= 1e-9:
                     legs.dwell(dwell)
             else:
-                legs.rapid(world(w, q[0]))
+                legs.rapid(tool_at(w, q[0]))
     # finishing: the start-side flank and the base with the tool's start-side corner, then
     # the far flank and the base with its far corner (the reference point a tool width back)
     inner = [q for q in outline[1:-1]]
@@ -642,12 +657,12 @@ def lcyc93(ctx: Any) -> None:
     right_pts = [(q[0] - tool, q[1]) for q in reversed(inner[mid:])]
     right_pts.append((inner[mid - 1][0], inner[mid - 1][1]))
     for path in (left, right_pts):
-        legs.rapid(world(path[0][0], top))
+        legs.rapid(tool_at(path[0][0], top))
         for q in path:
-            legs.feed(world(q[0], q[1]))
+            legs.feed(tool_at(q[0], q[1]))
         legs.dwell(dwell)
-        legs.rapid(world(path[-1][0], top))
-    legs.rapid(world(0.0, top))
+        legs.rapid(tool_at(path[-1][0], top))
+    legs.rapid(tool_at(0.0, top))
 
 
 # --------------------------------------------------------------------------- LCYC94
