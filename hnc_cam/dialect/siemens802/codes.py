@@ -130,7 +130,12 @@ class SiemensInterp(SiemensMemory, Interp):
     def _compile(self, i: int):
         call = self.src.calls.get(i) if hasattr(self.src, "calls") else None
         if call is None:
-            b = Interp._compile(self, i)
+            try:
+                b = Interp._compile(self, i)
+            except NCError as e:
+                if self.src.parts:  # a line of a subprogram file: name that file and its line
+                    e.file, e.line = self.src.locate(e.line)
+                raise
             if b.__class__ is Blk and not b.plain and ("AR" in b.letters or "CR" in b.letters):
                 b.axes = True  # G2 I.. K.. AR=..: the arc moves without X/Z words
             return b
