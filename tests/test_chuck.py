@@ -37,12 +37,14 @@ def test_bundled_machine_describes_the_jaws_and_no_grip_models_none():
 
 def test_cut_that_clears_the_jaws_verifies_with_the_jaws_modelled():
     # stock 45x117+2 spans Z-115..2; part left end Z-99: the left-end passes reach Z-101.1
-    prog = generate(PARTS / "stepped_shaft.py", grip=11)
+    prog = generate(PARTS / "stepped_shaft.py", grip=11.6)
     assert prog.report.passed and not prog.warnings
+    with pytest.raises(PlanError):
+        generate(PARTS / "stepped_shaft.py", grip=11.7)
     from hnc_cam.sim import simulate
     m = simulate(prog.toolpath, prog.plan.stock, prog.plan.machine)
     z0, x0, z1, x1 = m.jaws.bounds
-    assert (z0, x0, z1, x1) == pytest.approx((-115 + 11 - 30, 22.5, -104.0, 47.5))
+    assert (z0, x0, z1, x1) == pytest.approx((-115 + 11.6 - 30, 22.5, -103.4, 47.5))
     assert not m.issues
 
 
@@ -50,11 +52,12 @@ def test_a_cut_reaching_the_jaws_plus_clearance_is_refused_with_the_stick_out_ne
     with pytest.raises(PlanError) as e:
         generate(PARTS / "stepped_shaft.py", grip=14)
     msg = str(e.value)
-    # jaws' face at Z-115+14 = -101; cut to Z-99-(0.8+0.3) = -101.1; needs 2 mm clearance:
-    # stick-out 2 + 103.1 = 105.1, stock 119.1, grip at most 117 - 105.1 = 11.9
-    assert "Z-101.1" in msg and "jaws at Z-101 " in msg
-    assert "stick-out 103 mm" in msg and "at least 105.1 mm" in msg
-    assert "119.1 mm long" in msg and "at most 11.9 mm" in msg
+    # jaws' face at Z-115+14 = -101; the left-end chamfer's tip path (T05, r 0.4) runs on to
+    # Z-101.383 (the G01 the simulator flags below); 2 mm clearance: stick-out
+    # 2 + 103.383 = 105.383, stock 119.383, grip at most 117 - 105.383 = 11.617
+    assert "the cut reaches Z-101.383," in msg and "jaws at Z-101 " in msg
+    assert "stick-out 103 mm" in msg and "at least 105.383 mm" in msg
+    assert "119.383 mm long" in msg and "at most 11.617 mm" in msg
 
 
 def test_refusal_writes_nothing_and_exits_2(tmp_path, capsys):
@@ -62,7 +65,7 @@ def test_refusal_writes_nothing_and_exits_2(tmp_path, capsys):
     rc = main(["generate", str(PARTS / "stepped_shaft.py"), "--grip", "14", "-o", str(out)])
     err = capsys.readouterr().err
     assert rc == 2 and not out.exists()
-    assert err.startswith("error: part stepped_shaft: the cut reaches Z-101.1") and \
+    assert err.startswith("error: part stepped_shaft: the cut reaches Z-101.383") and \
         err.count("\n") == 1
 
 
@@ -99,7 +102,7 @@ def test_simulate_and_verify_take_grip_and_exit_1_on_a_jaw_collision(tmp_path, c
     rc = main(["verify", str(p), "--model", str(PARTS / "stepped_shaft.py"), "--grip", "14.5"])
     assert rc == 1
     assert main(["verify", str(p), "--model", str(PARTS / "stepped_shaft.py"),
-                 "--grip", "11"]) == 0
+                 "--grip", "11.6"]) == 0
 
 
 def test_long_thin_shaft_warns_with_the_stick_out_ratio(capsys, tmp_path):
@@ -156,6 +159,6 @@ def test_grip_longer_than_the_jaws_and_bad_chuck_keys(tmp_path, capsys):
 def test_machine_file_grip_is_the_default_and_the_option_overrides_it(tmp_path):
     mf = tmp_path / "m.toml"
     mf.write_text("[chuck]\ngrip = 14\n")
-    with pytest.raises(PlanError, match="at least 105.1 mm"):
+    with pytest.raises(PlanError, match="at least 105.383 mm"):
         generate(PARTS / "stepped_shaft.py", machine=mf)
     assert generate(PARTS / "stepped_shaft.py", machine=mf, grip=10).report.passed

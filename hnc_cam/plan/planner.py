@@ -281,7 +281,8 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
 def _check_chuck(plan: Plan, name: str, z_min: float, r_stock: float) -> None:
     """Workholding, when the machine gives a grip: the chuck must hold the stock's diameter,
     the grip must be shorter than the stock, and the deepest cut (the left-end passes run
-    the nose radius plus 0.3 mm past the part) must stay :data:`CHUCK_CLEARANCE` clear of the
+    the nose radius plus 0.3 mm past the part, contours run on past it, each with a nose
+    radius more under G41/G42) must stay :data:`CHUCK_CLEARANCE` clear of the
     jaws' front face; a stick-out over :data:`STICKOUT_RATIO` diameters is a warning (no
     tailstock)."""
     machine, stock = plan.machine, plan.stock
@@ -304,6 +305,11 @@ def _check_chuck(plan: Plan, name: str, z_min: float, r_stock: float) -> None:
                         f"clamp_min/clamp_max)")
     reach = max((op.tool.nose_radius for op in plan.operations), default=0.0) + 0.3
     z_cut = z_min - reach
+    for op in plan.operations:  # contours run on past the left end: a tip path is the
+        # tool's extent toward the chuck, a compensated contour a nose radius less
+        r = op.tool.nose_radius if op.nose_comp != "none" else 0.0
+        for seg in op.contour:
+            z_cut = min(z_cut, seg.start[1] - r, seg.end[1] - r)
     z_jaw = z_left + grip
     stick = z_right - z_jaw
     if z_cut - CHUCK_CLEARANCE < z_jaw - 1e-9:
@@ -439,6 +445,10 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
             relief = tp.depth + pt[0].nose_radius + 0.3 + 1.5
             if stock.kind != "offset" and r_stock - tail[0].start[0] > 3.0:
                 room = tail[-1].end[1] - stock.z_left - 2.0
+                grip = float(getattr(machine, "grip", 0.0) or 0.0)
+                if grip > 0:  # and the passes stay clear of the chuck's jaws
+                    room = min(room, tail[-1].end[1] - (stock.z_left + grip + CHUCK_CLEARANCE)
+                               - max(t.nose_radius for t in lib.tools) - 0.3)
                 overrun = max(OVERRUN, min(relief, room))
     items = an.pocket_items(od)
     pockets = [it for it in items if isinstance(it, an.Pocket)]
