@@ -118,10 +118,10 @@ class SiemensInterp(SiemensMemory, Interp):
                value: Optional[float] = None) -> NCError:
         col = 0
         if letter:
-            named = {"C": "CHF", "R": "RND"}.get(letter)
             col = word_col(b.text, letter, value)
-            if col == 0 and named:
-                col = word_col(b.text, named)
+            for named in {"C": ("CHF",), "R": ("CR", "RND")}.get(letter, ()):
+                if col == 0:
+                    col = word_col(b.text, named)
         if col == 0:
             col = len(b.text) - len(b.text.lstrip()) + 1
         return self.alarm(message, b.line, col)
@@ -136,8 +136,12 @@ class SiemensInterp(SiemensMemory, Interp):
                 if self.src.parts:  # a line of a subprogram file: name that file and its line
                     e.file, e.line = self.src.locate(e.line)
                 raise
-            if b.__class__ is Blk and not b.plain and ("AR" in b.letters or "CR" in b.letters):
-                b.axes = True  # G2 I.. K.. AR=..: the arc moves without X/Z words
+            if b.__class__ is Blk and not b.plain:
+                if "AR" in b.letters or "CR" in b.letters:
+                    b.axes = True  # G2 I.. K.. AR=..: the arc moves without X/Z words
+                if "L" in b.letters:
+                    raise self.balarm(b, "a subprogram call stands alone in its block, as L10 or "
+                                         "L10 P3 (with N and nothing else)", "L")
             return b
         b = Blk(i, self.src.lineno[i], self.src.text[i])
         b.plain = False
@@ -404,6 +408,13 @@ class SiemensInterp(SiemensMemory, Interp):
             else:
                 w["R"] = w.pop("RND")
         return Interp._g01(self, b, w, g53)
+
+    def _corner_not_followed(self) -> None:
+        c = self.corner
+        word = "CHF" if c[4] == "C" else "RND"
+        raise self.alarm(f"{word}={c[5]:g} must be followed by a G1 line: this reader cuts "
+                         f"chamfers and rounds between two lines only", c[6],
+                         word_col(self.src.text[self._stmt_of_line(c[6])], word))
 
     def _resolve_corner(self, c: tuple, x2: float, z2: float, line2: int):
         if c[4] == "C" and self.chf is not None:
