@@ -182,6 +182,9 @@ CNC_M_CODES = (0, 2, 30, 98, 99)
 #: the standard PLC's M codes (manual table 3.1) plus M08 (flood coolant on most lathes)
 DEFAULT_M_CODES = {3: "spindle_cw", 4: "spindle_ccw", 5: "spindle_stop", 6: "tool_change",
                    7: "coolant_on", 8: "coolant_on", 9: "coolant_off"}
+#: a machine file register with ``edge = d`` (d > 1) is kept under EDGE_KEY * d + its number
+#: (SINUMERIK ``T t D d``); edge 1 is the register itself
+EDGE_KEY = 100
 #: machine file [limits] key -> Machine field
 LIMIT_KEYS = {"moves": "move_limit", "cycle_passes": "pass_limit", "calls": "call_limit",
               "program_bytes": "program_bytes", "line_chars": "line_chars"}
@@ -310,7 +313,7 @@ _XZ = {"x": Key("float"), "z": Key("float")}
 MACHINE_FILE_SCHEMA = {
     "": {"use_tool_library": Key("bool"), "machine": Key("table"), "work_offsets": Key("table"),
          "register": Key("any"), "m_codes": Key("table"), "limits": Key("table"),
-         "controller": Key("str", choices=("hnc21t", "fanuc0it", "haas")),
+         "controller": Key("str", choices=("hnc21t", "fanuc0it", "haas", "siemens802")),
          "decimal_point": Key("str", choices=("standard", "calculator")),
          "block_delete": Key("bool"), "parameters": Key("table"), "chuck": Key("table")},
     "chuck": {"max_rpm": Key("float", lo=0, lo_open=True, hi=100_000, unit="rpm"),
@@ -335,7 +338,7 @@ MACHINE_FILE_SCHEMA = {
     "register": {"number": Key("int", lo=1, hi=99), "x": Key("float"), "z": Key("float"),
                  "x_wear": Key("float"), "z_wear": Key("float"), "radius": Key("float", lo=0),
                  "tip": Key("int", lo=0, hi=9), "insert": Key("str"), "approach": Key("float"),
-                 "kind": Key("str")},
+                 "kind": Key("str"), "edge": Key("int", lo=1, hi=9)},
 }
 
 
@@ -513,6 +516,9 @@ def load_machine(path: str | Path | None = None, tools: "ToolLibrary | None" = N
         regs.update(lib.registers())
     for i, r in enumerate(data.get("register", []) or []):
         reg = parse_register(r, f"{where}: register[{i}]")
+        edge = r.get("edge", 1) if isinstance(r, Mapping) else 1
+        if edge != 1:  # edge d of tool t (SINUMERIK T t D d): register EDGE_KEY * d + t
+            reg = replace(reg, number=EDGE_KEY * int(edge) + reg.number)
         regs[reg.number] = reg
     return mach.with_registers(regs)
 

@@ -172,3 +172,22 @@ def test_cli_run_with_dialect_and_the_sniff_hint(tmp_path):
     r = subprocess.run([sys.executable, "-m", "hnc_cam.cli", "run", str(p)], capture_output=True, text=True)
     assert r.returncode == 2 and "try --dialect siemens802" in r.stderr
     assert r.stderr.count("\n") == 1 and f"{p}:1:1:" in r.stderr
+
+
+def test_machine_file_controller_and_tool_edges(tmp_path):
+    p = tmp_path / "m.toml"
+    p.write_text('controller = "siemens802"\nuse_tool_library = false\n'
+                 "[[register]]\nnumber = 3\nradius = 0.4\ntip = 3\n"
+                 "[[register]]\nnumber = 3\nedge = 2\nradius = 1.2\ntip = 2\n")
+    mach = load_machine(str(p))
+    seen = []
+    d = dataclasses.replace(S802, cycles=lambda: {"LCYC93": lambda ctx: seen.append(ctx.tool_nose())})
+    # the machine's controller picks the dialect; T3 D2 is the register with edge = 2
+    tp = nc.run("T3 D2\nG0 X20 Z5\nLCYC93\nT3\nLCYC93\nD0\nLCYC93\nM30\n", mach, start=(50.0, 50.0),
+                dialect=d)
+    assert seen == [(1.2, 2), (0.4, 3), (0.0, 0)]
+    assert nc.run("G0 X20 Z5\nR1=1\nM30\n", mach).moves  # read as an 802 program
+    p.write_text('controller = "siemens802"\n[[register]]\nnumber = 3\nedge = 12\n')
+    with pytest.raises(Exception) as e:
+        load_machine(str(p))
+    assert "edge" in str(e.value)

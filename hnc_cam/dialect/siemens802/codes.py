@@ -19,6 +19,7 @@ from ...geometry import Arc
 from ...geometry.primitives import point_at_angle
 from ...nc import parser as P
 from ...nc.interp import _MAX_LEVEL, Asg, Blk, CycleCtx, Interp
+from ...tooling import EDGE_KEY
 from .. import CodeSpec
 from .memory import SiemensMemory
 from .syntax import TEXT, word_col
@@ -311,9 +312,8 @@ class SiemensInterp(SiemensMemory, Interp):
     def _edge_register(self, b: Blk, tool: int, edge: int) -> int:
         if edge == 1:
             return tool
-        edges = getattr(self.m, "edges", None) or {}
-        reg = edges.get((tool, edge))
-        if reg is None:
+        reg = EDGE_KEY * edge + tool
+        if reg not in self.m.registers:
             raise self.balarm(b, f"T{tool} D{edge}: the machine file has no register for edge {edge} "
                                  f"of tool {tool} ([[register]] number = {tool}, edge = {edge})", "D")
         return reg
