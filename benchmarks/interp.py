@@ -5,8 +5,9 @@
 (b) a macro WHILE loop of 100,000 iterations (statements/s and iterations/s);
 (c) pygcode's parse time of the same plain file (its line parser, no machine model), for a
     side-by-side ratio;
-(d) the same moves in each dialect (HNC-21T, FANUC 0i-T, Haas; LinuxCNC's interpreter when
-    its Python module is installed), load + run, as ratios to HNC-21T measured in the same run.
+(d) the same moves in each dialect (HNC-21T, FANUC 0i-T, Haas, SINUMERIK 802; LinuxCNC's
+    interpreter when its Python module is installed), load + run, as ratios to HNC-21T measured
+    in the same run.
 
 Run: ``python benchmarks/interp.py [N]``.
 """
@@ -52,6 +53,15 @@ def fanuc_program(n: int) -> str:
                                                                         "G01 X40. Z0. F120.")
     body = re.sub(r"([IK])(-?\d+)(?![.\d])", r"\1\2.", body)
     return "%\nO0001\nG98\n" + body + "%\n"
+
+
+def siemens_program(n: int) -> str:
+    """:func:`plain_program` as a SINUMERIK 802 program: %_N_ framing, CR= for R, feed per
+    minute (G94); a G0 to X100 Z10 stands for G92 (the 802 has no position setting)."""
+    body = plain_program(n).split("\n", 1)[1]
+    body = body.replace("G92 X100 Z10", "G94 G0 X100 Z10").replace("M03", "M3").replace(" R1.000",
+                                                                                          " CR=1.000")
+    return "%_N_BENCH_MPF\n;$PATH=/_N_MPF_DIR\n" + body
 
 
 def macro_program(n: int) -> str:
@@ -132,7 +142,8 @@ def main(argv: list[str]) -> int:
 
 def dialects(n: int, mach) -> None:
     from hnc_cam import nc
-    texts = {"hnc21t": plain_program(n), "fanuc0it": fanuc_program(n), "haas": fanuc_program(n)}
+    texts = {"hnc21t": plain_program(n), "fanuc0it": fanuc_program(n), "haas": fanuc_program(n),
+             "siemens802": siemens_program(n)}
     best: dict[str, float] = {}
     moves: dict[str, int] = {}
     for _ in range(3):

@@ -403,7 +403,7 @@ class Interp(HncMemory):
         for L, v, col in words:
             if L in unknown:
                 raise self.alarm(f"unknown word {L}: {unknown[L]}", line,
-                                 col or P.word_col(text, L))
+                                 col or self._word_col(text, L))
             if isinstance(v, Expr):
                 if L not in ("G", "M"):
                     if L in letters:
@@ -413,7 +413,7 @@ class Interp(HncMemory):
                 continue
             err = _range_error(L, v, ranges, self.range_ref)
             if err:
-                raise self.alarm(err, line, col or P.word_col(text, L))
+                raise self.alarm(err, line, col or self._word_col(text, L))
             if L == "G":
                 gs.append(int(v))
             elif L == "M":
@@ -423,7 +423,7 @@ class Interp(HncMemory):
             else:
                 if L in letters:
                     raise self.alarm(f"word {L} appears twice in the block", line,
-                                     col or P.word_col(text, L))
+                                     col or self._word_col(text, L))
                 w[L] = v
             letters.add(L)
         letters.discard("N")
@@ -438,6 +438,10 @@ class Interp(HncMemory):
         b.plain = (b.dyn is None and not ms and b.letters <= frozenset("GXZUWIKRF")
                    and all(g <= 3 for g in gs) and len(gs) <= 1)
         return b
+
+    #: the column of a word in a cleaned line, for an alarm (a dialect's reader may know
+    #: words the HNC lexer does not: SINUMERIK's CR=)
+    _word_col = staticmethod(P.word_col)
 
     def _compile_plain(self, i: int, line: int, text: str, fw: list) -> Optional[Blk]:
         """The hot path of loading: a block of at most one G00-G03 and X Z U W I K R words.

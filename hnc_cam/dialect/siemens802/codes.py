@@ -90,6 +90,7 @@ class SiemensInterp(SiemensMemory, Interp):
     """The interpreter with the 802's codes, calls and memory (see the module doc)."""
 
     round_words = frozenset("GMTDPL")
+    _word_col = staticmethod(word_col)
 
     def __init__(self, src, machine=None, **kw):
         super().__init__(src, machine, **kw)
@@ -104,7 +105,8 @@ class SiemensInterp(SiemensMemory, Interp):
         #: stays in the settable work system (G54-G57), where the part is
         self.g158: Optional[tuple[float, float]] = None
         self.chf: Optional[float] = None  # CHF= of the pending corner (its chamfer length)
-        self.thread_start: Optional[tuple] = None  # (x, z, angle) where a G33 chain may go on
+        #: (x, z, angle, its move): where a G33 chain may go on (when that move is the last one)
+        self.thread_start: Optional[tuple] = None
         self.ext: dict[str, int] = {}  # subprograms read from files beside the program
 
     # -- alarms at a word's column ---------------------------------------------------------
@@ -548,8 +550,9 @@ class SiemensInterp(SiemensMemory, Interp):
         if lead <= 0:
             raise self.balarm(b, f"value out of range: the lead must be positive", "K" if "K" in w else "I")
         chain = self.thread_start
-        if chain is not None and (abs(chain[0] - x0) > 1e-9 or abs(chain[1] - z0) > 1e-9):
-            chain = None
+        if chain is not None and not (self.moves and self.moves[-1] is chain[3]
+                                      and abs(chain[0] - x0) <= 1e-9 and abs(chain[1] - z0) <= 1e-9):
+            chain = None  # something moved since: a new thread
         angle = w["SF"] if "SF" in w else (chain[2] if chain is not None else
                                            float(self.params.get("thread_start_angle", 0.0)))
         if chain is not None and "SF" in w:
@@ -559,13 +562,10 @@ class SiemensInterp(SiemensMemory, Interp):
         self._flush_comp("G33", b.line)
         self.op = "G33"
         self.x, self.z = x1, z1
+        n = len(self.moves)
         self._emit_thread(x0, z0, x1, z1, lead * u, angle, 0.0, b.line)
-        self.thread_start = (x1, z1, angle)
+        self.thread_start = (x1, z1, angle, self.moves[-1] if len(self.moves) > n else None)
         return None
-
-    def _emit_line(self, rapid, x0, z0, x1, z1, line, F=None):
-        self.thread_start = None
-        return Interp._emit_line(self, rapid, x0, z0, x1, z1, line, F)
 
     # -- jumps ---------------------------------------------------------------------------------
     def _goto(self, c, pc: int) -> int:

@@ -32,7 +32,7 @@ from typing import Optional
 from ...errors import NCError
 from ...nc import parser as P
 from ...nc.expr import FanucExpr, constant_value
-from ...nc.lexer import FAST_SCAN, printable
+from ...nc.lexer import printable
 
 #: named words (``CR=34``)
 NAMED = frozenset({"CR", "AR", "CHF", "RND", "IX", "KZ", "SF", "LIMS", "SPOS"})
@@ -60,6 +60,12 @@ _CALL = re.compile(r"\s*+(?:N\s*+(\d+)\s*+)?(L\d{1,7}|[A-Z_][A-Z_][A-Z0-9_]*)(?:
 _RET = re.compile(r"(\s*+(?:N\s*+\d+\s*+)?)RET\s*$", re.A)
 _SLASH = re.compile(r"\s*+/[0-9]?", re.A)
 _BLOCKNO = re.compile(r"\s*+N\s*+(\d+)", re.A)
+#: the plain block: (word, number, "") per address letter (not R, U, W) or named word with a
+#: number, ("", "", c) at anything else
+FAST_SCAN = re.compile(r"\s*+((?:CHF|CR|AR|RND|IX|KZ|SF|LIMS|SPOS)(?=\s*+=)|[A-QSTVXYZ])\s*+=?\s*+"
+                       r"([-+]?(?:\d+\.?\d*|\.\d+))(?![\d.])\s*+|\s*+(.)", re.S | re.A)
+#: an assignment in a line (an R parameter or a text variable)
+_ASSIGN = re.compile(r"(?<![A-Z0-9_])(?:R\s*+\d+|_[A-Z0-9_]*)\s*+=", re.A)
 #: kind of a string assignment target in :attr:`Parsed.assigns` (a text variable)
 TEXT = "text"
 
@@ -464,7 +470,7 @@ class SiemensSyntax:
                 m = _RET.match(s)
                 if m is not None:
                     s = m.group(1) + "M17"
-            if "=" in s and "GOTO" not in s:
+            if "=" in s and "GOTO" not in s and _ASSIGN.search(s):
                 parts = self._split(s, i + 1, file, printable(r.strip()))
             else:
                 parts = (s,)
@@ -544,10 +550,8 @@ class SiemensSyntax:
 
     # -- statements ------------------------------------------------------------------------
     def fast_words(self, text: str) -> Optional[list]:
-        """``(letter, number, "")`` per word of a plain block, None for anything else (also a
-        block with U, W or R, which are not plain words of the 802)."""
-        if "R" in text or "U" in text or "W" in text:
-            return None
+        """``(word, number, "")`` per word of a plain block (letters but R, U and W, and named
+        words written ``CR=5``), None for anything else."""
         fw = FAST_SCAN.findall(text)
         if not fw:
             return None
