@@ -28,7 +28,7 @@ from typing import Any
 
 from ..errors import PlanError
 from .filters import (BLOCK_NUMBERING, NUMBER_FORMATS, comment, fmt_dia, fmt_num, label,
-                      micrometres, number_blocks, progno, ref, whole)
+                      micrometres, number_blocks, program_name, progno, ref, remark, whole)
 
 __all__ = ["render", "environment", "default_template_dir", "template_dirs", "NUMBER_FORMATS",
            "BLOCK_NUMBERING", "DEFAULT_DIALECT"]
@@ -124,6 +124,11 @@ def environment(user_dir: str | None = None, number_format: str = "plain",
     env.filters["label"] = label
     env.filters["ref"] = ref
     env.filters["blocks"] = lambda text: number_blocks(text, block_numbers)
+    env.filters["remark"] = remark
+    env.filters["progname802"] = program_name
+    env.filters["corners"] = _corner_blocks
+    env.filters["subprograms"] = contour_subprograms
+    env.filters["contour_number"] = contour_number
     env.globals["number_format"] = fmt
     env.globals["block_numbering"] = block_numbers
     env.globals["dialect"] = dialect
@@ -152,6 +157,33 @@ def render(plan: Any, *, dialect: str = DEFAULT_DIALECT, templates: str | Path |
         if not isinstance(e, (jinja2.TemplateError, ValueError)):
             why = f"{type(e).__name__}: {why}"
         raise PlanError(f"{where or 'template'}: {why}") from None
+
+
+def _corner_blocks(blocks, start=None):
+    from .corners import corner_blocks
+    return corner_blocks(blocks, start)
+
+
+def contour_subprograms(plan: Any) -> list:
+    """The operations whose contours a roughing cycle refers to, once each in the order of
+    the program (the SINUMERIK post writes each as a subprogram ``NAME_C1``, ``NAME_C2``...)."""
+    out: list = []
+    for op in plan.operations:
+        if op.kind == "rough":
+            owner = plan.contour_owner(op)
+            if not any(o is owner for o in out):
+                out.append(owner)
+    return out
+
+
+def contour_number(plan: Any, op: Any) -> int:
+    """1-based place of ``op``'s contour (:meth:`Plan.contour_owner`) among
+    :func:`contour_subprograms`."""
+    owner = plan.contour_owner(op)
+    for i, o in enumerate(contour_subprograms(plan), 1):
+        if o is owner:
+            return i
+    raise ValueError(f"operation {op.name}: its contour is not a subprogram")
 
 
 def cycle_labels(dialect: str = DEFAULT_DIALECT, templates: str | Path | None = None

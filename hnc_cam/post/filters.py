@@ -11,6 +11,8 @@
 * ``plain``: a number in the plain format whatever the number format option says.
 * ``comment``: ``(text)`` with the characters the control cannot take in a comment replaced:
   parentheses become brackets, ``%`` (program start) becomes ``pct``, non-ASCII becomes ``?``.
+* ``remark``: ``; text`` (a SINUMERIK comment); ``progname802``: a SINUMERIK program name
+  (:func:`program_name`).
 * ``label`` / ``ref``: a block that a cycle's P/Q word refers to carries a label, and the
   P/Q words carry a reference; :func:`number_blocks` (applied to the whole program by
   ``program.j2``) turns both into block numbers.
@@ -84,6 +86,23 @@ def comment(text: object) -> str:
     s = str(text).replace("(", "[").replace(")", "]").replace("%", "pct")
     s = _BAD.sub("?", s.replace("\n", " ").replace("\t", " ")).strip()
     return f"({s})"
+
+
+def remark(text: object) -> str:
+    """A ``;`` comment (SINUMERIK): printable ASCII, on one line."""
+    s = _BAD.sub("?", str(text).replace("\n", " ").replace("\t", " ")).strip()
+    return f"; {s}" if s else ";"
+
+
+def program_name(text: object, limit: int = 24) -> str:
+    """A SINUMERIK program name from a part's name: upper case letters, digits and
+    underscores, the first two characters letters (``PN`` put in front otherwise), at most
+    ``limit`` characters (``stepped_shaft`` -> ``STEPPED_SHAFT``)."""
+    s = re.sub(r"[^A-Z0-9_]", "_", str(text).upper())
+    s = re.sub(r"__+", "_", s).strip("_") or "PART"
+    if not (s[:2].isalpha() and s[:2].isascii()):
+        s = "PN" + s
+    return s[:limit].rstrip("_")
 
 
 def label(name: str) -> str:
