@@ -57,3 +57,26 @@ class CycleContext(Protocol):
         thread, spindle start angle ``angle`` deg, tool profile angle ``thread_angle``."""
 
     def dwell(self, seconds: float) -> None: ...
+
+    # -- SINUMERIK 802 cycles (LCYC82 ... LCYC97; docs/SIEMENS.md) ------------------------------
+    name: str  # the cycle's name, the label of its moves ("G71"; "LCYC95")
+
+    def r(self, n: int) -> float:
+        """R parameter ``n`` (0.0 when never written)."""
+
+    def set_r(self, n: int, value: float) -> None:
+        """Write R parameter ``n`` (R250-R299: the cycles' internal parameters)."""
+
+    def text(self, name: str) -> Optional[str]:
+        """A string variable (``_CNAME``), None when never assigned."""
+
+    def contour(self, name: str) -> list[tuple[Segment, int, str]]:
+        """The subprogram ``name`` dry-run as a profile from ``pos`` (the value of
+        :meth:`profile`); its RET/M17 ends it; alarms inside it name its lines."""
+
+    @property
+    def plane(self) -> int:
+        """17 or 18 (G17/G18)."""
+
+    def tool_nose(self) -> tuple[float, int]:
+        """(nose radius, tip direction code) of the active T/D; (0.0, 0) without one."""
