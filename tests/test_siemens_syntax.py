@@ -56,6 +56,10 @@ def test_labels_alone_with_block_numbers_and_on_blocks():
     assert pts(run(text))[-1] == (20.0, 17.0)
 
 
+def test_gear_stages_are_accepted():
+    assert pts(run("G0 X10 Z5 M41\nM40\nM30\n"))[-1] == (5.0, 5.0)
+
+
 def test_sniff_recognises_802_programs():
     assert "siemens802" in sniff("%_N_PART_MPF\nG0 X1\n")
     assert "siemens802" in sniff("N10 G0 X1\nN20 R101=5 R102=2\n")
@@ -115,6 +119,7 @@ ALARMS = [
     ("LIMS: G0 X1\nM30", 1, 1, "LIMS is a word of the language, not a label"),
     ("G1 X10 Z5 F0\nM30", 1, 0, "feed rate F is 0"),
     ("STOPRE X\nM30", 1, 8, "word X has no value"),
+    ("G0 X10 Z5 M77\nM30", 1, 11, "unknown M code M77"),
 ]
 
 

@@ -80,6 +80,8 @@ UNKNOWN_LETTERS = {"U": "the 802 writes incremental moves with G91 (U/W are not 
                    "E": "E is not a word of the 802", "J": "J is not a word of the lathe (ZX plane)"}
 #: named cycles: name -> the number CycleCtx.code carries
 CYCLE_NAMES = ("LCYC82", "LCYC83", "LCYC840", "LCYC85", "LCYC93", "LCYC94", "LCYC95", "LCYC97")
+#: M40 automatic gear stage, M41-M45 gear stages 1-5 (the document): accepted, no effect
+GEARS = frozenset(range(40, 46))
 #: words that are always allowed besides the motion's (edge, G96 speed cap, spindle position)
 _ALWAYS = frozenset({"D", "LIMS", "SPOS"})
 #: codes that stand in a block of their own (with N, their words and modal codes)
@@ -290,6 +292,13 @@ class SiemensInterp(SiemensMemory, Interp):
             if L not in ok:
                 what = (f"G{g00}" if g00 else f"G{m}" if (b.axes or m in (2, 3)) else "this")
                 raise self.balarm(b, f"word {L} has no meaning in {what} block", L)
+
+    def _unknown_m(self, b: Blk, mc: int) -> None:
+        if mc in GEARS:
+            return  # gear stages: no effect on the path
+        raise self.balarm(b, f"unknown M code M{mc} (SINUMERIK 802S/802C): the machine's PLC does not "
+                             f"list it; declare it in the machine file's [m_codes] table with its "
+                             f"meaning, e.g. M{mc:02d} = \"other\"", "M", mc)
 
     # -- tools -------------------------------------------------------------------------------
     def _tword(self, b: Blk, t: float) -> None:

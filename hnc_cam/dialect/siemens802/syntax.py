@@ -365,6 +365,7 @@ class SiemensSource(P.Source):
         self.names.append(name)
         self.programs[name] = a + base
         self._nums = None
+        self._labels = None
         return a + base
 
     def locate(self, line: int) -> tuple[str, int]:
