@@ -67,6 +67,7 @@ def _generate_command(args: argparse.Namespace) -> int:
     from ..cad.loader import profile_options
     from ..io import write_atomic
     from .api import generate
+    from .export import is_folder_target, write_program_folder
 
     params = parse_set(args.params or [])
     if getattr(args, "json", None) == "-" and not args.output:
@@ -81,7 +82,11 @@ def _generate_command(args: argparse.Namespace) -> int:
     with failure_report(args):  # --report: the page of a program refused by verification
         prog = generate(part, args.stock, params=params, program_number=args.program_number,
                         file=args.output or "<stdout>", **_options(args))
-    if args.output:
+    if args.output and prog.dialect == "siemens802" and is_folder_target(args.output):
+        # -o DIR/: the main program and each subprogram in its own file (NAME.MPF,
+        # NAME_C1.SPF, ...), all or none
+        write_program_folder(args.output, prog.text)
+    elif args.output:
         write_atomic(args.output, prog.text)
     else:
         sys.stdout.write(prog.text)
