@@ -63,7 +63,7 @@ CYCLE_MOTION = frozenset({5, 33})
 POWER_ON = {1: 0, 9: 40, 11: 500, 8: 71, 3: 90, 14: 94, 16: 18, 2: 23}
 #: word ranges of the document's address table (min, max, whole number)
 RANGES: dict[str, tuple[float, float, bool]] = {
-    "G": (0, 999, True), "M": (0, 99, True), "N": (0, 9999, True), "T": (0, 32000, True),
+    "G": (0, 999, True), "M": (0, 99, True), "N": (0, 4294967295, True), "T": (0, 32000, True),
     "D": (0, 9, True), "F": (0, 999999.999, False), "S": (0, 99999.999, False),
     "P": (1, 9999, True), "L": (0, 9999999, True),
     "I": (-99999.999, 99999.999, False), "K": (-99999.999, 99999.999, False),

@@ -46,7 +46,7 @@ R_PROGRAM_MAX = 249
 R_MAX = 299
 #: R parameter n is variable number n + R_BASE of the statement model
 R_BASE = 1
-N_MAX = 9999
+N_MAX = 4294967295  # the document gives no limit: as the executor's plain blocks
 NAME_MAX = 31
 
 # one token: number | letter run (two or more letters/underscores start a name; a single
@@ -55,11 +55,11 @@ _TOKEN = re.compile(r"\s*+(?:(\d+\.?\d*|\.\d+)|([A-Z_][A-Z_]+[A-Z0-9_]*|_[A-Z0-9
                     r"|(\"[^\"]*\"?)|(==|<>|>=|<=|[-+*/()=<>,:\[\]]|\S))", re.A)
 _HEADER = re.compile(r"\s*+%_N_([A-Z0-9_]+)_(MPF|SPF)\s*$", re.A)
 _LABEL = re.compile(r"([\s/]*+(?:N\s*+\d+\s*+)?)([A-Z_][A-Z_][A-Z0-9_]*)\s*+:(?!=)", re.A)
-_CALL = re.compile(r"\s*+(?:N\s*+(\d+)\s*+)?(L\d{1,7}|[A-Z_][A-Z_][A-Z0-9_]*)(?:\s*+P\s*+(\d+))?\s*$",
+_CALL = re.compile(r"\s*+(?:N\s*+(\d+)\s*+)?(L\d{1,7}|[A-Z_][A-Z_][A-Z0-9_]*)(?:\s*+P\s*+(\d{1,9}))?\s*$",
                    re.A)
 _RET = re.compile(r"(\s*+(?:N\s*+\d+\s*+)?)RET\s*$", re.A)
 _SLASH = re.compile(r"\s*+/[0-9]?", re.A)
-_BLOCKNO = re.compile(r"\s*+N\s*+(\d+)", re.A)
+_BLOCKNO = re.compile(r"\s*+N\s*+(\d{1,10})(?!\d)", re.A)
 #: the plain block: (word, number, "") per address letter (not R, U, W) or named word with a
 #: number, ("", "", c) at anything else
 FAST_SCAN = re.compile(r"\s*+((?:CHF|CR|AR|RND|IX|KZ|SF|LIMS|SPOS)(?=\s*+=)|[A-QSTVXYZ])\s*+=?\s*+"
@@ -216,7 +216,7 @@ class _SP(P._P):
         if k != "num" or not v.isdigit():
             raise self.err("R needs its parameter number, as R1 (R0-R249)", col)
         self.i += 1
-        n = int(v)
+        n = int(v) if len(v) <= 6 else R_MAX + 1
         if n > R_MAX:
             raise self.err(f"R{n}: the arithmetic parameters are R0-R249 (R250-R299 belong to the "
                            f"cycles)", col)
@@ -577,7 +577,7 @@ class SiemensSyntax:
         if k == "addr" and v == "N" and len(toks) > 1 and toks[1][0] == "num":
             p.i += 1
             nt = p.take()[1]
-            if "." in nt or int(nt) > N_MAX:
+            if "." in nt or len(nt) > 10 or int(nt) > N_MAX:
                 raise p.err(f"value out of range: N{nt}: a block number is a whole number 0-{N_MAX}", c)
             n = int(nt)
             k, v, c = p.peek()
@@ -612,7 +612,7 @@ class SiemensSyntax:
             target = t
             p.i += 1
         elif k == "addr" and t == "N" and p.i + 1 < len(p.t) and p.t[p.i + 1][0] == "num" \
-                and p.t[p.i + 1][1].isdigit():
+                and p.t[p.i + 1][1].isdigit() and len(p.t[p.i + 1][1]) <= 10:
             target = f"N{int(p.t[p.i + 1][1])}"
             p.i += 2
         else:
