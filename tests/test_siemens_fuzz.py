@@ -111,3 +111,8 @@ def test_deep_brackets_and_long_lines_alarm():
     assert isinstance(e, NCError) and e.line == 1
     e = outcome("G1 X" + "9" * 400 + " F100\nM30\n")
     assert isinstance(e, NCError) and e.line == 1
+    for text in ("N" + "9" * 5000 + " G0 X1\nM30", "R" + "1" * 5000 + "=1\nM30",
+                 "GOTOF N" + "1" * 5000 + "\nM30", "L10 P" + "9" * 5000 + "\nM30",
+                 "N10 G0 X1\nGOTOB N" + "0" * 30 + "10\nM30", "_" + "A" * 5000 + "\nM30"):
+        e = outcome(text)
+        assert isinstance(e, NCError) and e.line in (1, 2)
