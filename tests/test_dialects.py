@@ -16,7 +16,7 @@ PARTS = REPO / "parts"
 
 pytestmark = pytest.mark.cad
 
-DIALECTS = ("hnc21t", "fanuc0it", "haas")
+DIALECTS = ("hnc21t", "fanuc0it", "haas", "siemens802")
 BUNDLED = sorted(p.name for p in PARTS.glob("*.py"))
 
 #: a part written the way a user writes one: a sleeve with a chamfered bore, a taper and a
@@ -115,6 +115,42 @@ def _check_fanuc_text(text: str, dialect: str, plan) -> None:
         assert any(" G41" in b or " G42" in b for b in blocks)
 
 
+def _check_siemens_text(text: str, plan) -> None:
+    """The 802 program's framing and cycles: %_N_NAME_MPF with its ;$PATH line, then one
+    %_N_NAME_Cn_SPF per roughed contour ending in RET; every roughing operation an LCYC95
+    call naming a subprogram of the file (a pattern repeat: the subprogram under G158), a
+    groove LCYC93, a thread LCYC97 (G33 passes), G96 always with LIMS=."""
+    from hnc_cam.plan.export import split_programs
+    progs = split_programs(text)
+    names = [n for n, _ in progs]
+    assert names[0].endswith(".MPF") and all(n.endswith(".SPF") for n in names[1:])
+    main = progs[0][1].splitlines()
+    assert main[0] == f"%_N_{names[0][:-4]}_MPF" and main[1] == ";$PATH=/_N_MPF_DIR"
+    body = [re.sub(r"^N\d+ ", "", ln) for ln in main if not ln.startswith((";", "%"))]
+    assert body[0] == "G18 G23 G71 G90 G95 G40" and body[-1] == "M2"
+    for _, sub in progs[1:]:
+        lines = sub.splitlines()
+        assert lines[1] == ";$PATH=/_N_SPF_DIR" and re.fullmatch(r"N\d+ RET", lines[-1])
+    for b in body:
+        assert not re.search(r"\b[UWQPH]-?\d", b), b  # no FANUC/HNC words
+        if b.startswith("G96"):
+            assert " LIMS=" in b, b
+    cnames = [b.split('"')[1] for b in body if b.startswith("_CNAME=")]
+    assert all(f"{c}.SPF" in names for c in cnames)
+    rough = [op for op in plan.operations if op.kind == "rough"]
+    pattern = [op for op in rough if op.rough.strategy == "pattern"]
+    assert body.count("LCYC95") >= len(rough) - len(pattern)
+    if pattern:
+        assert any(b.startswith("G158 X") for b in body)
+    roles = [op.role for op in plan.operations]
+    assert body.count("LCYC93") == roles.count("groove")
+    assert body.count("LCYC97") == roles.count("thread")
+    if "thread_passes" in roles:
+        assert any(b.startswith("G33 Z") and " K" in b and " SF=" in b for b in body)
+    if plan.comp == "control":
+        assert any(" G41" in b or " G42" in b or re.search(r"R105=[5-8]\b", b) for b in body)
+
+
 def _check(prog, part: Path, comp: str, dialect: str) -> None:
     assert prog.dialect == dialect
     assert prog.toolpath is not None and prog.toolpath.moves  # read back without an alarm
@@ -125,8 +161,11 @@ def _check(prog, part: Path, comp: str, dialect: str) -> None:
     rep = prog.report
     assert rep is not None and rep.passed, rep.summary()
     assert rep.max_overcut_mm <= 0.01
+    if dialect == "siemens802":
+        _check_siemens_text(prog.text, prog.plan)
     if dialect != "hnc21t":
-        _check_fanuc_text(prog.text, dialect, prog.plan)
+        if dialect != "siemens802":
+            _check_fanuc_text(prog.text, dialect, prog.plan)
         ref = _hnc_report(part, comp)
         # the same plan cuts the same part: gouge and leftover as the HNC program's
         assert rep.max_overcut_mm == pytest.approx(ref.max_overcut_mm, abs=0.002)
@@ -273,6 +312,49 @@ def test_operation_variants_in_fanuc_and_haas(tmp_path, key, dialect, comp):
     if dialect == "fanuc0it" and threads:
         # the same passes as the HNC program's (G76: its depth law; G92: the G82 diameters)
         assert depths(prog) == depths(ref)
+
+
+@pytest.mark.parametrize("comp", ["cam", "control"])
+@pytest.mark.parametrize("key", VARIANTS)
+def test_operation_variants_in_siemens802(tmp_path, key, comp):
+    """The same variants in the 802's forms: facing in G1 passes, G33 passes with SF= per
+    start, LCYC97 with R114 starts, LCYC95 face roughing (R105=2), the pattern repeat as
+    the contour subprogram under G158 offsets, undercut zones by LCYC95 on their own
+    contours; each cuts the part as the HNC program does."""
+    shape, stock, kw, machine = _variants()[key]
+    if machine:
+        m = tmp_path / machine
+        m.write_text((REPO / "hnc_cam" / "data" / "machine.toml").read_text()
+                     .replace("max_rpm = 3000.0", "max_rpm = 9000.0"))
+        kw = dict(kw, machine=str(m))
+    ref = generate(shape(), stock, comp=comp, dialect="hnc21t", **kw)
+    prog = generate(shape(), stock, comp=comp, dialect="siemens802", **kw)
+    assert prog.report.passed, prog.report.summary()
+    assert not prog.toolpath.warnings
+    assert prog.report.max_overcut_mm == pytest.approx(ref.report.max_overcut_mm, abs=0.002)
+    assert prog.report.max_undercut_mm == pytest.approx(ref.report.max_undercut_mm, abs=0.002)
+    _check_siemens_text(prog.text, prog.plan)
+    blocks = _blocks(prog.text)
+    ops = prog.plan.operations
+    threads = [op for op in ops if op.kind == "thread"]
+    if key.startswith("face"):
+        face = ops[0]
+        assert sum(b.startswith("G1 X") and " F" in b for b in blocks) >= len(face.passes)
+    if key in ("thread_passes", "two_start_passes"):
+        g33 = [b for b in blocks if b.startswith("G33 ")]
+        t = threads[0]
+        assert len(g33) == len(t.passes) * t.thread.starts
+        assert {b.split("SF=")[1] for b in g33} == {f"{a:g}" for a in t.thread.start_angles}
+    if key == "two_start":
+        assert any(re.search(r"\bR114=2\b", b) for b in blocks)
+    if key == "g72":
+        assert any(re.search(r"\bR105=2\b", b) for b in blocks)
+    if key == "g73":
+        r = [op for op in ops if op.kind == "rough"][0].rough
+        assert sum(b.startswith("G158 X") for b in blocks) == r.count
+    if key == "zones":
+        zones = [op for op in ops if op.name == "rough_zone"]
+        assert blocks.count("LCYC95") >= 1 + len(zones)
 
 
 def test_operations_are_named_by_the_dialects_cycles():
