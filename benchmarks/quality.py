@@ -11,6 +11,10 @@ of the cycle time:
 and cycle / bound (1.0 would be a program that cuts at full rate all the time and never
 moves in air; rapids, tool changes and threads are all in the cycle time, not in the bound).
 
+Then the workholding parts (:data:`HELD`), each held in the chuck by its grip: parted off
+from the bar (the part-off in the cycle time; the bound counts the stub left in the chuck
+as removed, so their ratio is low) or, for the long thin shaft, with the stick-out warning.
+
 Run: python benchmarks/quality.py [--comp cam|control] [PART ...]
 """
 from __future__ import annotations
@@ -24,6 +28,10 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO))
+
+#: parts held in the chuck: (part file, grip mm)
+HELD = [(REPO / "tests" / "data" / "turning_parts" / "pin_partoff.py", 20.0),
+        (REPO / "tests" / "data" / "turning_parts" / "thin_shaft.py", 15.0)]
 
 
 def _finish_time(op, max_rpm: float) -> float:
@@ -41,11 +49,11 @@ def _finish_time(op, max_rpm: float) -> float:
     return t
 
 
-def measure(part: Path, comp: str) -> dict:
+def measure(part: Path, comp: str, grip: float | None = None) -> dict:
     from hnc_cam.plan.api import _load_tools, generate
     from hnc_cam.plan.tools import turning_tools
     t0 = time.perf_counter()
-    prog = generate(part, comp=comp)
+    prog = generate(part, comp=comp, grip=grip)
     dt = time.perf_counter() - t0
     plan = prog.plan
     rep = prog.report
@@ -59,7 +67,8 @@ def measure(part: Path, comp: str) -> dict:
     bound = removed / mrr + fin
     blocks = sum(1 for ln in prog.text.splitlines() if ln.strip() and not ln.startswith("%")
                  and not ln.lstrip("N0123456789 ").startswith("("))
-    return {"part": part.stem, "cycle": prog.cycle_time_s, "air": rep.air_cut_fraction,
+    name = part.stem if grip is None else f"{part.stem}@{grip:g}"
+    return {"part": name, "cycle": prog.cycle_time_s, "air": rep.air_cut_fraction,
             "blocks": blocks, "tools": len(plan.tools), "bound": bound,
             "ratio": prog.cycle_time_s / bound if bound > 0 else float("nan"), "gen_s": dt}
 
@@ -69,13 +78,14 @@ def main(argv=None) -> int:
     ap.add_argument("parts", nargs="*")
     ap.add_argument("--comp", default="cam", choices=("cam", "control"))
     a = ap.parse_args(argv)
-    parts = [Path(p) for p in a.parts] or sorted((REPO / "parts").glob("*.py"))
+    parts = [(Path(p), None) for p in a.parts] or \
+        [(p, None) for p in sorted((REPO / "parts").glob("*.py"))] + HELD
     print(f"comp {a.comp}; load average {os.getloadavg()[0]:.2f}")
     print(f"{'part':16s} {'cycle s':>8s} {'air %':>6s} {'blocks':>6s} {'tools':>5s} "
           f"{'bound s':>8s} {'cycle/bound':>11s}")
-    for p in parts:
+    for p, grip in parts:
         try:
-            r = measure(p, a.comp)
+            r = measure(p, a.comp, grip)
         except Exception as e:  # a part that does not generate is a row, not a crash
             print(f"{p.stem:16s} fails: {str(e).splitlines()[0][:100]}")
             continue

@@ -111,6 +111,11 @@ def _add_gen_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--explain", action="store_true", help="print the planner's reasoning for "
                    "each operation on stderr")
     _add_grip(p)
+    p.add_argument("--no-partoff", action="store_true", help="leave the part on the bar, its "
+                   "left end cut just past the part (a blank made to length); by default a "
+                   "part held by --grip is parted off")
+    p.add_argument("--partoff-dia", type=_positive_mm, metavar="MM", help="end the part-off "
+                   "at this diameter (a stem for a parts catcher) instead of past the centre")
 
 
 def _add_dialect(p: argparse.ArgumentParser) -> None:

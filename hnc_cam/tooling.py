@@ -123,7 +123,7 @@ class Tool:
     hand: str = "R"
     holder: str = ""
     approach: float = 95.0  # holder approach angle kappa_r, deg
-    kind: str = "turn"  # turn | bore | thread | groove
+    kind: str = "turn"  # turn | bore | thread | groove | part (a parting blade)
     uses: tuple[str, ...] = ("rough", "finish")
     depth: float = 1.5  # roughing depth of cut per side, mm
     feed_rough: float = 0.25  # mm/rev
@@ -134,6 +134,8 @@ class Tool:
     min_bore: float = 0.0  # smallest bore diameter a boring bar enters, mm
     max_rpm: float = 0.0  # the tool's own spindle limit (0: the machine's), rpm
     dwell_rev: float = 2.0  # spindle revolutions at the bottom of a groove plunge
+    #: a parting blade's reach below the stock's surface (radial, mm; 0 = not limited)
+    max_depth: float = 0.0
     x_offset: float = 0.0  # diameter
     z_offset: float = 0.0
 
@@ -557,9 +559,10 @@ TOOL_KEYS = {
     "hand": Key("str", choices=("R", "L", "N"), fold=True),
     "tip": Key("int", 0, 9),
     "approach": Key("float", 0, 180, "deg", lo_open=True),
-    "kind": Key("str", choices=("turn", "bore", "thread", "groove")),
+    "kind": Key("str", choices=("turn", "bore", "thread", "groove", "part")),
     "uses": Key("strs", choices=("rough", "finish", "face", "profile", "thread", "thread_id",
-                                 "groove")),
+                                 "groove", "part")),
+    "max_depth": Key("float", 0, 500, "mm"),
     "depth": Key("float", 0.01, 20, "mm"),
     "feed_rough": Key("float", 0.01, 2, "mm/rev"),
     "feed_finish": Key("float", 0.01, 2, "mm/rev"),
@@ -618,7 +621,7 @@ def load_tools(path: str | Path | None = None) -> ToolLibrary:
             vc_rough=_num(t, "vc_rough", 180.0, w), vc_finish=_num(t, "vc_finish", 220.0, w),
             rpm=_num(t, "rpm", 0.0, w), min_bore=_num(t, "min_bore", 0.0, w),
             max_rpm=_num(t, "max_rpm", 0.0, w), dwell_rev=_num(t, "dwell_rev", 2.0, w),
-            x_offset=_num(t, "x", 0.0, w), z_offset=_num(t, "z", 0.0, w)))
+            max_depth=_num(t, "max_depth", 0.0, w), x_offset=_num(t, "x", 0.0, w), z_offset=_num(t, "z", 0.0, w)))
     return ToolLibrary(tuple(tools), where)
 
 

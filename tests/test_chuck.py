@@ -37,10 +37,10 @@ def test_bundled_machine_describes_the_jaws_and_no_grip_models_none():
 
 def test_cut_that_clears_the_jaws_verifies_with_the_jaws_modelled():
     # stock 45x117+2 spans Z-115..2; part left end Z-99: the left-end passes reach Z-101.1
-    prog = generate(PARTS / "stepped_shaft.py", grip=11.6)
+    prog = generate(PARTS / "stepped_shaft.py", grip=11.6, partoff=False)
     assert prog.report.passed and not prog.warnings
     with pytest.raises(PlanError):
-        generate(PARTS / "stepped_shaft.py", grip=11.7)
+        generate(PARTS / "stepped_shaft.py", grip=11.7, partoff=False)
     from hnc_cam.sim import simulate
     m = simulate(prog.toolpath, prog.plan.stock, prog.plan.machine)
     z0, x0, z1, x1 = m.jaws.bounds
@@ -90,7 +90,7 @@ def test_program_edited_to_cut_into_the_jaws_is_caught_at_its_line():
 
 
 def test_simulate_and_verify_take_grip_and_exit_1_on_a_jaw_collision(tmp_path, capsys):
-    prog = generate(PARTS / "stepped_shaft.py", grip=10, verify=False)
+    prog = generate(PARTS / "stepped_shaft.py", grip=10, verify=False, partoff=False)
     p = tmp_path / "p.nc"
     p.write_text(prog.text)
     assert main(["simulate", str(p), "--grip", "13"]) == 0

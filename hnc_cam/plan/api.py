@@ -211,7 +211,8 @@ def generate(part: Any, stock: str | Stock | None = None, *, params: Mapping[str
              block_numbers: str = "every", thread_cycle: str = "g76",
              face_cycle: str = "g81", file: str = "<generated>",
              material: str | None = None, allowance: Any = None,
-             dialect: str | None = None, grip: float | None = None) -> Program:
+             dialect: str | None = None, grip: float | None = None, partoff: bool = True,
+             partoff_dia: float | None = None) -> Program:
     """Plan, render, interpret (and verify) a program for ``part``.
 
     ``part``: a part file path (``parts/*.py``, ``.step``/``.stp``), a loaded part
@@ -227,6 +228,9 @@ def generate(part: Any, stock: str | Stock | None = None, *, params: Mapping[str
     written for and read back as (``hnc21t``, ``fanuc0it``, ``haas``; default: the machine
     file's ``controller``, else ``hnc21t``). ``grip``: mm of the stock held in the chuck's
     jaws (default: the machine file's ``[chuck] grip``; none: the jaws are not modelled).
+    ``partoff``: a part held in the chuck (a grip given) is parted off with the library's
+    parting blade (False: it stays on the bar, its left end cut just past the part);
+    ``partoff_dia``: the part-off ends at this diameter instead of past the centre.
     """
     from .. import __version__
     from ..post import cycle_labels, render
@@ -263,7 +267,9 @@ def generate(part: Any, stock: str | Stock | None = None, *, params: Mapping[str
     if allowance is not None:
         ax, az = _parse_allowance(allowance)
     opts = Options(comp=comp, program_number=int(program_number), thread_cycle=thread_cycle,
-                   face_cycle=face_cycle, allowance_x=ax / 2, allowance_z=az)
+                   face_cycle=face_cycle, allowance_x=ax / 2, allowance_z=az,
+                   partoff=bool(partoff),
+                   partoff_dia=float(partoff_dia) if partoff_dia is not None else -1.0)
     plan = make_plan(prof, st, lib, mach, opts, name=name, params=pparams, version=__version__)
     dia = dialect_of(dialect, mach)
     text = render(plan, dialect=dia, templates=templates, number_format=number_format,

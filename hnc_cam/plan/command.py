@@ -37,7 +37,9 @@ def _options(args: argparse.Namespace) -> dict[str, Any]:
                 face_cycle=getattr(args, "face_cycle", "g81") or "g81",
                 material=getattr(args, "material", None),
                 allowance=getattr(args, "allowance", None),
-                dialect=getattr(args, "dialect", None), grip=getattr(args, "grip", None))
+                dialect=getattr(args, "dialect", None), grip=getattr(args, "grip", None),
+                partoff=not getattr(args, "no_partoff", False),
+                partoff_dia=getattr(args, "partoff_dia", None))
 
 
 def user_template_error(e: HncError, templates: Any) -> HncError:

@@ -23,7 +23,7 @@ def _n(v: float) -> str:
 #: segment kinds of a contour block
 SEGMENT_KINDS = ("rapid", "line", "cw", "ccw")
 #: operation kinds (the post chooses a template per kind, see :func:`Operation.role`)
-KINDS = ("face", "rough", "finish", "groove", "thread")
+KINDS = ("face", "rough", "finish", "groove", "thread", "part")
 
 
 @dataclass
@@ -252,7 +252,7 @@ class Operation:
             return "G71E" if r.pockets else "G71"
         if self.kind == "thread":
             return "G76" if self.thread.method == "cycle" else "G82"
-        if self.kind == "groove":
+        if self.kind in ("groove", "part"):
             return "G01"
         return "contour"
 
@@ -296,6 +296,8 @@ class Operation:
                     f"{len(self.passes)}X {f}")
         if self.name == "thread":
             return f"{t} THREAD LEAD {_n(self.thread.lead)} S{_n(self.speed)}"
+        if self.name == "partoff":
+            return f"{t} PART OFF Z{_n(self.start[1])} S{_n(self.speed)} {f}"
         return f"{t} {self.name.upper()} {cycle}"
 
 

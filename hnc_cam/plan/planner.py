@@ -88,6 +88,11 @@ class Options:
     allowance_z: float = 0.1
     margin: float = 0.1  # least stock the roughing tool leaves normal to the part, mm
     retract: float = 0.5  # G71/G72 retract R, mm
+    #: part off the finished part from a bar held in the chuck (when the machine gives a grip)
+    partoff: bool = True
+    #: the diameter the part-off ends at: -1 = past the centre (X-1); a small positive
+    #: diameter leaves a stem for a parts catcher
+    partoff_dia: float = -1.0
 
 
 def _fmt(v: float) -> str:
@@ -214,9 +219,13 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
         z_face = 0.0
     z_a = z_face + opts.z_clear
 
+    # ---------------- part-off? ----------------
+    blade = _partoff_blade(plan, stock, tools, machine, opts, name, z_min, r_stock)
+
     # ---------------- OD ----------------
     *od_ops, grooves = _plan_od(od, prof, stock, tools, opts, name, x_a, z_a, r_stock, length,
-                                faced=face_stock > 1e-6, machine=machine)
+                                faced=face_stock > 1e-6, machine=machine,
+                                partoff=blade is not None)
 
     # ---------------- bore ----------------
     bore_ops: list[Operation] = []
@@ -237,6 +246,10 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
     for th in prof.threads:
         ops.append(_plan_thread(th, od, bore_chain, stock, tools, machine, opts, r_stock,
                                 params=dict(params or {})))
+
+    # ---------------- part-off ----------------
+    if blade is not None:
+        ops.append(_partoff_op(blade, od, stock, machine, opts, r_stock, z_min))
 
     for op in ops:
         op.max_rpm = rpm_limit(op.tool, machine)
@@ -278,6 +291,121 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
     return plan
 
 
+#: feed of the part-off inside this share of the stock's diameter, and the share itself
+PARTOFF_SLOW = (0.5, 0.25)
+
+
+def _partoff_blade(plan: Plan, stock: Stock, tools: ToolLibrary, machine: Machine,
+                   opts: Options, name: str, z_min: float, r_stock: float) -> Tool | None:
+    """The parting blade when the part is to be parted off, else None (the left end is cut
+    just past the part, as for a blank made to length). Parted off: a bar or tube held in the
+    chuck (the machine gives a grip), ``opts.partoff``, a ``kind = "part"`` tool in the
+    library, and a stock long enough for the part, the blade and the jaws' clearance; a
+    stock too short falls back with a warning. A blade that cannot reach the cut is
+    refused, naming the depth needed."""
+    grip = float(getattr(machine, "grip", 0.0) or 0.0)
+    if not opts.partoff or grip <= 0 or stock.kind not in ("bar", "tube"):
+        return None
+    blades = [t for t in tools.tools if t.kind == "part"]
+    if not blades:
+        plan.warnings.append("no parting tool (kind = \"part\") in the tool library: the part "
+                             "stays on the bar, its left end cut just past the part")
+        return None
+    t = blades[0]
+    w = t.insert.width
+    need = -z_min + w + CHUCK_CLEARANCE + grip + stock.face
+    if stock.length < need - 1e-9:
+        plan.warnings.append(
+            f"stock {stock.spec} is too short to part off: part {_fmt(-z_min)} + blade "
+            f"{_fmt(w)} + face {_fmt(stock.face)} + grip {_fmt(grip)} + clearance "
+            f"{_fmt(CHUCK_CLEARANCE)} = {_fmt(need)} mm; the part stays on the bar, its left end "
+            f"cut just past the part (as with --no-partoff)")
+        return None
+    x_stop = _partoff_stop(stock, opts)
+    depth = r_stock - max(x_stop, 0.0)
+    if t.max_depth > 0 and depth > t.max_depth + 1e-9:
+        raise PlanError(f"part {name}: parting off diameter {_fmt(2 * r_stock)} to "
+                        f"{_fmt(2 * x_stop)} needs a blade reaching {_fmt(depth)} mm deep; "
+                        f"T{t.number:02d} {t.name} reaches {_fmt(t.max_depth)} mm (a blade with "
+                        f"max_depth >= {_fmt(depth)}, or --no-partoff)")
+    return t
+
+
+def _partoff_stop(stock: Stock, opts: Options) -> float:
+    """The radius the part-off plunge ends at: past the centre by 0.5 mm (X-1), the tube's
+    bore less 0.5 mm, or the stem diameter asked for."""
+    if stock.kind == "tube":
+        return stock.bore / 2 - 0.5
+    return opts.partoff_dia / 2 if opts.partoff_dia > 0 else -0.5
+
+
+def _partoff_op(t: Tool, od: list[Segment], stock: Stock, machine: Machine, opts: Options,
+                r_stock: float, z_min: float) -> Operation:
+    """Part off at the part's left end with the blade's corner on the part's side (tip 4:
+    the controlled point is that corner, so a plunge at Z = the part's left end leaves the
+    left face there). A chamfer or round descending to the left end is cut first by that
+    corner following it (tip path): a groove beside it to half a millimetre below it, then
+    the corner along it and down the face. The plunge to the centre runs at the tool's
+    finishing feed, falling to :data:`PARTOFF_SLOW` of it inside that share of the stock's
+    diameter, G97 at the speed of the stock's diameter, at most the tool's and machine's
+    limit."""
+    r, w = t.nose_radius, t.insert.width
+    x_a = r_stock + opts.clearance
+    f = t.feed_finish
+    x_stop = _partoff_stop(stock, opts)
+    segs = an.split_x_extremes(list(od))
+    k = len(segs)
+    while k > 1 and segs[k - 1].end[0] < segs[k - 1].start[0] - 1e-9:
+        k -= 1
+    tail = segs[k:]
+    path: list[Segment] = []
+    blocks = []
+    from .model import Block
+    if tail:
+        x_s, z_s = tail[0].start
+        x_t = tail[-1].end[0]
+        x_pre = max(x_t - 0.5, x_stop)
+        blocks += [Block("line", x=x_pre, feed=f), Block("rapid", x=x_a)]
+        path += [Line((x_a, z_min), (x_pre, z_min)), Line((x_pre, z_min), (x_a, z_min))]
+        base = ([Line((x_s, z_s + 0.5), (x_s, z_s))] + list(tail)
+                + [Line(tail[-1].end, (x_pre, tail[-1].end[1]))])
+        tp = ct.tip_path(base, r, t.tip, bore=False)
+        p0 = tp[0].start
+        blocks += [Block("rapid", z=p0[1]), Block("rapid", x=p0[0] + 0.5),
+                   Block("line", x=p0[0])]
+        path += [Line((x_a, z_min), (x_a, p0[1])), Line((x_a, p0[1]), p0)]
+        for b in ct.to_blocks(tp, "x", f, "", "", start=p0)[1:]:
+            b.feed = None
+            blocks.append(b)
+        path += tp
+        x_from = tp[-1].end[0]
+    else:
+        x_from = x_a
+    x_slow = PARTOFF_SLOW[1] * r_stock
+    if x_slow > x_stop + 1e-6 and x_from > x_slow:
+        blocks.append(Block("line", x=x_slow, z=z_min, feed=f))
+        blocks.append(Block("line", x=x_stop, feed=f * PARTOFF_SLOW[0]))
+    else:
+        blocks.append(Block("line", x=x_stop, z=z_min, feed=f * PARTOFF_SLOW[0]))
+    path += [Line((x_from, z_min), (x_stop, z_min))]
+    vc = t.vc_finish
+    lim = rpm_limit(t, machine)
+    rpm = min(lim, vc * 1000.0 / (2 * math.pi * r_stock))
+    stem = (f"to diameter {_fmt(2 * x_stop)} (a stem for the parts catcher)" if x_stop > 0
+            else f"past the centre to X{_fmt(2 * x_stop)}")
+    return Operation(
+        name="partoff", kind="part", tool=t,
+        reason=(f"part off at Z{_fmt(z_min)} with {describe(t)} ({_fmt(w)} mm blade), "
+                + (f"its corner cutting the left end's {'chamfer' if all(isinstance(s, Line) for s in tail) else 'round'} first, "
+                   if tail else "")
+                + f"{stem}: F{_fmt(f)}, F{_fmt(f * PARTOFF_SLOW[0])} inside diameter "
+                  f"{_fmt(2 * x_slow)}; G97 S{_fmt(rpm)} ({_fmt(vc)} m/min at the stock's "
+                  f"diameter, at most {_fmt(lim)} rpm)"),
+        start=(x_a, z_min), spindle="rpm", speed=round(rpm), feed=f, blocks=blocks,
+        nose_comp="none", contour=path, retract=[(x_a, z_min)],
+        approach=[(x_a, None), (None, z_min)])
+
+
 def _check_chuck(plan: Plan, name: str, z_min: float, r_stock: float) -> None:
     """Workholding, when the machine gives a grip: the chuck must hold the stock's diameter,
     the grip must be shorter than the stock, and the deepest cut (the left-end passes run
@@ -305,6 +433,8 @@ def _check_chuck(plan: Plan, name: str, z_min: float, r_stock: float) -> None:
                         f"clamp_min/clamp_max)")
     reach = max((op.tool.nose_radius for op in plan.operations), default=0.0) + 0.3
     z_cut = z_min - reach
+    if plan.operations and plan.operations[-1].kind == "part":  # the blade's width
+        z_cut = min(z_cut, z_min - plan.operations[-1].tool.insert.width)
     for op in plan.operations:  # contours run on past the left end: a tip path is the
         # tool's extent toward the chuck, a compensated contour a nose radius less
         r = op.tool.nose_radius if op.nose_comp != "none" else 0.0
@@ -421,8 +551,8 @@ def _pocket_text(p: an.Pocket, bore: bool = False) -> str:
 
 def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibrary,
              opts: Options, name: str, x_a: float, z_a: float, r_stock: float,
-             length: float, faced: bool = False, machine: Machine | None = None
-             ) -> tuple[list[Operation], Operation, list[Operation]]:
+             length: float, faced: bool = False, machine: Machine | None = None,
+             partoff: bool = False) -> tuple[list[Operation], Operation, list[Operation]]:
     profilers = [t for t in lib.tools if t.kind == "turn" and
                  ("profile" in t.uses or "finish" in t.uses)]
     end_ops: list[Operation] = []
@@ -437,7 +567,9 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
         tail = od[k:]
         tp = an._pocket(list(tail), tail[0].start[0], tail[0].start, None)
         pt = [t for t in profilers if back_reach(t) >= tp.max_descent - 1e-9]
-        if pt:
+        if partoff:  # the parting blade's corner cuts it (_partoff_op)
+            od = od[:k] + [Line(tail[0].start, (tail[0].start[0], tail[-1].end[1]))]
+        elif pt:
             end_ops.append(_end_pocket_op(tp, pt[0], opts, x_a, name))
             od = od[:k] + [Line(tail[0].start, (tail[0].start[0], tail[-1].end[1]))]
             # the roughing and finishing run on past the left end at the part's diameter, so

@@ -37,6 +37,9 @@ Choices (the issue leaves them open):
   that unreachable feature and unreachable too, as the planner leaves a feature no tool
   reaches (a chamfer facing the chuck inside a bore) whole, with a NOTE, for another
   operation.
+* **Part-off**: when the program parts the part off, the piece that fell off (the simulator's
+  ``fallen``) holds more of the model than what stays in the chuck: that piece is the part
+  compared, its left end (face and chamfer) included (:func:`separated_part`).
 * **Stock**: a stock that does not hold the model (some of the model more than ``NOISE``
   outside it) is bad input (:class:`hnc_cam.errors.StockError`, naming both sizes), not a
   verification failure.
@@ -65,7 +68,7 @@ from shapely.geometry.base import BaseGeometry
 from ..geometry import Line, Segment, Thread, TurnedProfile
 from ..geometry.tip import tip_direction
 from .measure import distances
-from .region import clean, diff, inter, polygons, profile_polygon
+from .region import clean, diff, inter, polygons, profile_polygon, union as union_of
 from .simulate import Issue, Machined
 from .tool import ToolShape, sweep_hulls, tool_shape
 
@@ -556,7 +559,34 @@ def _with_tails(region: BaseGeometry, reach: BaseGeometry, unreach: BaseGeometry
     return diff(reach, tail), clean(shapely.union_all([unreach, tail]))
 
 
+def _is_blade(m: Machined, reg: int) -> bool:
+    """Whether register ``reg`` is a parting blade (``kind = "part"`` in the tool library)."""
+    return m.machine is not None and m.machine.register(reg).kind == "part"
+
+
+def _blade_reach(m: Machined) -> tuple[list[ToolShape], BaseGeometry]:
+    """The parting blades' outlines and where they went (the union of their moves' swept
+    boxes): a blade reaches leftover there only."""
+    from ..nc.toolpath import columns
+    from .simulate import CHUNK
+    moves = m.toolpath.moves
+    regs: set[int] = set()
+    boxes = []
+    for c0 in range(0, len(moves), CHUNK):
+        c = columns(moves[c0:c0 + CHUNK])
+        for k, r in enumerate(c["register"].tolist()):
+            if _is_blade(m, r):
+                regs.add(r)
+                b = m.sweep_bounds[c0 + k]
+                if np.isfinite(b).all():
+                    boxes.append(box(*b))
+    shapes = [s for (r, t), s in m.shapes.items() if r in regs and t is None]
+    return shapes, (union_of(boxes) if boxes else Polygon())
+
+
 def _cutting_shapes(m: Machined) -> list[ToolShape]:
+    """The outlines of the tools whose line and arc moves cut (parting blades left out: see
+    :func:`_blade_reach`)."""
     from ..nc.toolpath import MOVE_KINDS, columns
     from .simulate import CHUNK
     keys = []
@@ -566,7 +596,7 @@ def _cutting_shapes(m: Machined) -> list[ToolShape]:
         cut = (((c["kind"] == MOVE_KINDS.index("line")) | (c["kind"] == MOVE_KINDS.index("arc")))
                & (m.removed_area[c0:c0 + len(c["kind"])] > 0))
         for r in dict.fromkeys(c["register"][cut].tolist()):
-            if (r, None) not in keys:
+            if (r, None) not in keys and not _is_blade(m, r):
                 keys.append((r, None))
     shapes = [m.shapes[k] for k in keys if k in m.shapes]
     if not shapes and m.machine is not None:
@@ -597,6 +627,18 @@ def check_stock_fits(stock: BaseGeometry, model_poly: BaseGeometry) -> None:
                          f"out of it")
 
 
+def separated_part(machined: Machined, model_poly: BaseGeometry) -> BaseGeometry | None:
+    """The piece parted off from the bar: the fallen piece holding the most of the model, when
+    it holds more of it than the material left in the chuck; else None (the part is still on
+    the bar)."""
+    best, most = None, inter(machined.material, model_poly).area
+    for p in machined.fallen:
+        a = inter(p, model_poly).area
+        if a > most:
+            best, most = p, a
+    return best
+
+
 def verify(machined: Machined, model: TurnedProfile, tol: float = 0.01,
            threads: Sequence[Thread] | None = None, strict: bool = False) -> Report:
     """Compare ``machined`` with ``model`` (see the module doc); ``threads`` overrides the
@@ -606,6 +648,10 @@ def verify(machined: Machined, model: TurnedProfile, tol: float = 0.01,
         raise ValueError("tolerance must be positive")
     model_poly = profile_polygon(model)
     check_stock_fits(machined.stock, model_poly)
+    part = separated_part(machined, model_poly)
+    if part is not None:
+        from dataclasses import replace
+        machined = replace(machined, material=part)
     segs = model_segments(model)
     boxes = _seg_boxes(segs)
     material = machined.material
@@ -638,6 +684,12 @@ def verify(machined: Machined, model: TurnedProfile, tol: float = 0.01,
         region = clean(shapely.union_all(deep))
         chuck_side = clean(machined.stock.intersection(box(-BIG, -1.0, model.z_min, BIG)))
         reach_part = reachable(model_poly, _cutting_shapes(machined), region, chuck_side)
+        blades, zone = _blade_reach(machined)
+        if blades:  # a parting blade reaches where it went, not along the whole part
+            near = inter(region, zone)
+            if not near.is_empty:
+                reach_part = union_of([reach_part, inter(
+                    reachable(model_poly, blades, near, chuck_side), zone)])
         unreach_region = diff(region, reach_part)
         reach_part, unreach_region = _with_tails(region, reach_part, unreach_region, tol)
         # reachable leftover: its depth beyond what the tools could at best leave (the model,
