@@ -367,3 +367,35 @@ def test_program_names():
     assert program_name("2-shaft v3") == "PN2_SHAFT_V3"
     assert program_name("") == "PART"
     assert len(program_name("a" * 80)) == 24
+
+
+def _b(kind, x=None, z=None, r=None, feed=None, label=""):
+    from hnc_cam.plan.model import Block
+    return Block(kind, x=x, z=z, r=r, feed=feed, label=label)
+
+
+def test_corner_words_only_where_the_control_rebuilds_the_points():
+    from hnc_cam.post.corners import corner_blocks
+    # a 45 degree chamfer of 1 mm legs between a face and a diameter: CHF= its length
+    chamfer = [_b("line", 7.0, 0.0), _b("line", 8.0, -1.0), _b("line", 8.0, -20.0)]
+    out = corner_blocks(chamfer, (0.0, 0.0))
+    assert [(w, round(v, 3)) for _, w, v in out] == [("CHF", 1.414), ("", 0.0)]
+    assert (out[0][0].x, out[0][0].z) == pytest.approx((8.0, 0.0))
+    # a line that is not symmetric about the corner is no chamfer: kept as it is
+    skew = [_b("line", 7.0, 0.0), _b("line", 8.0, -2.0), _b("line", 8.0, -20.0)]
+    assert [w for _, w, _ in corner_blocks(skew, (0.0, 0.0))] == ["", "", ""]
+    # the written chamfer is rebuilt from numbers rounded to 0.001 mm: a 1 mm chamfer at a
+    # corner 0.3 mm off the written grid still lands on the planned points
+    off = [_b("line", 7.0003, 0.0), _b("line", 8.0003, -1.0), _b("line", 8.0003, -20.0)]
+    out = corner_blocks(off, (0.0, 0.0))
+    assert [w for _, w, _ in out] == ["CHF", ""]
+    # a round tangent to both lines: RND= its radius; an arc that is not tangent stays an arc
+    rnd = [_b("line", 10.0, -23.0), _b("cw", 12.0, -25.0, r=2.0), _b("line", 20.0, -25.0)]
+    out = corner_blocks(rnd, (10.0, 0.0))
+    assert [(w, v) for _, w, v in out] == [("RND", 2.0), ("", 0.0)]
+    assert (out[0][0].x, out[0][0].z) == pytest.approx((10.0, -25.0))
+    not_tangent = [_b("line", 10.0, -23.0), _b("cw", 12.0, -25.0, r=2.5), _b("line", 20.0, -25.0)]
+    assert [w for _, w, _ in corner_blocks(not_tangent, (10.0, 0.0))] == ["", "", ""]
+    # a labelled or fed corner block is kept (a cycle's reference or a feed change)
+    fed = [_b("line", 7.0, 0.0), _b("line", 8.0, -1.0, feed=0.1), _b("line", 8.0, -20.0)]
+    assert [w for _, w, _ in corner_blocks(fed, (0.0, 0.0))] == ["", "", ""]
