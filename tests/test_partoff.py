@@ -187,3 +187,20 @@ def test_partoff_generates_and_verifies_in_every_dialect(dialect):
     prog = generate(FRESH / "pin_partoff.py", grip=20, dialect=dialect)
     assert prog.report.passed and prog.plan.operations[-1].kind == "part"
     assert min(m.end[0] for m in prog.toolpath.moves if m.tool == 8) == pytest.approx(-0.5)
+
+
+def test_tube_is_parted_off_through_its_wall_to_the_bore(capsys):
+    # bushing 40/22 x 30 from tube stock 45/19x47+2: the blade stops 0.5 mm (radius) inside
+    # the tube's bore, at the blade's feed all the way (no centre to slow down for)
+    prog = generate(PARTS / "bushing.py", grip=10)
+    assert prog.report.passed and prog.plan.operations[-1].kind == "part"
+    blocks = _partoff_blocks(prog.text)
+    assert blocks[-2] == "G01 X18 Z-30 F0.06"
+    assert min(m.end[0] for m in prog.toolpath.moves if m.tool == 8) == pytest.approx(9.0)
+
+
+def test_a_stock_no_grip_can_save_names_only_the_longer_stock(capsys):
+    # disc 155x30+1.5: the part's 27 mm and the chamfer's passes leave no room for jaws
+    rc = main(["generate", str(FRESH / "disc_hub.py"), "--grip", "10"])
+    err = capsys.readouterr().err
+    assert rc == 2 and "a stock at least 41.6 mm long" in err and "grip of at most" not in err

@@ -385,8 +385,8 @@ def _partoff_op(t: Tool, od: list[Segment], stock: Stock, machine: Machine, opts
     if x_slow > x_stop + 1e-6 and x_from > x_slow:
         blocks.append(Block("line", x=x_slow, z=z_min, feed=f))
         blocks.append(Block("line", x=x_stop, feed=f * PARTOFF_SLOW[0]))
-    else:
-        blocks.append(Block("line", x=x_stop, z=z_min, feed=f * PARTOFF_SLOW[0]))
+    else:  # a tube: no centre to slow down for
+        blocks.append(Block("line", x=x_stop, z=z_min, feed=f))
     path += [Line((x_from, z_min), (x_stop, z_min))]
     vc = t.vc_finish
     lim = rpm_limit(t, machine)
@@ -398,8 +398,10 @@ def _partoff_op(t: Tool, od: list[Segment], stock: Stock, machine: Machine, opts
         reason=(f"part off at Z{_fmt(z_min)} with {describe(t)} ({_fmt(w)} mm blade), "
                 + (f"its corner cutting the left end's {'chamfer' if all(isinstance(s, Line) for s in tail) else 'round'} first, "
                    if tail else "")
-                + f"{stem}: F{_fmt(f)}, F{_fmt(f * PARTOFF_SLOW[0])} inside diameter "
-                  f"{_fmt(2 * x_slow)}; G97 S{_fmt(rpm)} ({_fmt(vc)} m/min at the stock's "
+                + f"{stem}: F{_fmt(f)}"
+                + (f", F{_fmt(f * PARTOFF_SLOW[0])} inside diameter {_fmt(2 * x_slow)}"
+                   if x_slow > x_stop + 1e-6 else "")
+                + f"; G97 S{_fmt(rpm)} ({_fmt(vc)} m/min at the stock's "
                   f"diameter, at most {_fmt(lim)} rpm)"),
         start=(x_a, z_min), spindle="rpm", speed=round(rpm), feed=f, blocks=blocks,
         nose_comp="none", contour=path, retract=[(x_a, z_min)],
@@ -448,8 +450,9 @@ def _check_chuck(plan: Plan, name: str, z_min: float, r_stock: float) -> None:
                         f"{_fmt(CHUCK_CLEARANCE)} mm from the chuck's jaws at Z{_fmt(z_jaw)} "
                         f"(stock {stock.spec}, grip {_fmt(grip)} mm: stick-out {_fmt(stick)} mm); "
                         f"it needs a stick-out of at least {_fmt(need)} mm: a stock at least "
-                        f"{_fmt(need + grip)} mm long, or a grip of at most "
-                        f"{_fmt(max(length - need, 0.0))} mm")
+                        f"{_fmt(need + grip)} mm long"
+                        + (f", or a grip of at most {_fmt(length - need)} mm"
+                           if length - need > 1e-9 else ""))
     if stick > STICKOUT_RATIO * dia:
         plan.warnings.append(
             f"stick-out {_fmt(stick)} mm is {stick / dia:.1f} x the stock diameter "
