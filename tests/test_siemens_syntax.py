@@ -56,6 +56,11 @@ def test_labels_alone_with_block_numbers_and_on_blocks():
     assert pts(run(text))[-1] == (20.0, 17.0)
 
 
+def test_a_string_holding_goto_is_not_a_jump():
+    tp = run('_CNAME="GOTOF" R1=2\nIF R1==2 GOTOF END_1\nG0 X90\nEND_1: G0 X10\nM30\n')
+    assert pts(tp)[-1] == (5.0, 20.0)
+
+
 def test_gear_stages_are_accepted():
     assert pts(run("G0 X10 Z5 M41\nM40\nM30\n"))[-1] == (5.0, 5.0)
 

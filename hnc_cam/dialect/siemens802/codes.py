@@ -97,6 +97,7 @@ class SiemensInterp(SiemensMemory, Interp):
     def __init__(self, src, machine=None, **kw):
         super().__init__(src, machine, **kw)
         self._init_memory()
+        self._calls = getattr(self.src, "calls", {})  # statement -> (name, col, repeats)
         self._reader = self._sread
         self.plane = 18
         self.edge = 1
@@ -133,8 +134,7 @@ class SiemensInterp(SiemensMemory, Interp):
 
     # -- compile ---------------------------------------------------------------------------
     def _compile(self, i: int):
-        call = self.src.calls.get(i) if hasattr(self.src, "calls") else None
-        if call is None:
+        if i not in self._calls:
             try:
                 b = Interp._compile(self, i)
             except NCError as e:
@@ -164,7 +164,7 @@ class SiemensInterp(SiemensMemory, Interp):
     def _block(self, b: Blk):
         if b.plain:
             return Interp._block(self, b)
-        if b.stmt in self.src.calls:
+        if b.stmt in self._calls:
             self.blocks += 1
             if self.corner is not None:
                 self._corner_not_followed()

@@ -314,6 +314,17 @@ def _function(name: str, args: list) -> tuple:
     return ("call", name, args)
 
 
+def _is_jump(text: str) -> bool:
+    """A statement whose first word (after N) is IF, GOTOF or GOTOB (not a string holding the
+    letters GOTO)."""
+    try:
+        toks = tokenize(text)
+    except NCError:
+        return False  # the statement alarms when it is parsed
+    i = 2 if len(toks) >= 2 and toks[0][:2] == ("addr", "N") and toks[1][0] == "num" else 0
+    return i < len(toks) and toks[i][0] == "kw" and toks[i][1] in ("IF", "GOTOF", "GOTOB")
+
+
 class SiemensSource(P.Source):
     """A loaded 802 file: the statement model plus the labels (name -> statements, in
     order), the subprogram calls (statement -> (name, col, repeats)) and program names."""
@@ -480,7 +491,7 @@ class SiemensSyntax:
                 stext.append(part)
                 number.append(None)
                 k = P.OTHER
-                if "GOTO" in part:
+                if "GOTO" in part and _is_jump(part):
                     k = P.GOTO
                 elif part.lstrip()[:1] not in ("G", "X", "Z", "M", "F", "S", "T", "D") \
                         and "=" not in part:
