@@ -125,6 +125,7 @@ ALARMS = [
     ("G1 X10 Z5 F0\nM30", 1, 0, "feed rate F is 0"),
     ("STOPRE X\nM30", 1, 8, "word X has no value"),
     ("G0 X10 Z5 M77\nM30", 1, 11, "unknown M code M77"),
+    ("G17\nG0 G42 X10 Z5\nM30", 2, 4, "G42 needs the ZX plane: G18 must be active"),
 ]
 
 

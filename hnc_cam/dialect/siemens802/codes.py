@@ -293,6 +293,11 @@ class SiemensInterp(SiemensMemory, Interp):
                 what = (f"G{g00}" if g00 else f"G{m}" if (b.axes or m in (2, 3)) else "this")
                 raise self.balarm(b, f"word {L} has no meaning in {what} block", L)
 
+    def _comp_command(self, b: Blk, g: int) -> None:
+        if g != 40 and self.plane != 18:
+            raise self.balarm(b, f"G{g} needs the ZX plane: G18 must be active (G{self.plane} is)", "G", g)
+        Interp._comp_command(self, b, g)
+
     def _unknown_m(self, b: Blk, mc: int) -> None:
         if mc in GEARS:
             return  # gear stages: no effect on the path
