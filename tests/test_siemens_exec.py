@@ -191,3 +191,13 @@ def test_machine_file_controller_and_tool_edges(tmp_path):
     with pytest.raises(Exception) as e:
         load_machine(str(p))
     assert "edge" in str(e.value)
+
+
+def test_cli_simulate_an_802_program(tmp_path):
+    p = tmp_path / "P.MPF"
+    p.write_text("%_N_P_MPF\nG0 G95 X50 Z5 T1 D1 S800 M3\nG1 X40 Z0 F0.2\nZ-20 RND=2\nX48 CHF=1.414\n"
+                 "Z-40\nG0 X60\nZ5\nM30\n")
+    r = subprocess.run([sys.executable, "-m", "hnc_cam.cli", "simulate", "--dialect", "siemens802",
+                        "--stock", "50x60", str(p)], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert "no collisions" in r.stdout
