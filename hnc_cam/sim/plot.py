@@ -6,7 +6,8 @@ the stock (light grey), the remaining material (light blue) and its outline, the
 tool and cycle, see :func:`operation`), deviations beyond the tolerance (overcut red, reachable undercut
 orange, unreachable leftover purple hatched, each with its deepest point marked), collisions
 (red crosses where the move first touched material), the chuck's jaws (grey, hatched) when
-the machine gives a grip, a legend and the key figures. PNG or SVG by the file's suffix.
+the machine gives a grip, the part parted off (green) where it fell from, a legend and the
+key figures. PNG or SVG by the file's suffix.
 """
 from __future__ import annotations
 
@@ -127,6 +128,11 @@ def figure(machined: Machined, report: Any = None, model: Any = None, title: str
     if jaws is not None:
         _fill(ax, jaws, facecolor="#777777", edgecolor="#333333", lw=1.0, alpha=0.7,
               hatch="//", label="chuck jaws")
+    fallen = sorted(getattr(machined, "fallen", []) or [], key=lambda g: -g.area)
+    if fallen and not machined.stock.is_empty and fallen[0].area > 0.05 * machined.stock.area:
+        # the largest piece cut loose (a part parted off), where it was cut off
+        _fill(ax, fallen[0], facecolor="#d9ead3", edgecolor="#38761d", lw=1.0,
+              label="parted off")
     _outline(ax, machined.material, color="#1f4e79", lw=1.0, label="machined outline")
     if model is not None:
         from .region import profile_polygon
