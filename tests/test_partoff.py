@@ -204,3 +204,17 @@ def test_a_stock_no_grip_can_save_names_only_the_longer_stock(capsys):
     rc = main(["generate", str(FRESH / "disc_hub.py"), "--grip", "10"])
     err = capsys.readouterr().err
     assert rc == 2 and "a stock at least 41.6 mm long" in err and "grip of at most" not in err
+
+
+@pytest.mark.parametrize("extra,parted", [([], True), (["--no-partoff"], False)])
+def test_family_rows_take_grip_and_no_partoff(tmp_path, capsys, extra, parted):
+    table = tmp_path / "t.csv"
+    table.write_text("length\n100\n95\n")
+    out = tmp_path / "out"
+    rc = main(["family", str(PARTS / "stepped_shaft.py"), "--table", str(table), "--out",
+               str(out), "--grip", "10", "--jobs", "1", *extra])
+    assert rc == 0
+    for f in ("O0001.nc", "O0002.nc"):
+        assert ("PART OFF" in (out / f).read_text()) is parted
+    rows = (out / "summary.csv").read_text().splitlines()[1:]
+    assert all((",ok," in r) and (("partoff G01" in r) is parted) for r in rows)
