@@ -399,3 +399,19 @@ def test_corner_words_only_where_the_control_rebuilds_the_points():
     # a labelled or fed corner block is kept (a cycle's reference or a feed change)
     fed = [_b("line", 7.0, 0.0), _b("line", 8.0, -1.0, feed=0.1), _b("line", 8.0, -20.0)]
     assert [w for _, w, _ in corner_blocks(fed, (0.0, 0.0))] == ["", "", ""]
+
+
+@pytest.mark.parametrize("comp", ["cam", "control"])
+def test_part_off_in_802(comp):
+    """Held in the chuck, the part is parted off last: the blade's G97 speed, its T D, the
+    left end's corner and the plunge to the centre as G1 blocks; the piece that falls off
+    verifies."""
+    prog = generate(PARTS / "stepped_shaft.py", "45x140+2", dialect="siemens802", comp=comp,
+                    grip=20)
+    assert prog.report.passed and prog.report.max_overcut_mm <= 0.01
+    assert prog.operations[-1] == "partoff G1"
+    op = prog.plan.operations[-1]
+    main = [re.sub(r"^N\d+ ", "", b) for b in blocks(next(iter(programs(prog.text).values())))]
+    i = main.index(f"T{op.tool.number} D1")
+    assert f"G97 S{round(op.speed)} M3" in main[i:]
+    assert min(m.end[0] for m in prog.toolpath.moves if m.kind == "line") < 0  # past the axis
