@@ -84,6 +84,8 @@ CYCLE_NAMES = ("LCYC82", "LCYC83", "LCYC840", "LCYC85", "LCYC93", "LCYC94", "LCY
 GEARS = frozenset(range(40, 46))
 #: words that are always allowed besides the motion's (edge, G96 speed cap, spindle position)
 _ALWAYS = frozenset({"D", "LIMS", "SPOS"})
+#: the words a block of each motion may carry besides X Z F S T
+_MOTION_OK = {g: LETTERS[g] | _ALWAYS for g in (1, 2, 3, 5, 33)}
 #: codes that stand in a block of their own (with N, their words and modal codes)
 _OWN = frozenset({4, 25, 26, 74, 75, 158})
 
@@ -278,6 +280,8 @@ class SiemensInterp(SiemensMemory, Interp):
         return r
 
     def _check_letters(self, b: Blk, g00: int, g06: int) -> None:
+        if not g00 and b.extra <= _MOTION_OK.get(self.motion, _ALWAYS):
+            return  # the common case: the motion's own words
         ok = set(_ALWAYS)
         spec = self.g_spec
         c = spec.get(g00) if g00 else None
