@@ -52,6 +52,14 @@ def test_named_subprogram_and_m17():
     assert pts(run(text), "line") == [(15.0, 0.0)]
 
 
+def test_call_names_starting_with_an_address_letter():
+    """A name such as THREADED_STUD_C1 or GX_SUB is a call, unnumbered or numbered; G0 and
+    X20 stay words."""
+    text = ("%_N_MAIN_MPF\nG0 X20 Z0\nTHREADED_STUD_C1\nN5 GX_SUB P2\nM30\n"
+            "%_N_THREADED_STUD_C1_SPF\nG1 X30 F100\nRET\n%_N_GX_SUB_SPF\nG91 G1 Z-2\nG90\nRET\n")
+    assert pts(run(text), "line") == [(15.0, 0.0), (15.0, -2.0), (15.0, -4.0)]
+
+
 def test_main_program_is_the_first_mpf_even_after_a_subprogram():
     text = "%_N_L1_SPF\nG1 X10 F100\nRET\n%_N_PART_MPF\nG0 X20 Z5\nL1\nM30\n"
     assert pts(run(text))[-1] == (5.0, 5.0)

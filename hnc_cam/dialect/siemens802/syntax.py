@@ -48,6 +48,9 @@ R_MAX = 299
 R_BASE = 1
 N_MAX = 4294967295  # the document gives no limit: as the executor's plain blocks
 NAME_MAX = 31
+#: a block starting with one of these letters and then no letter is a word, never a call
+_ADDRESS_FIRST = frozenset("GXZMFSTD")
+_NAME_SECOND = frozenset("ABCDEFGHIJKLMNOPQRSTUVWXYZ_")
 
 # one token: number | letter run (two or more letters/underscores start a name; a single
 # letter is an address) | string | operator
@@ -493,8 +496,8 @@ class SiemensSyntax:
                 k = P.OTHER
                 if "GOTO" in part and _is_jump(part):
                     k = P.GOTO
-                elif part.lstrip()[:1] not in ("G", "X", "Z", "M", "F", "S", "T", "D") \
-                        and "=" not in part:
+                elif "=" not in part and (part.lstrip()[:1] not in _ADDRESS_FIRST
+                                          or part.lstrip()[1:2] in _NAME_SECOND):
                     m = _CALL.match(part)
                     if m is not None and m.group(2) not in KEYWORDS:
                         name = m.group(2)
