@@ -60,12 +60,12 @@ def _model(path: str, params: list[str] | dict[str, str], args: argparse.Namespa
     return load_part(path, params if isinstance(params, dict) else parse_set(params), **kw)
 
 
-_HEADER_RE = re.compile(r"^\((PARAMETERS|STOCK) (.*)\)\s*$")
+_HEADER_RE = re.compile(r"^(?:\((PARAMETERS|STOCK) (.*)\)|;\s*(PARAMETERS|STOCK) (.*?))\s*$")
 
 
 def program_header(path: str) -> tuple[dict[str, str] | None, str | None]:
     """The ``(PARAMETERS name=value ...)`` and ``(STOCK spec)`` comments that ``generate``
-    writes at the head of a program: ``(params or None, stock or None)``. Only a regular file
+    writes at the head of a program (``; PARAMETERS ...`` and ``; STOCK ...`` in an 802 one): ``(params or None, stock or None)``. Only a regular file
     is read here (at most its first 64 KiB, up to the first block that is not a comment)."""
     import os
     import stat
@@ -80,16 +80,18 @@ def program_header(path: str) -> tuple[dict[str, str] | None, str | None]:
     stock = None
     for n, raw in enumerate(head.decode("utf-8", "replace").splitlines()):
         line = raw.strip()
-        # the program's start: HNC's %nnnn line; FANUC's % line, then O1234 (NAME)
+        # the program's start: HNC's %nnnn line; FANUC's % line, then O1234 (NAME); the
+        # 802's %_N_NAME_MPF line, then ;$PATH=...
         if not line or n < 2 and (line.startswith("%") or re.match(r"O\d", line)):
             continue
-        if not line.startswith("("):
+        if not line.startswith(("(", ";")):
             break
         m = _HEADER_RE.match(line)
-        if m and m.group(1) == "PARAMETERS" and params is None:
-            params = dict(t.split("=", 1) for t in m.group(2).split() if "=" in t)
-        elif m and m.group(1) == "STOCK" and stock is None:
-            stock = m.group(2).strip()
+        key, value = (m.group(1) or m.group(3), m.group(2) or m.group(4)) if m else (None, None)
+        if key == "PARAMETERS" and params is None:
+            params = dict(t.split("=", 1) for t in value.split() if "=" in t)
+        elif key == "STOCK" and stock is None:
+            stock = value.strip()
     return params, stock
 
 

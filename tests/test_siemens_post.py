@@ -308,6 +308,24 @@ def test_output_one_file_and_a_folder(tmp_path, capsys):
     assert rc == 0
 
 
+def test_verify_reads_the_stock_and_parameters_from_the_802_header(tmp_path, capsys):
+    """``; STOCK`` and ``; PARAMETERS`` after ``%_N_..._MPF`` and ``;$PATH`` are the header
+    verify reads, as ``(STOCK ...)`` is in the HNC and FANUC programs."""
+    from hnc_cam.check import program_header
+    from hnc_cam.cli import main
+    one = tmp_path / "shaft.mpf"
+    rc = main(["generate", str(PARTS / "stepped_shaft.py"), "--dialect", "siemens802",
+               "--set", "d1=18", "-o", str(one)])
+    assert rc == 0, capsys.readouterr().err
+    params, stock = program_header(str(one))
+    assert params["d1"] == "18.0" and stock == "45x117+2"
+    capsys.readouterr()
+    rc = main(["verify", str(one), "--model", str(PARTS / "stepped_shaft.py"), "--dialect",
+               "siemens802"])
+    out = capsys.readouterr().out
+    assert rc == 0 and "PASS" in out
+
+
 def test_folder_output_never_replaces_a_link_and_writes_nothing(tmp_path, capsys):
     from hnc_cam.cli import main
     out = tmp_path / "nc"
