@@ -143,6 +143,24 @@ def test_page_is_self_contained_and_carries_the_program(sub_machined):
     assert d["chuck"] is None  # the jaws are drawn once the simulator models them
 
 
+def test_page_draws_the_jaws_the_simulator_models():
+    """With a grip the simulator models the jaws; the page carries them as its chuck rings
+    and the setup sheet says they are drawn."""
+    from hnc_cam.tooling import with_grip
+    machine = with_grip(load_machine(), 15.0)
+    tp = run(SUB, machine, file="sub.nc", start="reference")
+    m = simulate(tp, Stock.parse("40x60+1"), machine)
+    assert m.jaws is not None
+    text = render_page(m, title="sub.nc")
+    d = page_json(text)
+    jaws = region(d["chuck"])
+    assert jaws.symmetric_difference(m.jaws).area < 1e-3
+    z0, x0, z1, x1 = jaws.bounds
+    # front face 15 mm in from the stock's left end (Z-59: 60 mm long, 1 mm face stock), on the 20 mm radius
+    assert z1 == pytest.approx(-59 + 15, abs=1e-3) and x0 == pytest.approx(20.0, abs=1e-3)
+    assert "chuck jaws as drawn" in text
+
+
 def test_script_end_tag_in_a_comment_cannot_break_the_page():
     machine = load_machine()
     prog = "%1\nT0101 (</script><b>x)\nM03 S500\nG00 X30 Z2\nG01 Z-5 F100\nM30\n"

@@ -109,8 +109,11 @@ def part_svg(model, width: int = 360) -> str:
 
 
 def page_data(machined, report=None, model=None, *, chuck=None) -> dict[str, Any]:
-    """Everything the page's script needs (see :mod:`hnc_cam.report.data`)."""
+    """Everything the page's script needs (see :mod:`hnc_cam.report.data`). ``chuck``: rings
+    of the jaws (default: the simulator's jaws, when the machine gives a grip)."""
     tp = machined.toolpath
+    if chuck is None and getattr(machined, "jaws", None) is not None:
+        chuck = D.rings_of(machined.jaws)
     model_json: list = []
     if model is not None:
         from ..sim.verify import model_segments
@@ -136,6 +139,7 @@ def render_page(machined, report=None, model=None, *, title: str | None = None, 
     from .. import __version__
     tp = machined.toolpath
     data = page_data(machined, report, model, chuck=chuck)
+    chuck = data["chuck"]
     stock_spec = stock or (getattr(getattr(plan, "stock", None), "spec", None))
     z0, x0, z1, x1 = machined.stock.bounds if not machined.stock.is_empty else (0, 0, 0, 0)
     if params is None:
