@@ -60,24 +60,31 @@ def _model(path: str, params: list[str] | dict[str, str], args: argparse.Namespa
     return load_part(path, params if isinstance(params, dict) else parse_set(params), **kw)
 
 
-_HEADER_RE = re.compile(r"^(?:\((PARAMETERS|STOCK) (.*)\)|;\s*(PARAMETERS|STOCK) (.*?))\s*$")
+_HEADER_RE = re.compile(r"^(?:\((PARAMETERS|STOCK|GRIP) (.*)\)|;\s*(PARAMETERS|STOCK|GRIP) (.*?))\s*$")
 
 
 def program_header(path: str) -> tuple[dict[str, str] | None, str | None]:
-    """The ``(PARAMETERS name=value ...)`` and ``(STOCK spec)`` comments that ``generate``
-    writes at the head of a program (``; PARAMETERS ...`` and ``; STOCK ...`` in an 802 one): ``(params or None, stock or None)``. Only a regular file
-    is read here (at most its first 64 KiB, up to the first block that is not a comment)."""
+    """``(params or None, stock or None)`` of :func:`header_fields`."""
+    h = header_fields(path)
+    return h.get("PARAMETERS"), h.get("STOCK")
+
+
+def header_fields(path: str) -> dict:
+    """The ``(PARAMETERS name=value ...)``, ``(STOCK spec)`` and ``(GRIP mm)`` comments that
+    ``generate`` writes at the head of a program (``; PARAMETERS ...`` and so on in an 802
+    one): ``{"PARAMETERS": {name: value}, "STOCK": spec, "GRIP": mm}``, the keys found. Only a
+    regular file is read here (at most its first 64 KiB, up to the first block that is not a
+    comment)."""
     import os
     import stat
     try:
         if not stat.S_ISREG(os.stat(path).st_mode):
-            return None, None
+            return {}
         with open(path, "rb") as f:
             head = f.read(65536)
     except OSError:
-        return None, None  # the interpreter reports the file
-    params: dict[str, str] | None = None
-    stock = None
+        return {}  # the interpreter reports the file
+    out: dict = {}
     for n, raw in enumerate(head.decode("utf-8", "replace").splitlines()):
         line = raw.strip()
         # the program's start: HNC's %nnnn line; FANUC's % line, then O1234 (NAME); the
@@ -88,18 +95,29 @@ def program_header(path: str) -> tuple[dict[str, str] | None, str | None]:
             break
         m = _HEADER_RE.match(line)
         key, value = (m.group(1) or m.group(3), m.group(2) or m.group(4)) if m else (None, None)
-        if key == "PARAMETERS" and params is None:
-            params = dict(t.split("=", 1) for t in value.split() if "=" in t)
-        elif key == "STOCK" and stock is None:
-            stock = value.strip()
-    return params, stock
+        if key is None or key in out:
+            continue
+        if key == "PARAMETERS":
+            out[key] = dict(t.split("=", 1) for t in value.split() if "=" in t)
+        else:
+            out[key] = value.strip()
+    return out
 
 
 def _from_header(args: argparse.Namespace, model_needs_params: bool) -> None:
-    """Fill ``args.params`` and ``args.stock`` from the program's header comments where the
-    command line gives none, and say so on stderr."""
-    params, stock = program_header(args.program)
+    """Fill ``args.params``, ``args.stock`` and ``args.grip`` from the program's header
+    comments where the command line gives none, and say so on stderr."""
+    h = header_fields(args.program)
+    params, stock = h.get("PARAMETERS"), h.get("STOCK")
     used = []
+    if getattr(args, "grip", None) is None and h.get("GRIP"):
+        try:
+            grip = float(h["GRIP"])
+        except ValueError:
+            grip = None  # not a number: a comment like any other
+        if grip is not None and math.isfinite(grip) and grip > 0:
+            args.grip = grip
+            used.append(f"grip {h['GRIP']} mm")
     if not args.params and params and model_needs_params:
         from .cad.loader import CAD_SUFFIXES
         from pathlib import Path
@@ -114,7 +132,7 @@ def _from_header(args: argparse.Namespace, model_needs_params: bool) -> None:
                          f"--stock SPEC")
     if used:
         print(f"note: {args.program}: {' and '.join(used)} from the program's header "
-              f"(--set/--stock override)", file=sys.stderr)
+              f"(--set/--stock/--grip override)", file=sys.stderr)
 
 
 def _stock(spec: str):

@@ -105,6 +105,25 @@ def test_simulate_and_verify_take_grip_and_exit_1_on_a_jaw_collision(tmp_path, c
                  "--grip", "11.6"]) == 0
 
 
+def test_the_program_header_carries_the_grip_for_simulate_and_verify(tmp_path, capsys):
+    """generate writes (GRIP mm) beside (STOCK ...); simulate and verify read it when the
+    command line gives no --grip, and --grip overrides it."""
+    prog = generate(PARTS / "stepped_shaft.py", grip=10, verify=False, partoff=False)
+    assert "(GRIP 10)" in prog.text.splitlines()[:6]
+    p = tmp_path / "p.nc"
+    p.write_text(prog.text.replace("(GRIP 10)", "(GRIP 14.5)"))
+    assert main(["simulate", str(p)]) == 1  # jaws' face at Z-100.5: the left-end passes hit it
+    cap = capsys.readouterr()
+    assert "collision: chuck jaw" in cap.out and "grip 14.5 mm" in cap.err
+    assert main(["simulate", str(p), "--grip", "13"]) == 0
+    capsys.readouterr()
+    assert main(["verify", str(p), "--model", str(PARTS / "stepped_shaft.py")]) == 1
+    assert main(["verify", str(p), "--model", str(PARTS / "stepped_shaft.py"),
+                 "--grip", "11.6"]) == 0
+    # without a grip no line is written and the jaws are not modelled
+    assert "(GRIP" not in generate(PARTS / "stepped_shaft.py", verify=False).text
+
+
 def test_long_thin_shaft_warns_with_the_stick_out_ratio(capsys, tmp_path):
     rc = main(["generate", str(FRESH / "thin_shaft.py"), "--grip", "20", "-o",
                str(tmp_path / "t.nc")])

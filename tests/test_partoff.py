@@ -139,7 +139,8 @@ def test_round_left_end_cut_by_the_blade_corner():
 def test_no_partoff_keeps_the_part_on_the_bar_byte_for_byte():
     old = generate(PARTS / "stepped_shaft.py")
     kept = generate(PARTS / "stepped_shaft.py", grip=10, partoff=False)
-    assert kept.text == old.text
+    # the same program, its header naming the grip the jaws are verified with
+    assert kept.text.replace("(GRIP 10)\n", "", 1) == old.text and "(GRIP 10)" in kept.text
     assert [op.name for op in kept.plan.operations][-1] == "profile"
 
 
