@@ -278,10 +278,12 @@ class Parsed:
     message: str = ""
 
 
-def fast_words(text: str) -> Optional[list[tuple[str, str, str]]]:
+def fast_words(text: str, scan=FAST_SCAN.findall) -> Optional[list[tuple[str, str, str]]]:
     """Words of a plain block (letters and signed numbers only) as ``(letter, number, "")``
-    triples, or None when the line is anything else (one regex pass: the hot path of loading)."""
-    fw = FAST_SCAN.findall(text)
+    triples, or None when the line is anything else (one regex pass: the hot path of loading).
+    ``scan``: a dialect's scanner of plain-block words (a non-empty third item marks what it
+    cannot read)."""
+    fw = scan(text)
     if not fw:
         return None
     for w in fw:
@@ -524,12 +526,15 @@ def _assignments(p: _P) -> list:
     return assigns
 
 
-def parse_statement(text: str, line: int, file: str = "<program>", block: str | None = None) -> Parsed:
-    """Parse one cleaned line (not a header)."""
+def parse_statement(text: str, line: int, file: str = "<program>", block: str | None = None,
+                    parse=None) -> Parsed:
+    """Parse one cleaned line (not a header); ``parse(text, line, file, block)``: a dialect's
+    statement parser (default the HNC-21T's). An expression nested too deeply for Python is an
+    alarm at its line."""
+    blk = block if block is not None else text.strip()
     try:
-        return _parse_statement(text, line, file, block)
+        return (parse or _parse_statement)(text, line, file, blk)
     except (RecursionError, MemoryError, SyntaxError):
-        blk = block if block is not None else text.strip()
         raise NCError("bad expression: nested too deeply", line, 1, blk, file) from None
 
 

@@ -870,21 +870,11 @@ class FanucSyntax:
     def fast_words(self, text: str) -> Optional[list[tuple[str, str, str]]]:
         """``(letter, number, "")`` per word of a plain block whose numbers ``float`` reads
         as the decimal-point rule means them; None for anything else (the slow path)."""
-        fw = self._fast(text)
-        if not fw:
-            return None
-        for w in fw:
-            if w[2]:
-                return None
-        return fw
+        return P.fast_words(text, self._fast)
 
     def parse_statement(self, text: str, line: int, file: str = "<program>",
                         block: Optional[str] = None) -> P.Parsed:
-        blk = block if block is not None else text.strip()
-        try:
-            return self._parse(text, line, file, blk)
-        except (RecursionError, MemoryError, SyntaxError):
-            raise NCError("bad expression: nested too deeply", line, 1, blk, file) from None
+        return P.parse_statement(text, line, file, block, self._parse)
 
     def _parse(self, text: str, line: int, file: str, blk: str) -> P.Parsed:
         toks = tokenize(text, line, file, blk)

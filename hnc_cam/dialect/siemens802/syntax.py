@@ -67,6 +67,7 @@ _BLOCKNO = re.compile(r"\s*+N\s*+(\d{1,10})(?!\d)", re.A)
 #: number, ("", "", c) at anything else
 FAST_SCAN = re.compile(r"\s*+((?:CHF|CR|AR|RND|IX|KZ|SF|LIMS|SPOS)(?=\s*+=)|[A-QSTVXYZ])\s*+=?\s*+"
                        r"([-+]?(?:\d+\.?\d*|\.\d+))(?![\d.])\s*+|\s*+(.)", re.S | re.A)
+_FAST = FAST_SCAN.findall
 #: an assignment in a line (an R parameter or a text variable)
 _ASSIGN = re.compile(r"(?<![A-Z0-9_])(?:R\s*+\d+|_[A-Z0-9_]*)\s*+=", re.A)
 #: kind of a string assignment target in :attr:`Parsed.assigns` (a text variable)
@@ -567,21 +568,11 @@ class SiemensSyntax:
     def fast_words(self, text: str) -> Optional[list]:
         """``(word, number, "")`` per word of a plain block (letters but R, U and W, and named
         words written ``CR=5``), None for anything else."""
-        fw = FAST_SCAN.findall(text)
-        if not fw:
-            return None
-        for w in fw:
-            if w[2]:
-                return None
-        return fw
+        return P.fast_words(text, _FAST)
 
     def parse_statement(self, text: str, line: int, file: str = "<program>",
                         block: Optional[str] = None) -> P.Parsed:
-        blk = block if block is not None else text.strip()
-        try:
-            return self._parse(text, line, file, blk)
-        except (RecursionError, MemoryError, SyntaxError):
-            raise NCError("bad expression: nested too deeply", line, 1, blk, file) from None
+        return P.parse_statement(text, line, file, block, self._parse)
 
     def _parse(self, text: str, line: int, file: str, blk: str) -> P.Parsed:
         toks = tokenize(text, line, file, blk)
