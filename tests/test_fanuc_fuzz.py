@@ -5,7 +5,6 @@ exception, never a hang (a small step limit bounds every loop)."""
 from __future__ import annotations
 
 import dataclasses
-import math
 import pathlib
 import random
 
@@ -14,10 +13,10 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from hnc_cam.errors import NCError
-from hnc_cam.nc import parser as P
-from hnc_cam.nc import run
 from hnc_cam.nc.toolpath import Toolpath
 from hnc_cam.tooling import load_machine
+
+from fuzzcheck import outcome as check
 
 LIMIT = 2000
 SETTINGS = settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -27,22 +26,7 @@ MACHINES = [MACHINE, dataclasses.replace(MACHINE, decimal_point="calculator", bl
 
 
 def outcome(text: str, machine=MACHINE):
-    try:
-        tp = run(text, machine, step_limit=LIMIT, dialect="fanuc0it")
-    except NCError as e:
-        assert isinstance(e.message, str) and e.message
-        assert isinstance(e.line, int) and isinstance(e.col, int) and e.col >= 0
-        assert 0 <= e.line <= max(1, len(P.split_lines(text))), (e.line, str(e))
-        line = e.one_line()
-        assert line.isprintable() and len(line) < 1200, line
-        return e
-    assert isinstance(tp, Toolpath)
-    for m in tp.moves:
-        assert math.isfinite(m.start[0]) and math.isfinite(m.end[0]) and math.isfinite(m.end[1])
-        assert m.duration >= 0
-    for w in tp.warnings:
-        assert 0 <= w.line <= max(1, len(P.split_lines(text)))
-    return tp
+    return check(text, machine, step_limit=LIMIT, dialect="fanuc0it")
 
 
 @SETTINGS
