@@ -1591,6 +1591,17 @@ class Interp(HncMemory):
         return self.x, self.z
 
     # -- cycles ----------------------------------------------------------------------------------
+    def _cycle_table(self) -> dict:
+        """The dialect's cycle table, loaded on first use ({} when its module is missing)."""
+        table = self.cycles
+        if table is None:
+            try:
+                table = dict(self.dialect.cycle_table())
+            except ImportError:
+                table = {}
+            self.cycles = table
+        return table
+
     def _cycle(self, code: int, b: Blk, w: dict):
         if self.dry is not None:
             raise self.balarm(b, f"cycle G{code} inside the profile of a compound cycle", "G")
@@ -1612,15 +1623,10 @@ class Interp(HncMemory):
                 words = merged
             self.cyc_code = code
             self.cyc_words = words
-        table = self.cycles
-        if table is None:
-            try:
-                table = self.cycles = dict(self.dialect.cycle_table())
-            except ImportError:
-                table = None
-            if not table:
-                raise self.balarm(b, f"G{code} not yet supported ({self.dialect.title} cycle module "
-                                     f"missing)", "G")
+        table = self._cycle_table()
+        if not table:
+            raise self.balarm(b, f"G{code} not yet supported ({self.dialect.title} cycle module "
+                                 f"missing)", "G")
         handler = table.get(code)
         if handler is None:
             raise self.balarm(b, f"G{code:02d} is not a cycle of {self.dialect.title}", "G")

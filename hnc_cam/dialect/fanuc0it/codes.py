@@ -282,12 +282,7 @@ class FanucInterp(Interp):
         if code == 70:
             return self._g70(b, w)
         if code == 32 and 32 not in (self.cycles or {}):
-            table = self.cycles
-            if table is None:
-                try:
-                    table = self.cycles = dict(self.dialect.cycle_table())
-                except ImportError:
-                    table = self.cycles = {}
+            table = self._cycle_table()
             from ...nc import cycles_simple
             table[32] = lambda ctx: cycles_simple.execute(32, ctx)
         return Interp._cycle(self, code, b, w)

@@ -603,13 +603,7 @@ class SiemensInterp(SiemensMemory, Interp):
     # -- calls ---------------------------------------------------------------------------------
     def _call(self, b: Blk, pc: int, end: int):
         name, col, reps = self.src.calls[b.stmt]
-        table = self.cycles
-        if table is None:
-            try:
-                table = self.cycles = dict(self.dialect.cycle_table())
-            except ImportError:
-                table = self.cycles = {}
-        handler = table.get(name)
+        handler = self._cycle_table().get(name)
         if handler is not None:
             self._lcyc(b, name, handler, col)
             return pc + 1, end
