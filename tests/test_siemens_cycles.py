@@ -577,6 +577,10 @@ def test_document_lcyc840_runs():
     moves = cyc(tp, "LCYC840")
     assert [m.kind for m in moves] == ["rapid", "thread", "thread", "rapid"]
     assert moves[1].end == pytest.approx((17.5, 15.0)) and moves[2].end == pytest.approx((17.5, 58.0))
+    # in with M3 as programmed, out with the spindle reversed, stopped after the cycle
+    assert [m.spindle_dir for m in moves] == [3, 3, 4, 4]
+    after = [m for m in tp.moves if m.line > moves[-1].line]
+    assert all(m.spindle_dir == 5 for m in after)
 
 
 STEPPED = """%_N_SHAFT_MPF

@@ -80,3 +80,6 @@ class CycleContext(Protocol):
 
     def tool_nose(self) -> tuple[float, int]:
         """(nose radius, tip direction code) of the active T/D; (0.0, 0) without one."""
+
+    def spindle(self, m: int) -> None:
+        """Turn the spindle as M``m`` would (3, 4 or 5) for the cycle's next moves."""

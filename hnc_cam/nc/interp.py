@@ -1817,6 +1817,13 @@ class CycleCtx:
         """(nose radius, tip direction) of the active tool edge; (0.0, 0) without one."""
         return self._it.tool_nose()
 
+    def spindle(self, m: int) -> None:
+        """Turn the spindle as M``m`` would (3 cw, 4 ccw, 5 stop) for the cycle's next moves
+        (a tapping cycle reverses it for the way out and stops it after)."""
+        if m not in (3, 4, 5):
+            self.alarm(f"spindle direction M{m}: 3, 4 or 5 expected")
+        self._it.sdir = int(m)
+
     def _op(self):
         self._it.op = self.name
 
