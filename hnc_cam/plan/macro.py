@@ -1,0 +1,566 @@
+"""The exact parameter side of one parametric macro program per part family.
+
+*Trace*: :func:`_trace` runs the part file's ``sketch(**params)`` once with :class:`Sym`
+numbers (the nominal value plus an exact expression of the parameters) in place of the real
+parameters, with a tracing :class:`_TraceOutline`, a ``math`` shim and symbolic ``min``/
+``max`` in the module's globals. Every contour point, corner trim (a chamfer's legs, a
+fillet's tangent points ``r*|u1 x u2|/(1+u1.u2)``) and arc radius becomes an exact expression
+(:func:`features`); every ``require``/``positive``/``non_negative`` condition and every corner
+that must fit becomes a :class:`Check` (the conditions, the family's message, the parameters
+it names); other comparisons the sketch branches on are kept as ``branches`` (the conditions
+under which the traced shape holds). Whole-number parameters (a count of waves) stay numbers.
+
+*Write*: :func:`render` writes an expression in the dialect's macro syntax (HNC-21T: ``#50``,
+``SQRT[...]``, radians; FANUC: trigonometry in degrees), :class:`Lets` writes a family of
+them with their shared parts assigned once to temporaries within the control's variable
+range, :func:`_cond` a check's condition.
+
+:func:`load_family` gives the family at its nominal parameters with its domain box.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+from ..errors import PartError, PlanError
+
+# ------------------------------------------------------------------------------------------
+# symbolic numbers
+# ------------------------------------------------------------------------------------------
+
+# expression nodes: ("c", v) | ("p", name) | (op, a, b) for + - * / | ("neg", a) |
+# ("f", fname, a) for sqrt sin cos tan atan abs | ("atan2", a, b)
+
+
+def _ev(n: tuple, env: dict[str, float]) -> float:
+    k = n[0]
+    if k == "c":
+        return n[1]
+    if k == "p":
+        return env[n[1]]
+    if k == "neg":
+        return -_ev(n[1], env)
+    if k == "f":
+        return _FUN[n[1]](_ev(n[2], env))
+    if k == "atan2":
+        return math.atan2(_ev(n[1], env), _ev(n[2], env))
+    if k in ("min", "max"):
+        return (min if k == "min" else max)(_ev(n[1], env), _ev(n[2], env))
+    a, b = _ev(n[1], env), _ev(n[2], env)
+    return a + b if k == "+" else a - b if k == "-" else a * b if k == "*" else a / b
+
+
+_FUN: dict[str, Callable[[float], float]] = {
+    "sqrt": math.sqrt, "sin": math.sin, "cos": math.cos, "tan": math.tan, "atan": math.atan,
+    "abs": abs}
+
+
+def _node(v: Any) -> tuple:
+    if isinstance(v, Sym):
+        return v.n
+    return ("c", float(v))
+
+
+class Sym:
+    """A number with its exact expression of the family's parameters."""
+
+    __slots__ = ("v", "n", "tr")
+
+    def __init__(self, v: float, n: tuple, tr: "_Trace"):
+        self.v, self.n, self.tr = float(v), n, tr
+
+    def _mk(self, v: float, n: tuple) -> "Sym":
+        return Sym(v, n, self.tr)
+
+    def _bin(self, op: str, o: Any, rev: bool = False) -> "Sym":
+        if not isinstance(o, (Sym, int, float)) or isinstance(o, bool):
+            return NotImplemented
+        ov = o.v if isinstance(o, Sym) else float(o)
+        a, b = (_node(o), self.n) if rev else (self.n, _node(o))
+        x, y = (ov, self.v) if rev else (self.v, ov)
+        v = x + y if op == "+" else x - y if op == "-" else x * y if op == "*" else x / y
+        return self._mk(v, (op, a, b))
+
+    def __add__(self, o): return self._bin("+", o)
+    def __radd__(self, o): return self._bin("+", o, True)
+    def __sub__(self, o): return self._bin("-", o)
+    def __rsub__(self, o): return self._bin("-", o, True)
+    def __mul__(self, o): return self._bin("*", o)
+    def __rmul__(self, o): return self._bin("*", o, True)
+    def __truediv__(self, o): return self._bin("/", o)
+    def __rtruediv__(self, o): return self._bin("/", o, True)
+
+    def __pow__(self, o):
+        if o == 2:
+            return self * self
+        if o == 0.5:
+            return self._mk(math.sqrt(self.v), ("f", "sqrt", self.n))
+        raise PartError(f"macro: the sketch raises a parameter to the power {o!r}, which the "
+                        f"macro cannot write")
+
+    def __neg__(self): return self._mk(-self.v, ("neg", self.n))
+    def __pos__(self): return self
+    def __abs__(self): return self._mk(abs(self.v), ("f", "abs", self.n))
+
+    def _cmp(self, op: str, o: Any) -> "SymBool":
+        ov = o.v if isinstance(o, Sym) else float(o)
+        v = {"<": self.v < ov, "<=": self.v <= ov, ">": self.v > ov, ">=": self.v >= ov}[op]
+        return SymBool(v, (op, self.n, _node(o)), self.tr)
+
+    def __lt__(self, o): return self._cmp("<", o)
+    def __le__(self, o): return self._cmp("<=", o)
+    def __gt__(self, o): return self._cmp(">", o)
+    def __ge__(self, o): return self._cmp(">=", o)
+    def __float__(self): return self.v
+    def __format__(self, spec): return format(self.v, spec)
+    def __str__(self): return format(self.v, "g")
+    __hash__ = None  # type: ignore[assignment]
+
+
+class SymBool:
+    """A comparison of :class:`Sym` numbers; asking for its truth records it as a condition
+    of the traced path."""
+
+    __slots__ = ("v", "c", "tr")
+
+    def __init__(self, v: bool, c: tuple, tr: "_Trace"):
+        self.v, self.c, self.tr = v, c, tr
+
+    def __bool__(self) -> bool:
+        self.tr.pending.append((self.c, self.v))
+        return self.v
+
+
+class _Math:
+    """``math`` for a traced sketch: the functions take and give :class:`Sym`."""
+
+    pi = math.pi
+    e = math.e
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(math, name)
+
+    @staticmethod
+    def _f(name: str, x: Any) -> Any:
+        if isinstance(x, Sym):
+            return x._mk(_FUN[name](x.v), ("f", name, x.n))
+        return _FUN[name](x)
+
+    def sqrt(self, x): return self._f("sqrt", x)
+    def sin(self, x): return self._f("sin", x)
+    def cos(self, x): return self._f("cos", x)
+    def tan(self, x): return self._f("tan", x)
+    def atan(self, x): return self._f("atan", x)
+    def fabs(self, x): return abs(x)
+
+    def radians(self, x): return x * (math.pi / 180.0)
+    def degrees(self, x): return x * (180.0 / math.pi)
+
+    def hypot(self, a, b): return self.sqrt(a * a + b * b)
+
+    def atan2(self, y, x):
+        if isinstance(y, Sym) or isinstance(x, Sym):
+            tr = y.tr if isinstance(y, Sym) else x.tr
+            return Sym(math.atan2(float(y), float(x)), ("atan2", _node(y), _node(x)), tr)
+        return math.atan2(y, x)
+
+
+@dataclass
+class Check:
+    """A parameter check: the conditions that must hold and the family's message."""
+    conds: list[tuple]
+    message: str
+    names: list[str]
+
+
+@dataclass
+class _Trace:
+    pending: list[tuple] = field(default_factory=list)
+    checks: list[Check] = field(default_factory=list)
+    branches: list[tuple] = field(default_factory=list)  # (condition, nominal truth)
+    segments: list[tuple] = field(default_factory=list)
+
+    def take(self) -> list[tuple]:
+        out = [c if v else ("not", c) for c, v in self.pending]
+        self.pending = []
+        return out
+
+
+def _params_of(n: tuple) -> set[str]:
+    if n[0] == "p":
+        return {n[1]}
+    if n[0] == "c":
+        return set()
+    out: set[str] = set()
+    for x in n[1:]:
+        if isinstance(x, tuple):
+            out |= _params_of(x)
+    return out
+
+
+class _TraceOutline:
+    """:class:`hnc_cam.cad.sketch.Outline` on :class:`Sym` points: records the segments with
+    the corners cut as exact expressions."""
+
+    def __init__(self, tr: _Trace, start):
+        self.tr = tr
+        self.segs: list[list] = []  # ["L", p0, p1] | ["A", p0, p1, center_or_None, radius, cw]
+        self._pos = (start[0], start[1])
+        self._corner: tuple | None = None
+
+    @property
+    def pos(self):
+        return self._pos
+
+    def line_to(self, x, z, chamfer=0.0, fillet=0.0, names=""):
+        end = (x, z)
+        corner = None
+        if chamfer > 0:
+            corner = ("C", chamfer, names)
+        elif fillet > 0:
+            corner = ("R", fillet, names)
+        self._add(["L", self._pos, end])
+        self._corner = corner
+        return self
+
+    def arc_to(self, x, z, radius=None, cw=True, center=None):
+        end = (x, z)
+        if center is not None:
+            dx, dz = end[0] - center[0], end[1] - center[1]
+            r = _Math().sqrt(dx * dx + dz * dz)
+        elif radius is not None:
+            r = abs(radius)
+        else:
+            raise PartError("arc_to needs radius or center")
+        self._add(["A", self._pos, end, center, r, bool(cw)])
+        self._corner = None
+        return self
+
+    def _add(self, seg: list) -> None:
+        if self._corner and self.segs and self.segs[-1][0] == "L" and seg[0] == "L":
+            kind, size, names = self._corner
+            prev = self.segs.pop()
+            a, g, e = prev[1], prev[2], seg[2]
+            m = _Math()
+            l1 = m.sqrt((g[0] - a[0]) ** 2 + (g[1] - a[1]) ** 2)
+            l2 = m.sqrt((e[0] - g[0]) ** 2 + (e[1] - g[1]) ** 2)
+            u1 = ((g[0] - a[0]) / l1, (g[1] - a[1]) / l1)
+            u2 = ((e[0] - g[0]) / l2, (e[1] - g[1]) / l2)
+            cr = u1[1] * u2[0] - u1[0] * u2[1]  # (z right, x up) view, as geometry.cross
+            dot = u1[0] * u2[0] + u1[1] * u2[1]
+            t = size if kind == "C" else size * abs(cr) / (1 + dot)
+            # the corner fits (what Outline.line_to checks) — a parameter check
+            what = "chamfer" if kind == "C" else "fillet"
+            blame = names or ", ".join(sorted(_params_of(_node(size))))
+            self.tr.pending = []
+            self.tr.checks.append(Check([("<", _node(t), _node(l1)), ("<", _node(t), _node(l2))],
+                                        f"{what} does not fit (parameters {blame})",
+                                        sorted(_params_of(_node(t)) | _params_of(_node(l1))
+                                               | _params_of(_node(l2)))))
+            p1 = (g[0] - u1[0] * t, g[1] - u1[1] * t)
+            p2 = (g[0] + u2[0] * t, g[1] + u2[1] * t)
+            self.segs.append(["L", a, p1])
+            if kind == "C":
+                self.segs.append(["L", p1, p2])
+            else:
+                self.segs.append(["A", p1, p2, None, size, float(cr) < 0])
+            seg = ["L", p2, e]
+        self.segs.append(seg)
+        self._pos = seg[2]
+
+    def close(self):
+        start = self.segs[0][1]
+        self.line_to(*start)
+        return self
+
+    def segments(self):
+        self.tr.segments = self.segs
+        return self.segs
+
+
+def _trace(mod: Any, params: dict[str, Any], free: list[str] | None = None) -> _Trace:
+    """Run ``mod.sketch`` with the ``free`` parameters (default: all) as symbols; the path's
+    conditions, checks and segments."""
+    tr = _Trace()
+    syms = {k: (Sym(v, ("p", k), tr) if free is None or k in free else v)
+            for k, v in params.items()}
+    fmt = (lambda v: f"{float(v):.3f}".rstrip("0").rstrip("."))
+
+    def require(cond, message):
+        conds = tr.take()
+        if isinstance(cond, SymBool):
+            conds.append(cond.c)
+        elif not cond:
+            raise PartError(f"the sketch refuses the family's default parameters: {message}")
+        if conds:
+            names: set[str] = set()
+            for c in conds:
+                names |= _params_of(c)
+            tr.checks.append(Check(conds, str(message), sorted(names)))
+
+    def positive(**kw):
+        for k, v in kw.items():
+            require(v > 0, f"{k}={fmt(v)} must be positive")
+
+    def non_negative(**kw):
+        for k, v in kw.items():
+            require(v >= 0, f"{k}={fmt(v)} must not be negative (0 means none)")
+
+    def _minmax(kind: str) -> Callable[..., Any]:
+        def f(*args: Any) -> Any:
+            xs = list(args[0]) if len(args) == 1 else list(args)
+            out = xs[0]
+            for x in xs[1:]:
+                if isinstance(out, Sym) or isinstance(x, Sym):
+                    v = (min if kind == "min" else max)(float(out), float(x))
+                    out = Sym(v, (kind, _node(out), _node(x)), tr)
+                else:
+                    out = (min if kind == "min" else max)(out, x)
+            return out
+        return f
+
+    saved = {k: mod.__dict__.get(k, _MISSING) for k in
+             ("Outline", "math", "require", "positive", "non_negative", "min", "max")}
+    mod.__dict__.update(Outline=lambda start: _TraceOutline(tr, start), math=_Math(),
+                        require=require, positive=positive, non_negative=non_negative,
+                        min=_minmax("min"), max=_minmax("max"))
+    try:
+        mod.sketch(**syms)
+    except PartError:
+        raise
+    except Exception as e:  # noqa: BLE001 - what the sketch does with symbols
+        raise PartError(f"{getattr(mod, '__file__', 'part')}: sketch() cannot be traced "
+                        f"symbolically ({type(e).__name__}: {e}); the macro needs a sketch "
+                        f"built from Outline, require and math") from None
+    finally:
+        for k, v in saved.items():
+            if v is _MISSING:
+                mod.__dict__.pop(k, None)
+            else:
+                mod.__dict__[k] = v
+    tr.branches = [(c, v) for c, v in tr.pending]
+    tr.pending = []
+    if not tr.segments:
+        raise PartError(f"{getattr(mod, '__file__', 'part')}: sketch() returned no traced "
+                        f"segments")
+    return tr
+
+
+_MISSING = object()
+
+
+def features(tr: _Trace) -> list[tuple[str, tuple]]:
+    """The traced quantities a program word may be made of: (description, expression)."""
+    out: list[tuple[str, tuple]] = []
+    for i, s in enumerate(tr.segments):
+        for j, p in enumerate(s[1:3]):
+            out.append((f"segment {i + 1} {'start' if j == 0 else 'end'} X",
+                        _node(p[0] * 2 if isinstance(p[0], Sym) else 2 * float(p[0]))))
+            out.append((f"segment {i + 1} {'start' if j == 0 else 'end'} Z", _node(p[1])))
+        if s[0] == "A":
+            out.append((f"segment {i + 1} radius", _node(s[4])))
+    return out
+
+
+# ------------------------------------------------------------------------------------------
+# rendering expressions
+# ------------------------------------------------------------------------------------------
+
+def _num(v: float) -> str:
+    s = f"{v:.12f}".rstrip("0").rstrip(".")
+    return "0" if s in ("-0", "") else s
+
+
+#: how a dialect writes the functions (FANUC's trigonometry is in degrees)
+_HNC_FUN = {"sqrt": "SQRT", "sin": "SIN", "cos": "COS", "tan": "TAN", "atan": "ATAN",
+            "abs": "ABS"}
+
+
+def render(n: tuple, var: dict[str, str], dialect: str = "hnc21t") -> str:
+    """The expression ``n`` in the dialect's macro syntax; ``var`` maps a parameter to its
+    variable (``#50``)."""
+    k = n[0]
+    if k == "c":
+        s = _num(n[1])
+        return f"[{s}]" if s.startswith("-") else s
+    if k == "p":
+        return var[n[1]]
+    if k == "neg":
+        return f"[-{render(n[1], var, dialect)}]"
+    if k == "f":
+        inner = render(n[2], var, dialect)
+        if dialect == "fanuc0it" and n[1] in ("sin", "cos", "tan"):
+            inner = f"{inner}*180/{_num(math.pi)}"
+        if dialect == "fanuc0it" and n[1] == "atan":
+            return f"[ATAN[{inner}]/[1]*{_num(math.pi)}/180]"
+        return f"{_HNC_FUN[n[1]]}[{inner}]"
+    if k in ("min", "max"):  # (a + b -+ |a - b|) / 2: exact, and every dialect has ABS
+        a, b = render(n[1], var, dialect), render(n[2], var, dialect)
+        return f"[[{a}+{b}{'-' if k == 'min' else '+'}ABS[{a}-{b}]]/2]"
+    if k == "atan2":
+        a, b = render(n[1], var, dialect), render(n[2], var, dialect)
+        if dialect == "fanuc0it":
+            return f"[ATAN[{a}]/[{b}]*{_num(math.pi)}/180]"
+        return f"ATAN2[{a},{b}]"
+    a, b = render(n[1], var, dialect), render(n[2], var, dialect)
+    return f"[{a}{k}{b}]"
+
+
+def _simplify(n: tuple) -> tuple:
+    """Constant folding and the neutral elements (exact: only operations on literal
+    constants and x*1, x+0)."""
+    if n[0] in ("c", "p"):
+        return n
+    if n[0] == "neg":
+        a = _simplify(n[1])
+        return ("c", -a[1]) if a[0] == "c" else a[1] if a[0] == "neg" else ("neg", a)
+    if n[0] == "f":
+        a = _simplify(n[2])
+        return ("c", _FUN[n[1]](a[1])) if a[0] == "c" else ("f", n[1], a)
+    if n[0] in ("atan2", "min", "max"):
+        return (n[0], _simplify(n[1]), _simplify(n[2]))
+    op, a, b = n[0], _simplify(n[1]), _simplify(n[2])
+    if a[0] == "c" and b[0] == "c":
+        return ("c", _ev((op, a, b), {}))
+    if op == "*":
+        if a[0] == "c" and a[1] == 1:
+            return b
+        if b[0] == "c" and b[1] == 1:
+            return a
+        if (a[0] == "c" and a[1] == 0) or (b[0] == "c" and b[1] == 0):
+            return ("c", 0.0)
+        if a[0] == "c" and a[1] == -1:
+            return ("neg", b)
+    if op == "/" and b[0] == "c" and b[1] == 1:
+        return a
+    if op == "+":
+        if a[0] == "c" and a[1] == 0:
+            return b
+        if b[0] == "c" and b[1] == 0:
+            return a
+        if b[0] == "c" and b[1] < 0:
+            return ("-", a, ("c", -b[1]))
+        if b[0] == "neg":
+            return ("-", a, b[1])
+    if op == "-":
+        if b[0] == "c" and b[1] == 0:
+            return a
+        if a[0] == "c" and a[1] == 0:
+            return ("neg", b)
+        if b[0] == "c" and b[1] < 0:
+            return ("+", a, ("c", -b[1]))
+    return (op, a, b)
+
+
+def _cond(c: tuple, var: dict[str, str], dialect: str) -> str:
+    """A condition as the dialect writes it, bracketed."""
+    if c[0] == "not":
+        return f"[NOT {_cond(c[1], var, dialect)}]" if dialect == "hnc21t" else \
+            _cond(_negate(c[1]), var, dialect)
+    ops = {"<": "LT", "<=": "LE", ">": "GT", ">=": "GE"}
+    return (f"[{render(_simplify(c[1]), var, dialect)} {ops[c[0]]} "
+            f"{render(_simplify(c[2]), var, dialect)}]")
+
+
+def _negate(c: tuple) -> tuple:
+    if c[0] == "not":
+        return c[1]
+    return ({"<": ">=", "<=": ">", ">": "<=", ">=": "<"}[c[0]], c[1], c[2])
+
+
+def _holds(c: tuple, env: dict[str, float]) -> bool:
+    if c[0] == "not":
+        return not _holds(c[1], env)
+    a, b = _ev(c[1], env), _ev(c[2], env)
+    return {"<": a < b, "<=": a <= b, ">": a > b, ">=": a >= b}[c[0]]
+
+
+# ------------------------------------------------------------------------------------------
+# sampling and fitting
+# ------------------------------------------------------------------------------------------
+
+@dataclass
+class Family:
+    """What the macro is derived from."""
+    path: str
+    mod: Any
+    params: dict[str, Any]  # the nominal set (defaults, --set)
+    free: list[str]  # the parameters that become macro variables
+    trace: _Trace
+    lo: dict[str, float]
+    hi: dict[str, float]
+
+
+def load_family(path: str, base: dict[str, Any], rows: list[dict[str, Any]] | None = None,
+                spread: float = 0.15) -> Family:
+    """The family at ``path`` traced at ``base`` (defaults updated by ``--set``), its domain
+    box: each real parameter within ``spread`` of its value (a parameter at 0 stays 0), grown
+    to cover every table row. Whole-number parameters (a count of waves) stay as given: they
+    change the program's shape, so each value is its own macro."""
+    from ..cad.loader import load_module, resolve_params
+    mod = load_module(path)
+    if not callable(getattr(mod, "sketch", None)):
+        raise PartError(f"{path}: defines no sketch(**params): the macro is derived from the "
+                        f"family's exact sketch")
+    full = resolve_params(mod, base, path)
+    rows = [resolve_params(mod, r, path) for r in (rows or [])]
+    free = [k for k, v in full.items() if isinstance(v, float)]
+    for r in rows:
+        for k, v in r.items():
+            if k not in free and v != full[k]:
+                raise PartError(f"{path}: the table gives {k}={v:g} and {full[k]:g}: a "
+                                f"whole-number parameter changes the program's shape, so one "
+                                f"macro holds one value (give it with --set)")
+    lo = {k: (full[k] * (1 - spread) if full[k] > 0 else full[k] * (1 + spread)) for k in free}
+    hi = {k: (full[k] * (1 + spread) if full[k] > 0 else full[k] * (1 - spread)) for k in free}
+    for r in rows:
+        for k in free:
+            lo[k], hi[k] = min(lo[k], r[k]), max(hi[k], r[k])
+    tr = _trace(mod, full, free)
+    return Family(path, mod, full, free, tr, lo, hi)
+
+
+
+class Lets:
+    """Writes expressions with their shared parts computed once: a subexpression longer than
+    ``inline`` characters goes to its own variable (``#first``, ``#first+1``, ... up to
+    ``#last``), assigned on a line of its own before the word that uses it. Expressions are
+    shared sub-trees (a fillet's tangent point reuses the lines it joins), so writing them out
+    without this would grow exponentially. More temporaries than the range holds is a
+    :class:`PlanError` (the control's variable range)."""
+
+    def __init__(self, var: dict[str, str], dialect: str = "hnc21t", first: int = 100,
+                 last: int = 199, inline: int = 40):
+        self.var, self.dialect, self.next, self.last, self.inline = var, dialect, first, last, inline
+        self.lines: list[str] = []
+        self._memo: dict[int, str] = {}
+        self._keep: list[tuple] = []
+
+    def expr(self, n: tuple) -> str:
+        """The expression of ``n`` (assignments it needs are appended to :attr:`lines`)."""
+        key = id(n)
+        if key in self._memo:
+            return self._memo[key]
+        k = n[0]
+        if k in ("c", "p"):
+            s = render(n, self.var, self.dialect)
+        elif k == "neg":
+            s = f"[-{self.expr(n[1])}]"
+        elif k == "f":
+            s = render(("f", n[1], ("p", "\0")), {"\0": self.expr(n[2])}, self.dialect)
+        else:
+            s = render((k, ("p", "\0a"), ("p", "\0b")),
+                       {"\0a": self.expr(n[1]), "\0b": self.expr(n[2])}, self.dialect)
+        if len(s) > self.inline:
+            if self.next > self.last:
+                raise PlanError(f"the macro needs more than {self.last - self.next + 1} "
+                                f"variables for its expressions (the control's range for them "
+                                f"ends at #{self.last})")
+            name = f"#{self.next}"
+            self.next += 1
+            self.lines.append(f"{name}={s}")
+            s = name
+        self._memo[key] = s
+        self._keep.append(n)
+        return s
