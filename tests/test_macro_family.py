@@ -128,3 +128,32 @@ def test_domain_box_covers_the_table_and_whole_numbers_stay_fixed():
         load_family(str(PARTS / "cast_blank.py"), {}, [{"waves": "4"}])
     with pytest.raises(PartError, match="not a number"):
         load_family(str(PARTS / "stepped_shaft.py"), {"d1": "abc"})
+
+
+def test_hnc_checks_end_the_program_before_any_motion():
+    from hnc_cam.nc import run
+    from hnc_cam.plan.macro import hnc_checks
+    mod = load_module(PARTS / "stepped_shaft.py")
+    d = family_parameters(mod)
+    free = _free(d)
+    tr = _trace(mod, d, free)
+    var = {k: f"#{50 + i}" for i, k in enumerate(free)}
+    body = hnc_checks(tr, Lets(var))
+
+    def prog(p):
+        return "\n".join(["%0001"] + [f"{var[k]}={p[k]!r}" for k in free]
+                         + ["M98 P1001", "M30", "%1001"] + body
+                         + ["G00 X50 Z5", "G01 X40 Z0 F0.1", "M99"]) + "\n"
+
+    seen = set()
+    for p in _samples(d, 30, "checks"):
+        try:
+            mod.sketch(**p)
+            ok = True
+        except SketchError:
+            ok = False
+        moves = run(prog(p), start=(0.0, 0.0)).moves
+        assert bool(moves) == ok, p
+        seen.add(ok)
+    assert seen == {True, False}
+    assert not run(prog(dict(d, d1=30.0)), start=(0.0, 0.0)).moves

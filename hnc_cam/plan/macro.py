@@ -564,3 +564,26 @@ class Lets:
         self._memo[key] = s
         self._keep.append(n)
         return s
+
+
+def hnc_checks(tr: _Trace, lets: Lets) -> list[str]:
+    """The HNC-21T lines that check the parameters before any motion: for each check,
+    ``IF`` its conditions do not all hold, a comment naming the parameters and ``M30`` (the
+    HNC-21T has no program-generated alarm: the program ends with the comment on the
+    screen). The temporaries a condition needs are assigned just before its ``IF``."""
+    out: list[str] = []
+    for ch in tr.checks:
+        parts = []
+        for c in ch.conds:
+            ops = {"<": "LT", "<=": "LE", ">": "GT", ">=": "GE"}
+            parts.append(f"[{lets.expr(c[1][1] if c[0] == 'not' else c[1])} "
+                         f"{ops[c[1][0] if c[0] == 'not' else c[0]]} "
+                         f"{lets.expr(c[1][2] if c[0] == 'not' else c[2])}]"
+                         if c[0] != "not" else
+                         f"[NOT [{lets.expr(c[1][1])} {ops[c[1][0]]} {lets.expr(c[1][2])}]]")
+        out.extend(lets.lines)
+        lets.lines.clear()
+        names = " ".join(n.upper() for n in ch.names) or "PARAMETERS"
+        out += [f"IF [NOT [{' AND '.join(parts)}]]",
+                f"(PARAMETER CHECK FAILED: {names})", "M30", "ENDIF"]
+    return out
