@@ -157,3 +157,41 @@ def test_hnc_checks_end_the_program_before_any_motion():
         seen.add(ok)
     assert seen == {True, False}
     assert not run(prog(dict(d, d1=30.0)), start=(0.0, 0.0)).moves
+
+
+@pytest.mark.parametrize("name", ["grooved_shaft.py", "stepped_shaft.py", "cq_pin.py"])
+def test_fanuc_macro_words_follow_the_contour(name):
+    """FANUC: trigonometry in degrees, brackets at most 5 deep (PS0118), temporaries #500+."""
+    from hnc_cam.nc import run
+    mod = load_module(PARTS / name)
+    d = family_parameters(mod)
+    free = _free(d)
+    tr = _trace(mod, d, free)
+    var = {k: f"#{100 + i}" for i, k in enumerate(free)}
+    for p in list(_samples(d, 8, name, 0.05)):
+        try:
+            segs = mod.sketch(**p)
+        except SketchError:
+            continue
+        lets = Lets(var, "fanuc0it", first=500, last=999)
+        lines = ["%", "O0001"] + [f"{var[k]}={p[k]!r}" for k in free]
+
+        def word(n):
+            s = lets.expr(_node(n))
+            lines.extend(lets.lines)
+            lets.lines.clear()
+            return s
+
+        first = tr.segments[0][1]
+        lines.append(f"G00 X[{word(first[0] * 2)}] Z[{word(first[1])}]")
+        for t in tr.segments:
+            x, z = word(t[2][0] * 2), word(t[2][1])
+            lines.append(f"G01 X[{x}] Z[{z}] F0.1" if t[0] == "L" else
+                         f"G0{2 if t[5] else 3} X[{x}] Z[{z}] R[{word(t[4])}] F0.1")
+        lines += ["M30", "%"]
+        tp = run("\n".join(lines) + "\n", start=(0.0, 0.0), dialect="fanuc0it")
+        cuts = [m for m in tp.moves if m.kind in ("line", "arc")]
+        assert len(cuts) == len(segs)
+        for m, s in zip(cuts, segs):
+            assert m.end[0] == pytest.approx(s.end[0], abs=1e-6)
+            assert m.end[1] == pytest.approx(s.end[1], abs=1e-6)

@@ -531,8 +531,10 @@ class Lets:
     :class:`PlanError` (the control's variable range)."""
 
     def __init__(self, var: dict[str, str], dialect: str = "hnc21t", first: int = 100,
-                 last: int = 199, inline: int = 40):
+                 last: int = 199, inline: int = 40, depth: int | None = None):
         self.var, self.dialect, self.next, self.last, self.inline = var, dialect, first, last, inline
+        # FANUC nests brackets at most 5 deep (PS0118): 4 here, the word's own makes 5
+        self.depth = depth if depth is not None else (4 if dialect == "fanuc0it" else 64)
         self.lines: list[str] = []
         self._memo: dict[int, str] = {}
         self._keep: list[tuple] = []
@@ -552,7 +554,7 @@ class Lets:
         else:
             s = render((k, ("p", "\0a"), ("p", "\0b")),
                        {"\0a": self.expr(n[1]), "\0b": self.expr(n[2])}, self.dialect)
-        if len(s) > self.inline:
+        if len(s) > self.inline or _depth(s) > self.depth:
             if self.next > self.last:
                 raise PlanError(f"the macro needs more than {self.last - self.next + 1} "
                                 f"variables for its expressions (the control's range for them "
@@ -587,3 +589,15 @@ def hnc_checks(tr: _Trace, lets: Lets) -> list[str]:
         out += [f"IF [NOT [{' AND '.join(parts)}]]",
                 f"(PARAMETER CHECK FAILED: {names})", "M30", "ENDIF"]
     return out
+
+
+def _depth(s: str) -> int:
+    """How deep the brackets of ``s`` nest."""
+    d = m = 0
+    for ch in s:
+        if ch == "[":
+            d += 1
+            m = max(m, d)
+        elif ch == "]":
+            d -= 1
+    return m
