@@ -17,39 +17,17 @@ from __future__ import annotations
 import sys
 import time
 
-
-def moves(n: int) -> list[str]:
-    out = []
-    x, z = 40.0, 0.0
-    i = 0
-    while len(out) < n:
-        k = i % 4
-        if k == 0:
-            z -= 1.0
-            out.append(f"G01 X{x:.3f} Z{z:.3f}")
-        elif k == 1:
-            out.append(f"G02 X{x + 2:.3f} Z{z - 1:.3f} R1.000")
-            x += 2
-            z -= 1
-        elif k == 2:
-            out.append(f"G03 X{x - 2:.3f} Z{z - 1:.3f} I0. K-1.000")
-            x -= 2
-            z -= 1
-        else:
-            out.append(f"G01 X{x:.3f} Z{z - 0.5:.3f}")
-            z -= 0.5
-        i += 1
-    return out
+from interp import moves
 
 
 def hnc_program(n: int) -> str:
-    return "\n".join(["%1", "G92 X100 Z10", "M03 S800", "G94 G01 X40 Z0 F120"] + moves(n)
+    return "\n".join(["%1", "G92 X100 Z10", "M03 S800", "G94 G01 X40 Z0 F120"] + moves(n, zero="0.")
                      + ["M30"]) + "\n"
 
 
 def fanuc_program(n: int) -> str:
     return "\n".join(["%", "O0001", "G50 X100. Z10.", "M03 S800", "G98 G01 X40. Z0. F120."]
-                     + moves(n) + ["M30", "%"]) + "\n"
+                     + moves(n, zero="0.") + ["M30", "%"]) + "\n"
 
 
 def best(fn, k: int = 5) -> float:

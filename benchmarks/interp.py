@@ -17,12 +17,12 @@ import sys
 import time
 
 
-def plain_program(n: int) -> str:
-    """A zig-zag of G01 lines and G02/G03 half-arcs (R form and I/K form), n blocks + 3."""
-    out = ["%1", "G92 X100 Z10", "M03 S800", "G01 X40 Z0 F120"]
+def moves(n: int, zero: str = "0") -> list[str]:
+    """``n`` blocks of a zig-zag: G01 lines and G02/G03 half-arcs (R form and I/K form);
+    ``zero`` is how the I word's 0 is written (``"0."`` for a FANUC point on every number)."""
+    out = []
     x, z = 40.0, 0.0
-    i = 0
-    while len(out) < n + 3:
+    for i in range(n):
         k = i % 4
         if k == 0:
             z -= 1.0
@@ -32,16 +32,19 @@ def plain_program(n: int) -> str:
             x += 2
             z -= 1
         elif k == 2:
-            out.append(f"G03 X{x - 2:.3f} Z{z - 1:.3f} I0 K-1.000")
+            out.append(f"G03 X{x - 2:.3f} Z{z - 1:.3f} I{zero} K-1.000")
             x -= 2
             z -= 1
         else:
-            out.append(f"X{x:.3f} Z{z - 0.5:.3f}")  # modal G03? no: a G01 line restated below
-            out[-1] = f"G01 X{x:.3f} Z{z - 0.5:.3f}"
+            out.append(f"G01 X{x:.3f} Z{z - 0.5:.3f}")
             z -= 0.5
-        i += 1
-    out.append("M30")
-    return "\n".join(out) + "\n"
+    return out
+
+
+def plain_program(n: int) -> str:
+    """:func:`moves` as an HNC-21T program, n blocks + 3."""
+    return "\n".join(["%1", "G92 X100 Z10", "M03 S800", "G01 X40 Z0 F120"] + moves(n - 1)
+                     + ["M30"]) + "\n"
 
 
 def fanuc_program(n: int) -> str:
