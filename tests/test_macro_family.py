@@ -30,11 +30,17 @@ def _free(defaults):
     return [k for k, v in defaults.items() if isinstance(v, float)]
 
 
-@pytest.mark.parametrize("name", FAMILIES)
-def test_traced_contour_is_exact(name):
+def _traced(name):
+    """(module, default parameters, free parameter names, trace) of a bundled family."""
     mod = load_module(PARTS / name)
     d = family_parameters(mod)
-    tr = _trace(mod, d, _free(d))
+    free = _free(d)
+    return mod, d, free, _trace(mod, d, free)
+
+
+@pytest.mark.parametrize("name", FAMILIES)
+def test_traced_contour_is_exact(name):
+    mod, d, _, tr = _traced(name)
     accepted = refused = 0
     for p in _samples(d, 40, name):
         try:
@@ -58,9 +64,7 @@ def test_traced_contour_is_exact(name):
 
 
 def test_a_refused_set_fails_the_check_that_names_its_parameter():
-    mod = load_module(PARTS / "stepped_shaft.py")
-    d = family_parameters(mod)
-    tr = _trace(mod, d, _free(d))
+    mod, d, _, tr = _traced("stepped_shaft.py")
     bad = dict(d, d1=30.0)  # d1 > d2
     failing = [ch for ch in tr.checks if not all(_holds(c, bad) for c in ch.conds)]
     assert failing and all("d1" in ch.names for ch in failing)
@@ -69,10 +73,7 @@ def test_a_refused_set_fails_the_check_that_names_its_parameter():
 @pytest.mark.parametrize("name", ["stepped_shaft.py", "grooved_shaft.py", "threaded_stud.py"])
 def test_macro_words_drive_the_interpreter_along_the_contour(name):
     from hnc_cam.nc import run
-    mod = load_module(PARTS / name)
-    d = family_parameters(mod)
-    free = _free(d)
-    tr = _trace(mod, d, free)
+    mod, d, free, tr = _traced(name)
     var = {k: f"#{50 + i}" for i, k in enumerate(free)}
     lines = ["%0001"]
     lines += [f"{var[k]}={v!r}" for k, v in d.items() if k in var]
@@ -133,10 +134,7 @@ def test_domain_box_covers_the_table_and_whole_numbers_stay_fixed():
 def test_hnc_checks_end_the_program_before_any_motion():
     from hnc_cam.nc import run
     from hnc_cam.plan.macro import hnc_checks
-    mod = load_module(PARTS / "stepped_shaft.py")
-    d = family_parameters(mod)
-    free = _free(d)
-    tr = _trace(mod, d, free)
+    mod, d, free, tr = _traced("stepped_shaft.py")
     var = {k: f"#{50 + i}" for i, k in enumerate(free)}
     body = hnc_checks(tr, Lets(var))
 
@@ -163,10 +161,7 @@ def test_hnc_checks_end_the_program_before_any_motion():
 def test_fanuc_macro_words_follow_the_contour(name):
     """FANUC: trigonometry in degrees, brackets at most 5 deep (PS0118), temporaries #500+."""
     from hnc_cam.nc import run
-    mod = load_module(PARTS / name)
-    d = family_parameters(mod)
-    free = _free(d)
-    tr = _trace(mod, d, free)
+    mod, d, free, tr = _traced(name)
     var = {k: f"#{100 + i}" for i, k in enumerate(free)}
     for p in list(_samples(d, 8, name, 0.05)):
         try:
