@@ -320,6 +320,10 @@ def word_col(text: str, letter: str, value: Optional[float] = None) -> int:
 class _P:
     #: compiles an expression node of this dialect (HNC-21T: functions in radians)
     expr_type = Expr
+    #: the keyword operators of the lowest level (FANUC adds XOR) and of the multiplicative
+    #: level (FANUC: MOD)
+    or_ops: tuple = ("OR",)
+    mul_kw: tuple = ()
 
     def __init__(self, toks, text, line, file, block):
         self.t = toks
@@ -358,10 +362,13 @@ class _P:
     # expression grammar ---------------------------------------------------------------
     def expr(self):
         a = self.and_()
-        while self.peek()[:2] == ("kw", "OR"):
-            self.i += 1
-            a = ("bin", "OR", a, self.and_())
-        return a
+        while True:
+            k, v, _ = self.peek()
+            if k == "kw" and v in self.or_ops:
+                self.i += 1
+                a = ("bin", v, a, self.and_())
+            else:
+                return a
 
     def and_(self):
         a = self.not_()
@@ -398,7 +405,7 @@ class _P:
         a = self.unary()
         while True:
             k, v, _ = self.peek()
-            if k == "op" and v in ("*", "/"):
+            if (k == "op" and v in ("*", "/")) or (k == "kw" and v in self.mul_kw):
                 self.i += 1
                 a = ("bin", v, a, self.unary())
             else:

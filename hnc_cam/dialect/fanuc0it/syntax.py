@@ -70,7 +70,6 @@ FUNCTIONS = frozenset({"SIN", "COS", "TAN", "ASIN", "ACOS", "ATAN", "SQRT", "ABS
                        "FIX", "FUP", "LN", "EXP", "BIN", "BCD"})
 #: a keyword may be written with its first two letters (``RO`` for ROUND, ``GO`` for GOTO)
 ABBREVIATIONS = {k[:2]: k for k in KEYWORDS if len(k) > 2}
-_COMPARE = frozenset({"EQ", "NE", "GT", "GE", "LT", "LE"})
 OPERATORS = frozenset("#[]=+-*/,")
 #: addresses the decimal-point rule applies to (least input increment 0.001 mm / deg / s)
 SCALED = frozenset("XYZUVWABCIJKR")
@@ -200,41 +199,9 @@ class _FP(P._P):
         self.calculator = calculator
         self.depth = 0
 
-    # expressions ---------------------------------------------------------------------------
-    def expr(self):
-        a = self.and_()
-        while True:
-            k, v, _ = self.peek()
-            if k == "kw" and v in ("OR", "XOR"):
-                self.i += 1
-                a = ("bin", v, a, self.and_())
-            else:
-                return a
-
-    def and_(self):
-        a = self.cmp()
-        while self.peek()[:2] == ("kw", "AND"):
-            self.i += 1
-            a = ("bin", "AND", a, self.cmp())
-        return a
-
-    def cmp(self):
-        a = self.add()
-        k, v, _ = self.peek()
-        if k == "kw" and v in _COMPARE:
-            self.i += 1
-            a = ("bin", v, a, self.add())
-        return a
-
-    def mul(self):
-        a = self.unary()
-        while True:
-            k, v, _ = self.peek()
-            if (k == "op" and v in ("*", "/")) or (k == "kw" and v == "MOD"):
-                self.i += 1
-                a = ("bin", v, a, self.unary())
-            else:
-                return a
+    # expressions: the HNC grammar with XOR beside OR and MOD beside * and / (no NOT) ------
+    or_ops = ("OR", "XOR")
+    mul_kw = ("MOD",)
 
     def bracket(self, what: str):
         """``[ expr ]`` (the ``[`` is the current token)."""
