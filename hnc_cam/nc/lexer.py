@@ -66,13 +66,17 @@ def clean(raw: str, semicolon: bool = True) -> str:
     return "".join(out)
 
 
-def tokenize(text: str, line: int = 0, file: str = "<program>", block: str | None = None) -> list[Token]:
+def tokenize(text: str, line: int = 0, file: str = "<program>", block: str | None = None,
+             keywords: frozenset = KEYWORDS, abbreviations: dict | None = None,
+             token: re.Pattern = _TOKEN, operators: frozenset = OPERATORS) -> list[Token]:
     """Tokens of one cleaned line. Raises :class:`NCError` on a character or letter run
-    that is not part of the language."""
+    that is not part of the language. A dialect gives its ``keywords`` (``ATAN 2[`` is read
+    as ``ATAN2`` where that is one), the ``abbreviations`` it expands (FANUC ``SI`` for
+    ``SIN``), its ``token`` pattern and ``operators``."""
     toks: list[Token] = []
     pos = 0
     n = len(text)
-    match = _TOKEN.match
+    match = token.match
     while pos < n:
         m = match(text, pos)
         if m is None:  # only trailing blanks
@@ -82,7 +86,7 @@ def tokenize(text: str, line: int = 0, file: str = "<program>", block: str | Non
             toks.append(("num", num, m.start(1) + 1))
         elif word is not None:
             col = m.start(2) + 1
-            if word == "ATAN" and text.startswith("2", m.end()) and \
+            if word == "ATAN" and "ATAN2" in keywords and text.startswith("2", m.end()) and \
                     text[m.end() + 1:].lstrip().startswith("["):
                 word = "ATAN2"
                 toks.append(("kw", word, col))
@@ -90,14 +94,16 @@ def tokenize(text: str, line: int = 0, file: str = "<program>", block: str | Non
                 continue
             if len(word) == 1:
                 toks.append(("addr", word, col))
-            elif word in KEYWORDS:
+            elif word in keywords:
                 toks.append(("kw", word, col))
+            elif abbreviations and word in abbreviations:
+                toks.append(("kw", abbreviations[word], col))
             else:
                 raise NCError(f"unknown word {word!r} (not an address letter followed by a value, "
                               f"nor a macro keyword)", line, col, block if block is not None else text, file)
         elif other is not None:
             col = m.start(3) + 1
-            if other not in OPERATORS:
+            if other not in operators:
                 raise NCError(f"unexpected character {other!r}", line, col,
                               block if block is not None else text, file)
             toks.append(("op", other, col))

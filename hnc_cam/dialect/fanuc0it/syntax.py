@@ -58,6 +58,7 @@ from ...nc import parser as P
 from ...nc.expr import FanucExpr, constant_value
 from ...nc.lexer import clean as _clean
 from ...nc.lexer import printable
+from ...nc.lexer import tokenize as _tokenize
 
 #: the multi-letter words of macro B
 KEYWORDS = frozenset({
@@ -151,36 +152,7 @@ def comment_of(raw: str) -> str:
 def tokenize(text: str, line: int = 0, file: str = "<program>", block: Optional[str] = None) -> list:
     """Tokens ``(kind, value, col)`` of a cleaned FANUC line: ``num``, ``addr`` (one letter),
     ``kw`` (a macro keyword, abbreviations expanded) and ``op`` (``# [ ] = + - * / ,``)."""
-    toks = []
-    pos = 0
-    n = len(text)
-    match = _TOKEN.match
-    while pos < n:
-        m = match(text, pos)
-        if m is None:
-            break
-        num, word, other = m.groups()
-        if num is not None:
-            toks.append(("num", num, m.start(1) + 1))
-        elif word is not None:
-            col = m.start(2) + 1
-            if len(word) == 1:
-                toks.append(("addr", word, col))
-            elif word in KEYWORDS:
-                toks.append(("kw", word, col))
-            elif word in ABBREVIATIONS:
-                toks.append(("kw", ABBREVIATIONS[word], col))
-            else:
-                raise NCError(f"unknown word {word!r} (not an address letter followed by a value, "
-                              f"nor a macro keyword)", line, col, block if block is not None else text, file)
-        elif other is not None:
-            col = m.start(3) + 1
-            if other not in OPERATORS:
-                raise NCError(f"unexpected character {other!r}", line, col,
-                              block if block is not None else text, file)
-            toks.append(("op", other, col))
-        pos = m.end()
-    return toks
+    return _tokenize(text, line, file, block, KEYWORDS, ABBREVIATIONS, _TOKEN, OPERATORS)
 
 
 def _digits(num: str) -> int:
