@@ -359,6 +359,16 @@ class _P:
             raise self.err(f"bad expression: expected {op!r} {what}, found {found}")
         self.i += 1
 
+    def arguments(self, name: str, open_: str = "[", close: str = "]") -> list:
+        """A function's comma-separated arguments in its brackets (its name is taken)."""
+        self.expect_op(open_, f"after {name}")
+        args = [self.expr()]
+        while self.peek()[:2] == ("op", ","):
+            self.i += 1
+            args.append(self.expr())
+        self.expect_op(close, f"to close {name}{open_}")
+        return args
+
     # expression grammar ---------------------------------------------------------------
     def expr(self):
         a = self.and_()
@@ -439,12 +449,7 @@ class _P:
                 return ("num", {"PI": repr(3.141592653589793), "TRUE": "1", "FALSE": "0"}[v])
             if v in FUNCTIONS:
                 self.i += 1
-                self.expect_op("[", f"after {v}")
-                args = [self.expr()]
-                while self.peek()[:2] == ("op", ","):
-                    self.i += 1
-                    args.append(self.expr())
-                self.expect_op("]", f"to close {v}[")
+                args = self.arguments(v)
                 if len(args) > 2 or (len(args) == 2 and v not in ("ATAN", "ATAN2")):
                     raise self.err(f"bad expression: {v} takes {'one or two' if v == 'ATAN' else 'one'} "
                                    f"argument{'s' if v == 'ATAN' else ''}", c)

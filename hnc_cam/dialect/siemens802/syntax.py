@@ -201,12 +201,7 @@ class _SP(P._P):
             return e
         if k == "kw" and v in FUNCTIONS:
             self.i += 1
-            self.expect_op("(", f"after {v}")
-            args = [self.expr()]
-            while self.peek()[:2] == ("op", ","):
-                self.i += 1
-                args.append(self.expr())
-            self.expect_op(")", f"to close {v}(")
+            args = self.arguments(v, "(", ")")
             want = 2 if v == "ATAN2" else 1
             if len(args) != want:
                 raise self.err(f"bad expression: {v} takes {want} argument{'s' if want > 1 else ''}", c)
