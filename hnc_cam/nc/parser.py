@@ -169,6 +169,26 @@ def split_lines(text: str) -> list[str]:
     return raw
 
 
+def set_spans(src: Source, starts: list[int]) -> None:
+    """The programs of a source whose headers stand at statements ``starts``: the statements
+    before the first header form the main program, then one span per header (the first is
+    the main program when nothing precedes it); ``src.programs`` maps a header's number to
+    its first statement (the first program of a number wins)."""
+    number = src.number
+    n = len(src.kind)
+    spans: list[tuple[int, int]] = []
+    if not starts or starts[0] > 0:
+        spans.append((0, starts[0] if starts else n))
+    for j, i in enumerate(starts):
+        end = starts[j + 1] if j + 1 < len(starts) else n
+        spans.append((i + 1, end))
+        num = number[i]
+        if num is not None and num not in src.programs:
+            src.programs[num] = i + 1
+    src.spans = spans
+    src.main = spans[0] if spans else (0, 0)
+
+
 def load(text: str, file: str = "<program>", line_limit: Optional[int] = None) -> Source:
     """Split ``text`` into statements and programs and match IF/WHILE structure.
 
@@ -204,19 +224,8 @@ def load(text: str, file: str = "<program>", line_limit: Optional[int] = None) -
         k = _control(s)
         kind.append(k if k is not None else OTHER)
     # programs
-    n = len(kind)
-    starts = [i for i in range(n) if kind[i] == HDR]
-    spans: list[tuple[int, int]] = []
-    if not starts or starts[0] > 0:
-        spans.append((0, starts[0] if starts else n))
-    for j, i in enumerate(starts):
-        end = starts[j + 1] if j + 1 < len(starts) else n
-        spans.append((i + 1, end))
-        num = number[i]
-        if num is not None and num not in src.programs:
-            src.programs[num] = i + 1
-    src.spans = spans
-    src.main = spans[0] if spans else (0, 0)
+    set_spans(src, [i for i in range(len(kind)) if kind[i] == HDR])
+    spans = src.spans
     # IF / WHILE structure per program
     bad = src.bad
     for a, b in spans:

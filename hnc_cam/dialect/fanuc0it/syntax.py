@@ -640,7 +640,7 @@ class FanucSyntax:
                 if k is WHILE or k is ENDW:
                     loop_id[len(kind) - 1] = lid
                     loops.append(len(kind) - 1)
-        self._frame(src, hdr_at)
+        P.set_spans(src, hdr_at)  # before the first O: the main program
         self._loops(src, loops, loop_id)
         up = text.upper()
         for note in (self._decimal_note(src, up), self._feed_note(src, up)):
@@ -743,24 +743,6 @@ class FanucSyntax:
             return (f"%{rest} is an HNC-21T program header; a FANUC program starts with O{rest} "
                     f"(or read the file with --dialect hnc21t)")
         return "'%' marks the start or end of the tape and stands alone on its line"
-
-    @staticmethod
-    def _frame(src: P.Source, starts: list[int]) -> None:
-        """Programs: statements before the first O form the main program, then one span per
-        O header (the first is the main program when nothing precedes it)."""
-        number = src.number
-        n = len(src.kind)
-        spans: list[tuple[int, int]] = []
-        if not starts or starts[0] > 0:
-            spans.append((0, starts[0] if starts else n))
-        for j, i in enumerate(starts):
-            end = starts[j + 1] if j + 1 < len(starts) else n
-            spans.append((i + 1, end))
-            num = number[i]
-            if num is not None and num not in src.programs:
-                src.programs[num] = i + 1
-        src.spans = spans
-        src.main = spans[0] if spans else (0, 0)
 
     @staticmethod
     def _loops(src: P.Source, loops: list[int], loop_id: dict) -> None:
