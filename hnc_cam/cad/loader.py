@@ -32,6 +32,9 @@ The part-file contract (what users write)::
   (radial) under the minor diameter.
 * The module is run in a fresh namespace each time the file is loaded (so one process can load
   many variants); ``part()`` is called once per load.
+* A plain modelling script without a ``part()`` function is a part without parameters when
+  it leaves its solid in a module-level ``part`` (build123d's ``BuildPart`` or its ``.part``)
+  or ``result`` (CadQuery's convention).
 """
 from __future__ import annotations
 
@@ -121,9 +124,33 @@ def load_module(path: str | Path) -> ModuleType:
     if mod is None:
         mod = _import_file(p)
         if not callable(getattr(mod, "part", None)):
-            raise PartError(f"{p}: defines no function part(**params)")
+            _script_part(mod, p)
         _MODULE_CACHE[key] = mod
     return mod
+
+
+#: module-level names a plain modelling script leaves its solid under (build123d examples
+#: use ``part``, CadQuery scripts ``result``)
+SCRIPT_NAMES = ("part", "result")
+
+
+def _script_part(mod: ModuleType, p: Path) -> None:
+    """A plain script (no ``part()`` function) whose solid is a module-level ``part`` or
+    ``result``: a part without parameters, ``part()`` giving that solid."""
+    for name in SCRIPT_NAMES:
+        obj = getattr(mod, name, None)
+        if obj is None or isinstance(obj, (str, bytes, int, float, list, tuple, dict, ModuleType)):
+            continue
+        mod.part = _no_parameters(obj)
+        return
+    raise PartError(f"{p}: defines no function part(**params), and no solid named "
+                    f"{' or '.join(SCRIPT_NAMES)}")
+
+
+def _no_parameters(obj: Any):
+    def part():
+        return obj
+    return part
 
 
 def family_parameters(mod: ModuleType) -> dict[str, Any]:

@@ -203,6 +203,17 @@ def _verify(prof: TurnedProfile, plan: Plan, stock: Stock, toolpath, machine: Ma
     return verify(machined, prof, tol=tol)
 
 
+def default_stock_for(prof: TurnedProfile) -> str:
+    """The stock of a part that names none: the smallest standard bar 2 mm (diameter) over
+    the part (a tube 3 mm under its smallest bore where it has one), 2 mm of face stock and
+    15 mm beyond the left end for the chuck (:func:`hnc_cam.cad.sketch.bar_stock`)."""
+    from ..cad.sketch import bar_stock, tube_stock
+    bore = prof.min_bore_radius
+    if bore is not None and bore > 0:
+        return tube_stock(prof.max_diameter, 2 * bore, prof.length)
+    return bar_stock(prof.max_diameter, prof.length)
+
+
 def generate(part: Any, stock: str | Stock | None = None, *, params: Mapping[str, str] | None = None,
              tools: str | Path | ToolLibrary | None = None,
              machine: str | Path | Machine | None = None, comp: str = "cam",
@@ -239,7 +250,7 @@ def generate(part: Any, stock: str | Stock | None = None, *, params: Mapping[str
     if stock is None:
         stock = default_stock
     if stock is None:
-        raise StockError(f"part {name}: no stock given and the part declares no STOCK")
+        stock = default_stock_for(prof)
     st = stock if isinstance(stock, Stock) else Stock.parse(str(stock))
     lib = tools if isinstance(tools, ToolLibrary) else _load_tools(tools)
     if isinstance(machine, Machine):

@@ -559,13 +559,19 @@ def _with_tails(region: BaseGeometry, reach: BaseGeometry, unreach: BaseGeometry
     return diff(reach, tail), clean(shapely.union_all([unreach, tail]))
 
 
+#: tool kinds that reach leftover only where they went: parting and grooving blades cut
+#: where the program sends them (a groove, the part-off line), not along the whole contour, so
+#: a finishing nose's fillet in a sharp inside corner elsewhere is not theirs to clean
+BLADE_KINDS = frozenset({"part", "groove", "groove_id", "groove_face"})
+
+
 def _is_blade(m: Machined, reg: int) -> bool:
-    """Whether register ``reg`` is a parting blade (``kind = "part"`` in the tool library)."""
-    return m.machine is not None and m.machine.register(reg).kind == "part"
+    """Whether register ``reg`` is a blade (:data:`BLADE_KINDS` in the tool library)."""
+    return m.machine is not None and m.machine.register(reg).kind in BLADE_KINDS
 
 
 def _blade_reach(m: Machined) -> tuple[list[ToolShape], BaseGeometry]:
-    """The parting blades' outlines and where they went (the union of their moves' swept
+    """The blades' outlines and where they went (the union of their moves' swept
     boxes): a blade reaches leftover there only."""
     from ..nc.toolpath import columns
     from .simulate import CHUNK
@@ -585,7 +591,7 @@ def _blade_reach(m: Machined) -> tuple[list[ToolShape], BaseGeometry]:
 
 
 def _cutting_shapes(m: Machined) -> list[ToolShape]:
-    """The outlines of the tools whose line and arc moves cut (parting blades left out: see
+    """The outlines of the tools whose line and arc moves cut (blades left out: see
     :func:`_blade_reach`)."""
     from ..nc.toolpath import MOVE_KINDS, columns
     from .simulate import CHUNK
@@ -685,7 +691,7 @@ def verify(machined: Machined, model: TurnedProfile, tol: float = 0.01,
         chuck_side = clean(machined.stock.intersection(box(-BIG, -1.0, model.z_min, BIG)))
         reach_part = reachable(model_poly, _cutting_shapes(machined), region, chuck_side)
         blades, zone = _blade_reach(machined)
-        if blades:  # a parting blade reaches where it went, not along the whole part
+        if blades:  # a blade reaches where it went, not along the whole part
             near = inter(region, zone)
             if not near.is_empty:
                 reach_part = union_of([reach_part, inter(

@@ -1,0 +1,109 @@
+"""Plain modelling scripts as part files, a default stock, and where blades reach.
+
+A CAM engineer's first input is often a modelling script written for build123d or CadQuery,
+not a part family: the solid is left in a module-level ``part`` (build123d) or ``result``
+(CadQuery), there is no ``part()`` function and no ``STOCK``. Such a script is a part without
+parameters, made from the next standard bar.
+
+Verification counts leftover as reachable only where some tool of the program could have cut
+it. A grooving or parting blade cuts only where the program sends it; the fillet a finishing
+nose leaves in a sharp inside corner elsewhere is not reachable leftover just because the
+program also holds a blade with a smaller corner radius.
+"""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+
+from hnc_cam.cli import main
+from hnc_cam.geometry import TurnedProfile
+from test_plan_shapes import chain
+from hnc_cam.plan.api import generate
+
+ROOT = Path(__file__).resolve().parents[1]
+SCRIPTS = ROOT / "tests" / "data" / "scripts"
+KNOB = SCRIPTS / "knob_script.py"
+SPACER = SCRIPTS / "spacer_cq.py"
+
+
+def _header(text: str) -> dict[str, str]:
+    out = {}
+    for line in text.splitlines()[:12]:
+        if line.startswith("(") and " " in line:
+            k, v = line[1:].rstrip(")").split(" ", 1)
+            out[k] = v
+    return out
+
+
+@pytest.mark.parametrize("comp", ["cam", "control"])
+def test_build123d_script_generates_and_verifies(comp):
+    prog = generate(str(KNOB), comp=comp)
+    assert prog.report.passed
+    head = _header(prog.text)
+    # no parameters, and the next standard bar: 28 mm part + 2 -> 30, 58 + 2 face + 15 grip
+    assert "PARAMETERS" not in head
+    assert head["STOCK"] == "30x75+2"
+    # the M12x1.5 thread is cut to its standard minor diameter
+    th = [m for m in prog.toolpath.moves if m.tool == 4 and m.kind in ("line", "thread")]
+    assert th and min(2 * min(m.start[0], m.end[0]) for m in th) == pytest.approx(10.16, abs=0.01)
+
+
+def test_sharp_inside_corner_is_the_finishing_nose_fillet_not_reachable_leftover():
+    """The neck (radius 10) meets a shoulder rising at atan(2) = 63.4 deg to the axis in a
+    sharp corner at Z-31. The finisher's R0.4 nose leaves a fillet there whose depth,
+    measured to either edge, is R (1 - sin(theta/2)) for the corner's opening theta; the
+    3 mm grooving blade (R0.2) in the same program only cut the relief at Z-20..-23."""
+    prog = generate(str(KNOB), comp="cam")
+    rep = prog.report
+    assert rep.passed
+    theta = math.pi - math.atan2(4.0, 2.0)
+    depth = 0.4 * (1 - math.sin(theta / 2))
+    at = [u for u in rep.unreachable if abs(u.z + 31.0) < 0.1]
+    assert len(at) == 1 and at[0].size_mm == pytest.approx(depth, abs=0.002)
+    assert 2 * at[0].x == pytest.approx(20.0, abs=0.2)
+
+
+def test_grooved_pin_verifies_with_its_inside_corners_unreachable():
+    """A 6 mm pin with a square groove to diameter 4: the corners the finisher's nose cannot
+    enter are listed as unreachable, the groove's own corners are the blade's."""
+    prof = TurnedProfile(chain((0, 0), (2.5, 0), (3, -0.5), (3, -8), (2, -8), (2, -11),
+                               (3, -11), (3, -20), (4.5, -21.5), (4.5, -30), (0, -30)),
+                         name="pin6g")
+    for comp in ("cam", "control"):
+        rep = generate(prof, stock="14x36+1", comp=comp).report
+        assert rep.passed, comp
+        assert rep.max_undercut_mm <= 0.01
+        # the inside corner of the head's 45 deg chamfer (Z-20): R0.4 (1 - sin(67.5 deg))
+        at = [u for u in rep.unreachable if abs(u.z + 20.0) < 0.1]
+        assert at and at[0].size_mm == pytest.approx(0.4 * (1 - math.sin(math.radians(67.5))),
+                                                     abs=0.002)
+
+
+def test_cadquery_script_with_result_generates_and_verifies(tmp_path):
+    out = tmp_path / "spacer.nc"
+    rc = main(["generate", str(SPACER), "-o", str(out)])
+    assert rc == 0
+    head = _header(out.read_text())
+    assert head["STOCK"] == "28x42+2"  # 24 mm part on a 28 mm bar, 25 + 2 + 15 long
+    rc = main(["verify", str(out), "--model", str(SPACER)])
+    assert rc == 0
+
+
+def test_script_without_a_solid_is_refused(tmp_path, capsys):
+    f = tmp_path / "empty.py"
+    f.write_text("x = 1\nresult = 'not a solid'\n")
+    out = tmp_path / "o.nc"
+    rc = main(["generate", str(f), "-o", str(out)])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert rc == 2 and not out.exists() and len(err) == 1
+    assert str(f) in err[0] and "no solid named part or result" in err[0]
+
+
+def test_script_part_has_no_parameters(tmp_path, capsys):
+    out = tmp_path / "o.nc"
+    rc = main(["generate", str(SPACER), "--set", "length=10", "-o", str(out)])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert rc == 2 and not out.exists() and len(err) == 1
+    assert "unknown parameter length" in err[0] and "(none)" in err[0]
