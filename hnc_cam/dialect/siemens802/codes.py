@@ -15,7 +15,8 @@ import os
 from typing import Optional
 
 from ...errors import NCError
-from ...geometry import Arc
+from ...geometry import Arc, Line
+from ...geometry.corner import CornerError, CornerFitError, element_corner
 from ...geometry.primitives import point_at_angle
 from ...nc import parser as P
 from ...nc.interp import _MAX_LEVEL, Asg, Blk, CycleCtx, Interp
@@ -110,6 +111,8 @@ class SiemensInterp(SiemensMemory, Interp):
         #: stays in the settable work system (G54-G57), where the part is
         self.g158: Optional[tuple[float, float]] = None
         self.chf: Optional[float] = None  # CHF= of the pending corner (its chamfer length)
+        #: the arcs an arc block computes while a corner next to it waits (see _corner_arc)
+        self._capture: Optional[list] = None
         #: (x, z, angle, its move): where a G33 chain may go on (when that move is the last one)
         self.thread_start: Optional[tuple] = None
         self.ext: dict[str, int] = {}  # subprograms read from files beside the program
@@ -432,11 +435,124 @@ class SiemensInterp(SiemensMemory, Interp):
     def _corner_not_followed(self) -> None:
         c = self.corner
         word = "CHF" if c[4] == "C" else "RND"
-        raise self.alarm(f"{word}={c[5]:g} must be followed by a G1 line: this reader cuts "
-                         f"chamfers and rounds between two lines only", c[6],
-                         word_col(self.src.text[self._stmt_of_line(c[6])], word))
+        raise self.alarm(f"{word}={c[5]:g} must be followed by a contour element (a G1 line or "
+                         f"a G2/G3/G5 arc) to cut the corner against", c[6], self._corner_col(c))
+
+    def _corner_col(self, c: tuple) -> int:
+        return word_col(self.src.text[self._stmt_of_line(c[6])], "CHF" if c[4] == "C" else "RND")
+
+    def _emit_arc(self, x0, z0, x1, z1, cx, cz, cw, line, F: Optional[float] = None) -> None:
+        cap = self._capture
+        if cap is not None:  # an arc block with a corner: held until the corner is cut
+            cap.append((x0, z0, x1, z1, cx, cz, cw))
+            return
+        Interp._emit_arc(self, x0, z0, x1, z1, cx, cz, cw, line, F)
+
+    def _corner_arc(self, b: Blk, w: dict, run) -> None:
+        """An arc block (G2/G3 in any form, G5) next to a corner: the corner pending from the
+        element before is cut against this arc, and the arc's own CHF=/RND= is held until the
+        next element. ``run(w)`` computes the arc (its emission is captured)."""
+        word = "CHF" if "CHF" in w else "RND" if "RND" in w else None
+        if "CHF" in w and "RND" in w:
+            raise self.balarm(b, "CHF= (chamfer) and RND= (round) in one block", "RND")
+        size = 0.0
+        if word is not None:
+            w = dict(w)
+            size = w.pop(word) * self.unit
+        pending = self.corner
+        self.corner = None
+        cap = self._capture = []
+        try:
+            run(w)
+        finally:
+            self._capture = None
+        if not cap:
+            return
+        if len(cap) != 1:
+            if pending is not None:
+                raise self.alarm(f"{'CHF' if pending[4] == 'C' else 'RND'}={pending[5]:g} before a "
+                                 f"full circle: a corner needs an end of the circle", pending[6],
+                                 self._corner_col(pending))
+            raise self.balarm(b, f"{word}= on a full circle: a corner needs an end of the circle", word)
+        x0, z0, x1, z1, cx, cz, cw = cap[0]
+        op = self.op
+        if pending is not None:
+            x0, z0 = self._cut(pending, Arc((x0, z0), (x1, z1), (cx, cz), cw), b.line)
+            self.op = op
+        if size > 0.0:
+            if math.hypot(x1 - x0, z1 - z0) < 1e-9:
+                raise self.balarm(b, f"{word}={size:g}: nothing is left of this arc after the "
+                                     f"corner before it", word)
+            self.corner = (x0, z0, x1, z1, "C" if word == "CHF" else "R", size, b.line, self.F,
+                           (cx, cz, cw, op))
+            return
+        if math.hypot(x1 - x0, z1 - z0) >= 1e-9:
+            Interp._emit_arc(self, x0, z0, x1, z1, cx, cz, cw, b.line)
+
+    def _cut(self, c: tuple, second, line2: int) -> tuple[float, float]:
+        """Cut the pending corner ``c`` between its element and ``second`` (a Line or Arc
+        from the corner point): emit the element up to the corner and the chamfer or round;
+        return where ``second`` now starts."""
+        ax, az, gx, gz, kind, size, line, F = c[:8]
+        arc = c[8] if len(c) > 8 else None
+        word = "CHF" if kind == "C" else "RND"
+        col = self._corner_col(c)
+        g = (gx, gz)
+        first = Line((ax, az), g) if arc is None else Arc((ax, az), g, (arc[0], arc[1]), arc[2])
+        if arc is None and math.hypot(gx - ax, gz - az) < 1e-9:
+            raise self.alarm(f"{word}={size:g} is longer than the segment (nothing is left of it "
+                             f"after the previous chamfer/round)", line, col)
+        try:
+            k = element_corner(first, second, kind, size)
+        except CornerFitError as e:
+            which = {"first": "the element it ends", "second": f"the next element (line {line2})",
+                     "both": f"between this element and the next (line {line2})"}[e.element]
+            raise self.alarm(f"{word}={size:g} does not fit {which}: {e.detail}", line, col) from None
+        except CornerError as e:
+            if e.reason == "straight":
+                self.warn(line, f"{word}={size:g}: the elements meet tangentially (no corner): "
+                                f"nothing is cut", (word, line))
+                k = None
+            elif e.reason == "reverse":
+                raise self.alarm(f"{word}={size:g}: the next element turns back on this one",
+                                 line, col) from None
+            else:
+                raise self.alarm(f"{word}={size:g}: the next element does not move", line2) from None
+        saveF, saveop = self.F, self.op
+        self.F = F
+        # the element up to the corner keeps its code; the chamfer or round is the G1 block's
+        # (as the corners between two lines)
+        segs = [(first if k is None else k.first, "G01" if arc is None else arc[3])]
+        if k is not None:
+            segs.append((k.segment, "G01"))
+        for seg, op in segs:
+            if seg is None:
+                continue
+            self.op = op
+            if isinstance(seg, Line):
+                self._emit_line(False, seg.start[0], seg.start[1], seg.end[0], seg.end[1], line)
+            else:
+                Interp._emit_arc(self, seg.start[0], seg.start[1], seg.end[0], seg.end[1],
+                                 seg.center[0], seg.center[1], seg.cw, line)
+        self.F, self.op = saveF, saveop
+        return g if k is None else k.end
 
     def _resolve_corner(self, c: tuple, x2: float, z2: float, line2: int):
+        if len(c) > 8:  # the corner after an arc, against this line
+            if math.hypot(x2 - c[2], z2 - c[3]) < 1e-9:
+                raise self.alarm(f"{'CHF' if c[4] == 'C' else 'RND'}={c[5]:g}: the next block does "
+                                 f"not move", line2)
+            return self._cut(c, Line((c[2], c[3]), (x2, z2)), line2)
+        ax, az, gx, gz = c[:4]
+        l1, l2 = math.hypot(gx - ax, gz - az), math.hypot(x2 - gx, z2 - gz)
+        if l1 > 1e-9 and l2 > 1e-9:
+            u1 = ((gx - ax) / l1, (gz - az) / l1)
+            u2 = ((x2 - gx) / l2, (z2 - gz) / l2)
+            if abs(u1[0] * u2[1] - u1[1] * u2[0]) < 1e-12 and u1[0] * u2[0] + u1[1] * u2[1] > 0:
+                word = "CHF" if c[4] == "C" else "RND"
+                self.warn(c[6], f"{word}={c[5]:g}: the elements meet tangentially (no corner): "
+                                f"nothing is cut", (word, c[6]))
+                return self._cut(c, Line((gx, gz), (x2, z2)), line2)  # the line runs whole
         if c[4] == "C" and self.chf is not None:
             # CHF= is the chamfer's own length: the distance cut from the corner along each
             # line is length / (2 cos(turn / 2))
@@ -456,9 +572,11 @@ class SiemensInterp(SiemensMemory, Interp):
     def _arc(self, b: Blk, w: dict, cw: bool, g53: bool = False):
         if self.g158 is not None:
             w = self._shift(w, g53)
-        if "CHF" in w or "RND" in w:
-            raise self.balarm(b, "CHF=/RND= after an arc: this reader cuts corners between two "
-                                 "lines only", "CHF" if "CHF" in w else "RND")
+        if self.corner is not None or "CHF" in w or "RND" in w:
+            return self._corner_arc(b, w, lambda w2: self._arc_block(b, w2, cw, g53))
+        return self._arc_block(b, w, cw, g53)
+
+    def _arc_block(self, b: Blk, w: dict, cw: bool, g53: bool = False):
         CR = w.get("CR")
         AR = w.get("AR")
         end = "X" in w or "Z" in w
@@ -510,6 +628,8 @@ class SiemensInterp(SiemensMemory, Interp):
         if self.g158 is not None:
             w = self._shift(w, False)
         if code == 5:
+            if self.corner is not None or "CHF" in w or "RND" in w:
+                return self._corner_arc(b, w, lambda w2: self._g5(b, w2))
             return self._g5(b, w)
         if code == 33:
             return self._g33(b, w)
