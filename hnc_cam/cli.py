@@ -77,6 +77,10 @@ def _add_profile_options(p: argparse.ArgumentParser) -> None:
                    "part with milled features (flats, holes, slots)")
     p.add_argument("--fit-tol", type=_positive_mm, metavar="MM", help="arc-fitting tolerance "
                    "for free-form curves (default 0.001)")
+    p.add_argument("--thread", action="append", metavar="SPEC", help="a thread the model "
+                   "does not declare (a STEP file cannot): [M]DxP@ZSTART:ZEND[,starts=N]"
+                   "[,internal][,angle=DEG], Z with the right face at Z0, e.g. M12x1.5@0:-19 "
+                   "(repeatable)")
 
 
 def _add_set(p: argparse.ArgumentParser) -> None:

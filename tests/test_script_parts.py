@@ -107,3 +107,62 @@ def test_script_part_has_no_parameters(tmp_path, capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert rc == 2 and not out.exists() and len(err) == 1
     assert "unknown parameter length" in err[0] and "(none)" in err[0]
+
+
+# ---------------------------------------------------------------- --thread (STEP files)
+
+@pytest.fixture(scope="module")
+def knob_step(tmp_path_factory):
+    from build123d import export_step
+    from hnc_cam.cad.loader import load_module
+    path = tmp_path_factory.mktemp("step") / "knob.step"
+    export_step(load_module(KNOB).part(), str(path))
+    return path
+
+
+def _thread_moves(text):
+    from hnc_cam.nc import run
+    from hnc_cam.tooling import load_machine
+    tp = run(text, load_machine(None))
+    return [m for m in tp.moves if m.kind == "thread"]
+
+
+def test_step_file_with_thread_option_cuts_and_verifies_the_thread(knob_step, tmp_path):
+    out = tmp_path / "k.nc"
+    assert main(["generate", str(knob_step), "-o", str(out)]) == 0
+    assert not _thread_moves(out.read_text())  # a STEP file declares no thread
+    assert main(["generate", str(knob_step), "--thread", "M12x1.5@0:-19", "-o", str(out)]) == 0
+    th = _thread_moves(out.read_text())
+    assert th and min(2 * m.end[0] for m in th) == pytest.approx(10.16, abs=0.01)
+    assert min(m.end[1] for m in th) < -19.0 + 1e-6  # runs out past the thread's end
+    assert main(["verify", str(out), "--model", str(knob_step), "--thread",
+                 "M12x1.5@0:-19"]) == 0
+
+
+@pytest.mark.parametrize("spec, says", [
+    ("M12x@0:-19", "expected [M]DxP@ZSTART:ZEND"),
+    ("M12x1.5@0:-19,left", "not understood: 'left'"),
+    ("M12x0@0:-19", "pitch=0.0 must be positive"),
+    ("M12x1.5@-19:0", "z_start=-19.0 must be greater"),
+    ("M12x1.5@0:-19,starts=1.5", "not understood: 'starts=1.5'"),
+    ("M12x1.5@0:-30", "larger than the major diameter"),  # runs onto the 20 mm cone
+])
+def test_bad_thread_option_is_one_line_and_writes_nothing(knob_step, tmp_path, capsys, spec,
+                                                          says):
+    out = tmp_path / "k.nc"
+    rc = main(["generate", str(knob_step), "--thread", spec, "-o", str(out)])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert rc == 2 and not out.exists() and len(err) == 1
+    assert says in err[0]
+
+
+def test_thread_option_adds_to_a_part_files_threads():
+    """The knob script declares M12x1.5 on the shank; a second, internal thread cannot be
+    added to a part without a bore, and says so against the part."""
+    from hnc_cam.cad import load_part
+    from hnc_cam.cad.loader import parse_thread
+    from hnc_cam.errors import PartError
+    lp = load_part(str(KNOB))
+    assert len(lp.threads) == 1
+    with pytest.raises(PartError, match="internal thread"):
+        load_part(str(KNOB), threads=[parse_thread("M8x1.25@0:-10,internal")])

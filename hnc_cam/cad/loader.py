@@ -226,20 +226,25 @@ def _threads(mod: ModuleType, params: dict[str, Any], where: str) -> list[Thread
     for t in th:
         if not isinstance(t, Thread):
             raise PartError(f"{where}: THREADS must hold hnc_cam.geometry.Thread, got {t!r}")
-        bad = [msg for ok, msg in (
-            (t.pitch > 0 and math.isfinite(t.pitch), f"pitch={t.pitch!r} must be positive"),
-            (t.diameter > 0 and math.isfinite(t.diameter),
-             f"diameter={t.diameter!r} must be positive"),
-            (isinstance(t.starts, (int, float)) and not isinstance(t.starts, bool)
-             and float(t.starts).is_integer() and t.starts >= 1,
-             f"starts={t.starts!r} must be a whole number >= 1"),
-            (t.z_start > t.z_end, f"z_start={t.z_start!r} must be greater than z_end="
-                                  f"{t.z_end!r} (z_start is the end nearer the right face)"),
-            (0 < t.angle < 180, f"angle={t.angle!r} must be between 0 and 180 deg"),
-        ) if not ok]
-        if bad:
-            raise PartError(f"{where}: THREADS: {t}: {'; '.join(bad)}")
+        _check_fields(t, where)
     return th
+
+
+def _check_fields(t: Thread, where: str) -> None:
+    """A thread's own numbers (PartError naming the thread): before it is placed on a part."""
+    bad = [msg for ok, msg in (
+        (t.pitch > 0 and math.isfinite(t.pitch), f"pitch={t.pitch!r} must be positive"),
+        (t.diameter > 0 and math.isfinite(t.diameter),
+         f"diameter={t.diameter!r} must be positive"),
+        (isinstance(t.starts, (int, float)) and not isinstance(t.starts, bool)
+         and float(t.starts).is_integer() and t.starts >= 1,
+         f"starts={t.starts!r} must be a whole number >= 1"),
+        (t.z_start > t.z_end, f"z_start={t.z_start!r} must be greater than z_end="
+                              f"{t.z_end!r} (z_start is the end nearer the right face)"),
+        (0 < t.angle < 180, f"angle={t.angle!r} must be between 0 and 180 deg"),
+    ) if not ok]
+    if bad:
+        raise PartError(f"{where}: THREADS: {t}: {'; '.join(bad)}")
 
 
 def _fmt(params: dict[str, Any]) -> str:
@@ -258,6 +263,7 @@ def load_part(path: str | Path, params: dict[str, Any] | None = None,
     """
     p = Path(path)
     name = profile_kwargs.pop("name", None) or p.stem
+    given = list(profile_kwargs.pop("threads", None) or [])  # --thread
     if p.suffix.lower() in CAD_SUFFIXES:
         if params:
             raise PartError(f"{p}: a CAD file has no parameters (got {', '.join(params)})")
@@ -276,7 +282,10 @@ def load_part(path: str | Path, params: dict[str, Any] | None = None,
             # cached only when the file did not change while it was read
             if cache is not None and key is not None and cache.key(p, name, profile_kwargs) == key:
                 cache.put(key, prof)
-        return LoadedPart(profile=prof, stock=None, threads=[], name=name, params={},
+        threads = _declared(prof, given, str(p))
+        if threads:
+            prof = dataclasses.replace(prof, threads=threads)
+        return LoadedPart(profile=prof, stock=None, threads=threads, name=name, params={},
                           module=None, path=p)
     from .extract import profile
     mod = load_module(p)
@@ -302,12 +311,8 @@ def load_part(path: str | Path, params: dict[str, Any] | None = None,
     except ProfileError as e:
         raise ProfileError(f"{where} ({_fmt(full)}): {_cli_hints(str(e))}") from None
     prof.params = dict(full)
-    shift = prof.z_max  # THREADS are declared with the right face at Z0
-    if abs(shift) > 1e-9:
-        threads = [dataclasses.replace(t, z_start=t.z_start + shift, z_end=t.z_end + shift)
-                   for t in threads]
+    threads = _declared(prof, threads + given, where)
     prof.threads = list(threads)
-    _check_threads(prof, threads, where)
     return LoadedPart(profile=prof, stock=stock, threads=threads, name=name, params=full,
                       module=mod, path=p)
 
@@ -465,7 +470,61 @@ def profile_options(args: Any) -> dict[str, Any]:
     fit = getattr(args, "fit_tol", None)
     if fit is not None:
         out["fit_tol"] = fit
+    specs = getattr(args, "thread", None)
+    if specs:
+        out["threads"] = [parse_thread(s) for s in specs]
     return out
+
+
+_NUM = r"[+-]?(?:\d+\.?\d*|\.\d+)"
+_THREAD_RE = re.compile(rf"M?({_NUM})[xX]({_NUM})@({_NUM})(?::|\.\.)({_NUM})((?:,[^,]*)*)")
+
+
+def parse_thread(spec: str) -> Thread:
+    """A thread given on the command line (``--thread``), for a STEP file, which cannot
+    declare one, or in addition to a part file's ``THREADS``: ``[M]DxP@ZSTART:ZEND`` with
+    options ``,starts=N`` ``,internal`` ``,angle=DEG``; Z in program coordinates (right face
+    Z0), ``ZSTART`` the end nearer the right face. ``M20x1.5@0:-22``,
+    ``M30x2@-5:-25,internal``."""
+    text = spec.strip()
+    m = _THREAD_RE.fullmatch(text)
+    bad = (f"--thread {spec!r}: expected [M]DxP@ZSTART:ZEND[,starts=N][,internal]"
+           f"[,angle=DEG], e.g. M20x1.5@0:-22")
+    if m is None:
+        raise PartError(bad)
+    d, p, z0, z1 = (float(m.group(i)) for i in (1, 2, 3, 4))
+    kw: dict[str, Any] = {}
+    for opt in filter(None, (o.strip() for o in m.group(5).split(","))):
+        key, _, val = opt.partition("=")
+        key = key.strip().lower()
+        try:
+            if key == "internal" and not val:
+                kw["internal"] = True
+            elif key == "starts" and val:
+                n = float(val)
+                if not n.is_integer() or n < 1:
+                    raise ValueError
+                kw["starts"] = int(n)
+            elif key == "angle" and val:
+                kw["angle"] = float(val)
+            else:
+                raise ValueError
+        except ValueError:
+            raise PartError(f"{bad} (not understood: {opt!r})") from None
+    t = Thread(z_start=z0, z_end=z1, diameter=d, pitch=p, **kw)
+    _check_fields(t, f"--thread {spec!r}")
+    return t
+
+
+def _declared(prof: TurnedProfile, threads: list[Thread], where: str) -> list[Thread]:
+    """``threads`` (declared with the right face at Z0) moved onto the profile and checked
+    against it (:func:`_check_threads`)."""
+    shift = prof.z_max
+    if abs(shift) > 1e-9:
+        threads = [dataclasses.replace(t, z_start=t.z_start + shift, z_end=t.z_end + shift)
+                   for t in threads]
+    _check_threads(prof, threads, where)
+    return list(threads)
 
 
 def _thread_name(t: Thread) -> str:
