@@ -433,3 +433,81 @@ def test_part_off_in_802(comp):
     i = main.index(f"T{op.tool.number} D1")
     assert f"G97 S{round(op.speed)} M3" in main[i:]
     assert min(m.end[0] for m in prog.toolpath.moves if m.kind == "line") < 0  # past the axis
+
+
+#: a part with a cove (an R5 arc) between a diameter and a shoulder: an R1 round between the
+#: diameter and the cove, a 1 mm chamfer between the cove and the next diameter (points worked
+#: out by hand: the round's centre 1 mm inside the line and 5 - 1 from the cove's centre)
+COVE = '''\
+from build123d import (Axis, BuildLine, BuildPart, BuildSketch, Line, Plane, ThreePointArc,
+                       make_face, revolve)
+
+STOCK = "32x34+2"
+
+
+def part():
+    with BuildPart() as p:
+        with BuildSketch(Plane.XZ):
+            with BuildLine():
+                Line((0, 0), (8.0, 0))
+                Line((8.0, 0), (8.0, -9.464101615))
+                ThreePointArc((8.0, -9.464101615), (8.133974596, -9.964101615), (8.5, -10.330127019))
+                ThreePointArc((8.5, -10.330127019), (9.378544109, -10.729786549),
+                              (10.317508043, -10.953201463))
+                Line((10.317508043, -10.953201463), (11.0, -11.684094566))
+                Line((11.0, -11.684094566), (11.0, -20.0))
+                Line((11.0, -20.0), (15.0, -20.0))
+                Line((15.0, -20.0), (15.0, -32.0))
+                Line((15.0, -32.0), (0, -32.0))
+                Line((0, -32.0), (0, 0))
+            make_face()
+        revolve(axis=Axis.Z)
+    return p.part
+'''
+
+
+def test_chf_and_rnd_next_to_an_arc_in_the_written_contour(tmp_path):
+    path = tmp_path / "cove.py"
+    path.write_text(COVE)
+    prog = generate(path, dialect="siemens802", comp="control")
+    assert prog.report.passed and prog.report.max_overcut_mm <= 0.01
+    sub = [t for n, t in programs(prog.text).items() if n.endswith(".SPF")][0]
+    ws = [words(b) for b in blocks(sub)]
+    # the diameter runs to the corner of the line and the cove (X16 Z-10) with RND=1, the
+    # cove (G2, CR=5) to its corner with the next diameter (X22 Z-11) with CHF=1
+    rnd = [w for w in ws if "RND" in w]
+    chf = [w for w in ws if "CHF" in w]
+    assert [(w["G"], w["X"], w["Z"], w["RND"]) for w in rnd] == [("1", "16", "-10", "1")]
+    assert [(w["G"], w["X"], w["Z"], w["CR"], w["CHF"]) for w in chf] == [("2", "22", "-11", "5", "1")]
+    # the contour as the control builds it from those words: the planned points, to 0.001 mm
+    owner = [op for op in prog.plan.operations if op.name == "finish"][0]
+    name = [n for n in programs(prog.text) if n.endswith(".SPF")][0]
+    planned = contour_points(owner.blocks, owner.start)[1:]
+    ends = [m.end for m in _run_contour(name[:-4], sub).moves][-len(planned):]
+    assert max(math.dist(p, q) for p, q in zip(ends, planned)) <= 1e-3
+
+
+def test_corner_words_next_to_arcs_in_cr_and_ik_form():
+    from hnc_cam.plan.model import Block
+    from hnc_cam.post.corners import corner_blocks
+    r140 = math.sqrt(140.0)
+    # a line, an R2 round, a G2 R10 about (20, -20), an R2 round, a face line (the corners
+    # worked out by hand: the rounds' centres 12 from (20, -20), 2 inside the lines)
+    t1, t2 = (20.0, -20.0 + r140), (20.0 - 20.0 / 12, -20.0 + r140 * 10 / 12)
+    t3, t4 = (20.0 - r140 * 10 / 12, -20.0 + 20.0 / 12), (20.0 - r140, -20.0)
+    cr = [Block("line", *t1), Block("ccw", *t2, r=2.0), Block("cw", *t3, r=10.0),
+          Block("ccw", *t4, r=2.0), Block("line", 0.0, -20.0)]
+    out = corner_blocks(cr, (20.0, 0.0))
+    assert [(b.kind, w, v) for b, w, v in out] == [("line", "RND", 2.0), ("cw", "RND", 2.0), ("line", "", 0.0)]
+    assert (out[0][0].x, out[0][0].z) == pytest.approx((20.0, -10.0))
+    assert (out[1][0].x, out[1][0].z, out[1][0].r) == pytest.approx((10.0, -20.0, 10.0))
+    # the arc in I K form (from its start): after the corner its I K are taken from the corner
+    ik = list(cr)
+    ik[2] = Block("cw", *t3, i=20.0 - t2[0], k=-20.0 - t2[1])
+    out = corner_blocks(ik, (20.0, 0.0))
+    assert [w for _, w, _ in out] == ["RND", "RND", ""]
+    assert (out[1][0].i, out[1][0].k) == pytest.approx((0.0, -10.0))
+    # a round of another radius than the corner's is not a corner: everything kept
+    wrong = list(cr)
+    wrong[1] = Block("ccw", *t2, r=2.5)
+    assert [w for _, w, _ in corner_blocks(wrong, (20.0, 0.0))][:2] == ["", ""]

@@ -9,6 +9,13 @@ they are written (3 decimals, X as a diameter) with the one corner construction
 (:func:`hnc_cam.geometry.corner.corner`), and the block is replaced only when both tangent
 points land within :data:`TOLERANCE` of the plan's.
 
+A chamfer or round next to an arc is written the same way (the control builds it with
+:func:`hnc_cam.geometry.corner.element_corner`): the arc before the corner runs on its
+circle to the corner point (CR= or I K of its start, as planned), the arc after it starts
+there (its I K then taken from the corner point); the block is replaced only where the arcs
+rebuilt from the written numbers keep their centres and the tangent points land within
+:data:`TOLERANCE`.
+
 A block's spindle change (:attr:`Block.spindle`) is not kept on a block left out: the
 SINUMERIK post holds the spindle limit with ``LIMS=`` and writes no speed changes inside a
 contour. The result is data for the templates, never text: ``(block, word, value)`` per written block,
@@ -21,7 +28,9 @@ import math
 from dataclasses import replace
 from typing import Any, Optional
 
-from ..geometry.corner import CornerError, corner
+from ..geometry.corner import CornerError, corner, element_corner
+from ..geometry.intersect import carrier_intersections
+from ..geometry.primitives import Arc, Line, dist
 
 #: the largest distance (mm) between a planned tangent point and the one the control builds
 #: from the written corner
@@ -100,6 +109,97 @@ def _round(a, t1, arc, b) -> Optional[tuple[tuple[float, float], float]]:
     return g, r
 
 
+def _element(bl, a, e, g=None):
+    """The planned element of block ``bl`` from ``a`` to ``e`` (a Line or Arc); None when
+    an arc's centre is not known."""
+    if not bl.arc:
+        return Line(a, e)
+    cw = bl.kind == "cw"
+    if bl.i is not None:
+        return Arc(a, e, (a[0] + bl.i, a[1] + (bl.k or 0.0)), cw)
+    if bl.r is None:
+        return None
+    try:
+        return Arc.from_radius(a, e, bl.r, cw)
+    except ValueError:
+        return None
+
+
+def _extended(bl, seg, a, e, at_end: bool):
+    """Block ``bl`` (an arc, planned as ``seg``) rewritten to run from ``a`` to ``e`` on the
+    same circle, as the program writes it (CR= up to 170 degrees as the plan does, else I K
+    from the start), and the arc the control builds from the written numbers; None when it
+    cannot be written."""
+    arc = Arc(a, e, seg.center, seg.cw)
+    sweep = abs(math.degrees(arc.sweep))
+    if bl.r is not None and sweep <= 170.0:
+        r = round(seg.radius, 3)
+        new = replace(bl, r=r, i=None, k=None)
+        ws, we = _written(a), _written(e)
+        try:
+            built = Arc.from_radius(ws, we, r, seg.cw)
+        except ValueError:
+            return None
+    else:
+        i, k = round(seg.center[0] - a[0], 3), round(seg.center[1] - a[1], 3)
+        new = replace(bl, r=None, i=i, k=k)
+        ws, we = _written(a), _written(e)
+        built = Arc(ws, we, (ws[0] + i, ws[1] + k), seg.cw)
+    if at_end:
+        new = replace(new, x=e[0], z=e[1])
+    if not _near(built.center, seg.center):
+        return None
+    return new, built
+
+
+def _arc_corner(blocks, i, pts):
+    """(first block, second block, word, value, corner point) when blocks[i + 1] is a
+    chamfer or round between blocks[i] and blocks[i + 2], one of them an arc, that the
+    control rebuilds from the written numbers (see the module docstring)."""
+    bl, mid, nx = blocks[i], blocks[i + 1], blocks[i + 2]
+    a, t1, t2, b = pts[i:i + 4]
+    e1, e2 = _element(bl, a, t1), _element(nx, t2, b)
+    if e1 is None or e2 is None or dist(a, t1) < 1e-6 or dist(t2, b) < 1e-6:
+        return None
+    if mid.kind == "line":
+        word, value = "CHF", round(dist(t1, t2), 3)
+    elif mid.arc and mid.r is not None and mid.r > 0:
+        word, value = "RND", round(mid.r, 3)
+    else:
+        return None
+    if value <= 0:
+        return None
+    cands = carrier_intersections(e1, e2)
+    if not cands:
+        return None
+    mid_pt = ((t1[0] + t2[0]) / 2.0, (t1[1] + t2[1]) / 2.0)
+    g = min(cands, key=lambda p: dist(p, mid_pt))
+    gw = _written(g)
+    if isinstance(e1, Line):
+        first, w1 = replace(bl, x=g[0], z=g[1]), Line(a, gw)
+    else:
+        got = _extended(bl, e1, a, g, True)
+        if got is None:
+            return None
+        first, w1 = got
+    if isinstance(e2, Line):
+        second, w2 = nx, Line(gw, b)
+    else:
+        got = _extended(nx, e2, g, b, False)
+        if got is None:
+            return None
+        second, w2 = got
+    try:
+        k = element_corner(w1, w2, "C" if word == "CHF" else "R", value)
+    except CornerError:
+        return None
+    if not (_near(k.start, t1) and _near(k.end, t2)):
+        return None
+    if word == "RND" and k.segment.cw != (mid.kind == "cw"):
+        return None
+    return first, second, word, value, g
+
+
 def corner_blocks(blocks: list, start: Any = None) -> list[tuple[Any, str, float]]:
     """The contour ``blocks`` (:class:`hnc_cam.plan.model.Block`) as written with corner
     words: ``(block, word, value)`` per written block (see the module docstring). ``start``:
@@ -113,11 +213,24 @@ def corner_blocks(blocks: list, start: Any = None) -> list[tuple[Any, str, float
         ends.append(None if x is None or z is None else (float(x), float(z)))
     pts = [begin] + ends  # pts[i] starts block i, pts[i + 1] ends it
     out: list[tuple[Any, str, float]] = []
+    blocks = list(blocks)
     i = 0
     n = len(blocks)
     while i < n:
         bl = blocks[i]
         done = False
+        if (i + 2 < n and (bl.arc or blocks[i + 2].arc) and bl.kind != "rapid"
+                and blocks[i + 2].kind != "rapid" and not blocks[i + 1].label
+                and blocks[i + 1].feed is None and blocks[i + 1].kind != "rapid"
+                and None not in pts[i:i + 4]):
+            found = _arc_corner(blocks, i, pts)
+            if found is not None:
+                first, second, word, value, g = found
+                out.append((first, word, value))
+                blocks[i + 2] = second
+                pts[i + 2] = g
+                i += 2
+                continue
         if (i + 2 < n and bl.kind == "line" and not blocks[i + 1].label
                 and blocks[i + 1].feed is None and blocks[i + 2].kind == "line"
                 and None not in pts[i:i + 4]):
