@@ -490,16 +490,30 @@ def test_roughing_cycles_keep_within_the_spindle_limit_without_a_clamp(part, sto
 @pytest.mark.parametrize("stock,capped", [("80x45+1", False), ("80x45", True)])
 def test_roughing_keeps_g96_unless_the_cycle_reaches_the_critical_diameter(stock, capped):
     # an 80 mm bar turned to 60: after facing the cycle's contour starts near the face's
-    # edge (G96 stays under the limit); unfaced, the cycle runs its face to the centre
+    # edge (G96 stays under the limit); unfaced, the cycle runs its face to the centre: the
+    # cycle in two, G96 outside the critical diameter, G97 at the limit inside it
     prof = TurnedProfile(chain((0, 0), (28, 0), (30, -2), (30, -40), (0, -40)), name="d60")
     prog = generate(prof, stock=stock)
+    assert prog.report.passed
     rough = [op for op in prog.plan.operations if op.kind == "rough"]
-    assert [op.unclamped is not None for op in rough] == [capped]
+    assert [op.split is not None for op in rough] == [capped]
+    assert [op.unclamped for op in rough] == [None]
     tp = _free_run(prog)
     g71 = [m for m in tp.moves if m.op == "G71"]
     assert (min(min(abs(m.start[0]), abs(m.end[0])) for m in g71) < 10.0) == capped
-    assert (len({round(m.spindle, 6) for m in g71}) == 1) == capped
     assert max(m.spindle for m in tp.moves) <= MACH.max_rpm + 1e-6
+    vc = rough[0].speed
+    r_c = vc * 1000 / (2 * math.pi * MACH.max_rpm)
+    # the passes along Z: G96 wherever it keeps under the limit, the limit inside
+    cuts = [m for m in g71 if m.kind == "line" and abs(m.start[0] - m.end[0]) < 1e-9]
+    for m in cuts:
+        r = abs(m.end[0])
+        if r >= r_c + 0.5:
+            assert m.spindle == pytest.approx(vc * 1000 / (2 * math.pi * r), rel=1e-3) or \
+                m.spindle == pytest.approx(MACH.max_rpm)
+        if r < r_c - 0.5:
+            assert m.spindle == pytest.approx(MACH.max_rpm)
+    assert sum(m.spindle == pytest.approx(MACH.max_rpm) for m in cuts) >= (5 if capped else 0)
 
 
 def test_a_tool_limit_lowers_the_roughing_speed():

@@ -59,6 +59,11 @@ class Block:
     #: a spindle change written before the block, where the contour crosses the diameter
     #: below which the surface speed would exceed the spindle limit
     spindle: Spindle | None = None
+    #: blocks a dialect without a G96 clamp word writes before this one, after ``spindle``
+    #: (:class:`RoughSplit`): the first part of this block up to the split point, and the
+    #: X move and Z move, of no length where the tool already is, that start the outer
+    #: roughing cycle's contour
+    before: list["Block"] = field(default_factory=list)
 
     def __post_init__(self) -> None:
         if self.kind not in SEGMENT_KINDS:
@@ -109,6 +114,22 @@ class RoughCut:
     def x_sign(self) -> int:
         """+1 for an outside contour, -1 for a bore (the sign of the X allowance word)."""
         return -1 if self.side == "id" else 1
+
+
+@dataclass
+class RoughSplit:
+    """A G71 whose G96 would exceed the spindle limit inside radius ``x`` (+ the allowance),
+    cut in two there by a dialect without a G96 clamp word (the HNC-21T): the outer cycle at
+    the operation's surface speed over the contour from the block labelled ``ns`` (an X move
+    to ``x``, then a Z move to ``z``, then the rest of the contour to the operation's nf),
+    then the inner cycle at G97 ``rpm`` from ``start`` over the operation's ns to the block
+    labelled ``nf`` (ending at (``x``, ``z``)). Both with the operation's words."""
+    x: float
+    z: float
+    ns: str
+    nf: str
+    start: Point
+    rpm: float
 
 
 @dataclass
@@ -182,6 +203,8 @@ class Operation:
     #: ``spindle``/``speed``: G97 rpm for a roughing cycle whose G96 would need more than
     #: ``max_rpm`` at the smallest diameter it reaches (None: ``spindle``/``speed``)
     unclamped: Spindle | None = None
+    #: the same, kept at the surface speed outside a radius: the cycle in two (G71 only)
+    split: RoughSplit | None = None
     feed: float = 0.0  # mm/rev
     blocks: list[Block] = field(default_factory=list)
     ns: str = ""

@@ -32,10 +32,12 @@ Rules (each operation records its reason, which the program prints as a comment)
   the chuck's rated speed (the machine file's ``[chuck] max_rpm``) and the tool's
   ``max_rpm``; every cap below (G97, FANUC/Haas ``G50 S``, threads) uses it. G96 has no clamp word: facing passes, finishing contours and
   grooves switch to G97 at the limit inside the diameter where G96 would exceed it
-  (:func:`_cap_contour`). A roughing cycle cannot change speed inside: where its G96 would
-  exceed the limit at the smallest diameter it reaches, the HNC-21T program runs the whole
-  cycle in G97 at the rpm of the cutting speed at the largest diameter it reaches, at most
-  the limit (:func:`_cap_rough`; the FANUC and Haas programs keep G96 under ``G50 S``).
+  (:func:`_cap_contour`). A roughing cycle cannot change speed inside: where an OD G71 type I
+  would exceed the limit at the smallest diameter it reaches, the HNC-21T program runs it in
+  two, G96 over the contour outside the critical diameter and G97 at the limit inside it
+  (:func:`_split_rough`); any other cycle runs wholly in G97 at the rpm of the cutting speed
+  at the largest diameter it reaches, at most the limit (:func:`_cap_rough`; the FANUC and
+  Haas programs keep G96 under ``G50 S``).
 * **Threads** declared by the part: ``G76`` (or ``G82`` passes) to the standard's depth
   (:attr:`hnc_cam.geometry.Thread.depth`); the end runs one lead into the relief where the
   insert's flanks clear what follows; the start is three leads (plus the flank infeed) before
@@ -57,13 +59,13 @@ from dataclasses import dataclass
 from typing import Any, Sequence
 
 from ..errors import PlanError
-from ..geometry import Line, Point, Segment, Thread, TurnedProfile
-from ..geometry.intersect import vertical_hits
+from ..geometry import Arc, Line, Point, Segment, Thread, TurnedProfile
+from ..geometry.intersect import horizontal_hits, vertical_hits
 from ..tooling import Machine, Stock, Tool, ToolLibrary
 from . import analysis as an
 from . import contour as ct
-from .model import (FaceCut, GrooveCut, GrooveFinish, Operation, Plan, RoughCut, Spindle,
-                    ThreadCut)
+from .model import (Block, FaceCut, GrooveCut, GrooveFinish, Operation, Plan, RoughCut,
+                    RoughSplit, Spindle, ThreadCut)
 from .tools import (PARTIAL_PROFILE_PITCH, back_reach, can_square_shoulder, cuts_pitch, describe,
                     thread_pitch_range, thread_tools, turning_tools)
 
@@ -255,7 +257,7 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
         op.max_rpm = rpm_limit(op.tool, machine)
         if op.blocks and op.name in ("finish", "bore_finish", "profile") and op.css:
             _cap_contour(op, rpm_limit(op.tool, machine))
-        if op.kind == "rough" and op.css:
+        if op.kind == "rough" and op.css and not _split_rough(op, ops, op.max_rpm):
             _cap_rough(op, ops, op.max_rpm)
         plan.notes.extend(op.notes)
         # a start behind the stock's face, outside it: X first, then Z (a combined rapid's
@@ -511,6 +513,111 @@ def _cap_rough(op: Operation, ops: Sequence[Operation], limit: float) -> None:
                   f"{_fmt(2 * r_c)}, which the cycle reaches: without a G96 clamp word "
                   f"(HNC-21T) it runs G97 S{_fmt(rpm)} (the surface speed at diameter "
                   f"{_fmt(2 * hi)}, at most the limit)")
+
+
+def _split_rough(op: Operation, ops: Sequence[Operation], limit: float) -> bool:
+    """Keep an OD G71 type I at its surface speed where it can: when its G96 would need more
+    than ``limit`` rpm at the smallest radius it reaches, the contour (monotone) is cut where
+    it first rises to the radius x_s at which the cycle's offset (x_s plus the X allowance)
+    is the critical radius; a dialect without a clamp word then runs the cycle in two
+    (:class:`RoughSplit`): the outer at G96 down to that radius only, the inner at G97 at
+    the limit. A line or an arc written with R crossing x_s is cut there (both parts of such
+    an arc keep its centre), else the contour is cut at that block's end. False (nothing changed)
+    when the cycle needs no cap or cannot be cut: the whole contour inside, a bore, a cycle
+    of type II, G72, G73, or (under G41/G42) a split that falls on a block's end."""
+    r = op.rough
+    if r.strategy != "turn" or r.side != "od" or r.pockets:
+        return False
+    owner = op if op.blocks else next((o for o in ops if o.blocks and o.ns == op.ns), None)
+    if owner is None or not owner.blocks:
+        return False
+    vc = op.speed
+    r_c = vc * 1000.0 / (2 * math.pi * limit)
+    lo, _hi = _x_range(op, ops)
+    if lo >= r_c - 1e-9:
+        return False
+    ax = round(2 * r.allowance_x, 3) / 2  # as the program writes it
+    # the split radius: its diameter a whole micrometre, the offset at least 0.5 um outside
+    # the critical radius (G96 there stays under the limit after rounding)
+    x_t = math.ceil((r_c - ax) * 2000.0 + 1.0 - 1e-6) / 2000.0
+    if x_t <= 0:
+        return False
+    x, z = abs(owner.start[0]), owner.start[1]
+    ends: list[tuple[float, float, float, float]] = []  # (x0, z0, x1, z1) per block
+    for b in owner.blocks:
+        nx = abs(b.x) if b.x is not None else x
+        nz = b.z if b.z is not None else z
+        ends.append((x, z, nx, nz))
+        x, z = nx, nz
+    if ends[0][2] >= x_t:
+        return False
+    k = next((i for i in range(1, len(ends)) if ends[i][2] >= x_t - 1e-9), None)
+    if k is None or k + 1 >= len(owner.blocks):
+        return False
+
+    def low(i: int) -> float:
+        x0, _z0, x1, _z1 = ends[i]
+        b = owner.blocks[i]
+        m = min(x0, x1)
+        if b.span is not None:
+            m = min(m, min(abs(b.span[0]), abs(b.span[1])) if b.span[0] * b.span[1] > 0 else 0.0)
+        return m
+
+    def high(i: int) -> float:
+        x0, _z0, x1, _z1 = ends[i]
+        b = owner.blocks[i]
+        return max(x0, x1, *(abs(v) for v in (b.span or ())))
+
+    # monotone: nothing before the crossing reaches x_t, nothing after comes back inside
+    if any(high(i) > x_t + 1e-9 for i in range(1, k)) or \
+            any(low(i) < x_t - 1e-9 for i in range(k + 1, len(ends))):
+        return False
+    blk = owner.blocks[k]
+    x0, z0, x1, z1 = ends[k]
+    tag = op.ns or owner.ns or "rough"
+    ns_s, nf_s = f"{tag}_out", f"{tag}_in"
+    z_cut = None
+    if x0 < x_t - 1e-9 and x1 > x_t + 1e-9 and high(k) <= x1 + 1e-9:
+        if blk.kind == "line":
+            z_cut = z0 + (z1 - z0) * (x_t - x0) / (x1 - x0)
+        elif blk.arc and blk.r is not None:
+            # both parts of an arc of at most 170 deg keep its centre with the same R
+            arc = Arc.from_radius((x0, z0), (x1, z1), blk.r, blk.kind == "cw")
+            hits = horizontal_hits([arc], x_t)
+            z_cut = hits[0][1] if len(hits) == 1 else None
+    if z_cut is None and owner.nose_comp != "none":
+        # under G41/G42 the two blocks of no length stand only inside a block, where the
+        # control's offset vector at the split point is the block's own normal
+        return False
+    if z_cut is not None:
+        x_s, z_s = x_t, round(z_cut, 3)
+        first = Block(blk.kind, x=x_s, z=z_s, r=blk.r, feed=blk.feed, label=nf_s)
+        if blk.arc:
+            first.span = (min(x0, x_s), x_s)
+        entry = [first]
+        at = blk
+    else:
+        if low(k + 1) < x1 - 1e-9 or high(k) > x1 + 1e-9:
+            return False
+        x_s, z_s = x1, z1
+        if blk.label:
+            nf_s = blk.label
+        else:
+            blk.label = nf_s
+        entry = []
+        at = owner.blocks[k + 1]
+    at.before = entry + [Block("rapid", x=x_s, label=ns_s), Block("line", z=z_s)]
+    top = x_s + ax
+    rpm = min(limit, round(vc * 1000.0 / (2 * math.pi * top)))
+    op.split = RoughSplit(x=x_s, z=z_s, ns=ns_s, nf=nf_s, start=(top, op.start[1]), rpm=rpm)
+    if not op.blocks:
+        op.spindle_changed = True  # the op ends in the inner cycle's G97
+    else:
+        _cap_contour(op, limit)
+    op.reason += (f"; G96 S{_fmt(vc)} needs more than {_fmt(limit)} rpm inside diameter "
+                  f"{_fmt(2 * r_c)}: without a G96 clamp word (HNC-21T) the cycle runs in two, "
+                  f"G96 down to diameter {_fmt(2 * top)}, then G97 S{_fmt(rpm)} inside it")
+    return True
 
 
 def _cap_contour(op: Operation, limit: float) -> None:
