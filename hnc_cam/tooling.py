@@ -53,8 +53,10 @@ _ISO_RE = re.compile(r"^([A-Z])([A-Z])([A-Z])([A-Z])(\d{2})(\d{2}|T\d)(\d{2}|M0)
 class Insert:
     """The cutting part of a tool.
 
-    ``kind`` is ``turn`` (ISO turning insert), ``thread`` (a profile insert with ``angle``)
-    or ``groove`` (a square-ended grooving insert of ``width``).
+    ``kind`` is ``turn`` (ISO turning insert), ``thread`` (a profile insert with ``angle``),
+    ``groove`` (a square-ended grooving insert of ``width``) or ``drill`` (a twist, spot or
+    centre drill: ``width`` its diameter, ``angle`` its point angle, ``edge_length`` its
+    flute length; code ``DRILL<d>[-<point angle>][L<flute length>]``, e.g. ``DRILL10-118L60``).
     """
     code: str
     kind: str = "turn"
@@ -69,7 +71,8 @@ class Insert:
     @staticmethod
     def parse(code: str, nose_radius: float | None = None) -> "Insert":
         """Parse an ISO turning insert code (``CNMG120408``), or a threading (``16ER1.5ISO``,
-        ``16IR1.5ISO``, ``16ERA60``) or grooving (``GROOVE3.0`` / ``N123G2-0300``) code.
+        ``16IR1.5ISO``, ``16ERA60``), grooving (``GROOVE3.0`` / ``N123G2-0300``) or drill
+        (``DRILL10-118L60``) code.
 
         An explicit ``nose_radius`` overrides the code's.
         """
@@ -96,6 +99,16 @@ class Insert:
                 r = float(nose_radius)
             return Insert(code=c, kind="thread", shape="T", nose_angle=angle, clearance=0.0,
                           edge_length=float(size), nose_radius=r, angle=angle)
+        m = re.match(r"^DRILL(\d+(?:\.\d+)?)(?:-(\d+(?:\.\d+)?))?(?:L(\d+(?:\.\d+)?))?$", c)
+        if m:
+            d = float(m.group(1))
+            ang = float(m.group(2)) if m.group(2) else 118.0
+            flute = float(m.group(3)) if m.group(3) else 5.0 * d
+            if not (d > 0 and 0 < ang < 180 and flute > 0):
+                raise ToolError(f"insert {code!r}: a drill needs a diameter above 0, a point "
+                                f"angle between 0 and 180 deg and a flute length above 0")
+            return Insert(code=c, kind="drill", shape="DR", nose_angle=ang, clearance=0.0,
+                          edge_length=flute, nose_radius=0.0, angle=ang, width=d)
         m = re.match(r"^(?:GROOVE(\d+(?:\.\d+)?)|N\d{3}[A-Z]\d?-(\d{4}))", c)
         if m:
             w = float(m.group(1)) if m.group(1) else int(m.group(2)) / 100.0
@@ -123,7 +136,8 @@ class Tool:
     hand: str = "R"
     holder: str = ""
     approach: float = 95.0  # holder approach angle kappa_r, deg
-    kind: str = "turn"  # turn | bore | thread | groove | part (a parting blade)
+    #: turn | bore | thread | groove | part (a parting blade) | drill | center_drill
+    kind: str = "turn"
     uses: tuple[str, ...] = ("rough", "finish")
     depth: float = 1.5  # roughing depth of cut per side, mm
     feed_rough: float = 0.25  # mm/rev
@@ -142,6 +156,30 @@ class Tool:
     @property
     def nose_radius(self) -> float:
         return self.insert.nose_radius
+
+    @property
+    def is_drill(self) -> bool:
+        """A twist drill or a centre (spot) drill: it cuts on the axis with its point."""
+        return self.kind in DRILL_KINDS
+
+    @property
+    def diameter(self) -> float:
+        """A drill's diameter (mm; 0 for other tools)."""
+        return self.insert.width if self.insert.kind == "drill" else 0.0
+
+    @property
+    def point_angle(self) -> float:
+        """A drill's included point angle (deg)."""
+        return self.insert.angle
+
+    @property
+    def flute_length(self) -> float:
+        """How deep a drill can go: its flute length (mm)."""
+        return self.insert.edge_length
+
+
+#: the tool kinds that drill on the axis
+DRILL_KINDS = ("drill", "center_drill")
 
 
 # --------------------------------------------------------------------------------------------
@@ -553,15 +591,19 @@ TOOL_KEYS = {
     "number": Key("int", 1, 99, required=True),
     "register": Key("int", 1, 99),
     "name": Key("str"),
-    "insert": Key("str", required=True),
+    "insert": Key("str"),  # required, except for a drill given by its diameter
     "radius": Key("float", 0, 10, "mm"),
     "holder": Key("str"),
     "hand": Key("str", choices=("R", "L", "N"), fold=True),
     "tip": Key("int", 0, 9),
     "approach": Key("float", 0, 180, "deg", lo_open=True),
-    "kind": Key("str", choices=("turn", "bore", "thread", "groove", "part")),
+    "kind": Key("str", choices=("turn", "bore", "thread", "groove", "part", "drill",
+                                "center_drill")),
     "uses": Key("strs", choices=("rough", "finish", "face", "profile", "thread", "thread_id",
-                                 "groove", "part")),
+                                 "groove", "part", "drill", "center")),
+    "diameter": Key("float", 0.1, 200, "mm", lo_open=True),
+    "point_angle": Key("float", 30, 179, "deg"),
+    "flute_length": Key("float", 0.5, 1000, "mm"),
     "max_depth": Key("float", 0, 500, "mm"),
     "depth": Key("float", 0.01, 20, "mm"),
     "feed_rough": Key("float", 0.01, 2, "mm/rev"),
@@ -575,6 +617,49 @@ TOOL_KEYS = {
     "x": Key("float", -2000, 2000, "mm"),
     "z": Key("float", -2000, 2000, "mm"),
 }
+
+
+def _tool_insert(t: Mapping[str, Any], w: str, text: str, index: int, where: str) -> Insert:
+    """The insert of a ``[[tool]]`` entry: its ``insert`` code; a drill (``kind = "drill"``
+    or ``"center_drill"``) may give ``diameter``, ``point_angle`` (118 deg unless given) and
+    ``flute_length`` (5 x diameter unless given) instead, which must agree with its code
+    when both are given."""
+    kind = t.get("kind")
+    drill_keys = [k for k in ("diameter", "point_angle", "flute_length") if k in t]
+    if kind not in DRILL_KINDS:
+        if drill_keys:
+            n = key_line(text, "tool", drill_keys[0], index)
+            raise ToolError(f"{where}{':' + str(n) if n else ''}: tool T{t['number']:02d}: "
+                            f"{drill_keys[0]} is a drill's key (kind = \"drill\" or "
+                            f"\"center_drill\")")
+        if "insert" not in t:
+            n = key_line(text, "tool", "\0", index)
+            raise ToolError(f"{where}{':' + str(n) if n else ''}: tool[{index}]: insert missing")
+        ins = Insert.parse(str(t["insert"]), t.get("radius"))
+        if ins.kind == "drill":
+            raise ToolError(f"{w}: insert {ins.code} is a drill: give kind = \"drill\" or "
+                            f"\"center_drill\"")
+        return ins
+    if "insert" in t:
+        ins = Insert.parse(str(t["insert"]))
+        if ins.kind != "drill":
+            raise ToolError(f"{w}: a {kind} needs a drill code (DRILL<d>-<angle>L<flute>, e.g. "
+                            f"DRILL10-118L60) or diameter = ..., not insert {ins.code}")
+    elif "diameter" not in t:
+        n = key_line(text, "tool", "\0", index)
+        raise ToolError(f"{where}{':' + str(n) if n else ''}: tool[{index}]: a {kind} needs "
+                        f"diameter (mm) or a drill code in insert")
+    else:
+        d = float(t["diameter"])
+        ins = Insert.parse(f"DRILL{d:g}-{float(t.get('point_angle', 118.0)):g}"
+                           f"L{float(t.get('flute_length', 5.0 * d)):g}")
+    for key, have in (("diameter", ins.width), ("point_angle", ins.angle),
+                      ("flute_length", ins.edge_length)):
+        if key in t and abs(float(t[key]) - have) > 1e-9:
+            n = key_line(text, "tool", key, index)
+            raise ToolError(f"{where}{':' + str(n) if n else ''}: tool T{t['number']:02d}: "
+                            f"{key} {float(t[key]):g} disagrees with insert {ins.code} ({have:g})")
+    return ins
 
 
 def load_tools(path: str | Path | None = None) -> ToolLibrary:
@@ -603,13 +688,14 @@ def load_tools(path: str | Path | None = None) -> ToolLibrary:
         seen.add(num)
         w = f"{w}: tool T{num:02d}"
         reg = t.get("register", num)
-        ins = Insert.parse(str(t["insert"]), t.get("radius"))
-        tip = t.get("tip", 3)
+        ins = _tool_insert(t, w, text, i, where)
+        tip = t.get("tip", 0 if ins.kind == "drill" else 3)
         holder = str(t.get("holder", ""))
         approach = t.get("approach")
         if approach is None:
             approach = HOLDER_APPROACH.get(holder[2:3].upper(), 95.0) if len(holder) >= 3 else 95.0
-        uses = t.get("uses", ["rough", "finish"])
+        uses = t.get("uses", ["drill"] if t.get("kind") == "drill" else ["center"]
+                     if t.get("kind") == "center_drill" else ["rough", "finish"])
         if isinstance(uses, str):
             uses = [uses]
         tools.append(Tool(

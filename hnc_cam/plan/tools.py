@@ -150,6 +150,12 @@ def apply_material(lib: ToolLibrary, material: dict) -> ToolLibrary:
                 kw["vc_finish"] = _clip(t.vc_finish, f["vc"])
             if "feed" in f:
                 kw["feed_finish"] = _clip(t.feed_finish, f["feed"])
+        elif t.kind in ("drill", "center_drill"):
+            d = material.get("drill", {})
+            if "vc" in d:
+                kw["vc_rough"] = _clip(t.vc_rough, d["vc"])
+            if "feed" in d:
+                kw["feed_rough"] = _clip(t.feed_rough, d["feed"])
         elif t.kind == "groove":
             if "vc" in g:
                 kw["vc_finish"] = _clip(t.vc_finish, g["vc"])

@@ -25,6 +25,10 @@ How an outline is built from an offset register (:class:`hnc_cam.tooling.Registe
 * **Grooving inserts**: a square-ended blade of the insert's width with the nose radius at both
   corners, pointing -X (outside) or +X (inside, tip codes 1, 2, 6); tip codes 3/2 reference the
   corner at -Z, 4/1 the corner at +Z, 5-9 the middle. Its top is non-cutting.
+* **Drills** (insert kind ``drill``): on the axis, pointing -Z, the controlled point at the
+  point's tip: a cone of the point angle to the drill's diameter, then a rectangle of that
+  diameter along +Z for the flute length. The back and the sides (the margins) are non-cutting:
+  a drill fed across the axis into material is reported.
 * **No insert in the register**: the documented default, an 80 deg rhombic insert with 12 mm edges
   (CNMG12-like) on a holder of the register's approach angle (95 deg unless set), with the
   register's nose radius, oriented by the tip code as above. Its sides all remove material,
@@ -225,6 +229,17 @@ def _tool_shape_cached(key) -> ToolShape:
             pts = _mirror(pts, False, True)
             non_cut = [(a * [1, -1], b * [1, -1]) for a, b in non_cut]
         desc = f"thread {ang:g} deg, r {r:g}"
+    elif kind == "drill":
+        # on the axis, pointing -Z: the point's cone from the controlled point (the tip) to
+        # the full diameter, then the body of the flute length; the back and the body's
+        # sides (the margins) do not cut
+        rd = ins.width / 2
+        h = rd / math.tan(math.radians(ins.angle) / 2)
+        top = max(ins.edge_length, h + 1e-3)
+        pts = np.array([[0.0, 0.0], [h, rd], [top, rd], [top, -rd], [h, -rd]])
+        non_cut = [(pts[1], pts[2]), (pts[2], pts[3]), (pts[3], pts[4])]
+        centre = np.zeros(2)
+        desc = f"drill {ins.width:g} mm, point {ins.angle:g} deg"
     elif kind == "groove":
         w = max(ins.width, 2 * r + 1e-6)
         h = max(ins.edge_length, 5.0)

@@ -1,0 +1,358 @@
+"""Holes from solid: a bore in a bar is drilled on the axis before the boring bar works.
+
+Rules (each operation records its reason, which the program prints as a comment):
+
+* **Which drills.** The bore's last part must be a drill's work: a blind bore ends in a cone
+  of a drill's point angle (the drill point, e.g. 118 deg, down to the axis), a through bore
+  runs on to the part's left end. The *pilot* is the largest drill of that point angle (any,
+  for a through bore) that fits the bore everywhere with its tip at the cone's apex (through
+  the part's left end by the point's height plus :data:`THROUGH`, for a through bore). What
+  the pilot leaves of the bore (the bore wider than the drill, nearer the face) is the boring
+  bar's: the bar enters a hole of its ``min_bore``; when the pilot is smaller, an *opener* (the
+  largest drill at least ``min_bore`` that stays :data:`STOCK` inside the bore) drills as deep
+  as it stays that far from the part, before it. A bore the pilot makes whole (its diameter
+  a drill's, its bottom that drill's point) is drilled to size.
+* **Refused**, naming the feature and the tool it needs: a bottom no drill's point makes
+  (a flat bottom: no boring bar reaches the centre of a hole from solid), a bore no drill
+  fits, a hole deeper than the drill's flutes, a bore whose wider part no drill opens to the
+  boring bar's ``min_bore``.
+* **Centre drilling**: the library's spot drill (``kind = "center_drill"``) spots the face
+  first, its cone to :data:`SPOT_SHARE` of the first drill's diameter, where that cone lies
+  inside what the drill removes.
+* **Speed and feed**: G97 at the drill's surface speed at its diameter (``vc_rough``, limited
+  by the material table), at most the spindle limit; the drill's ``feed_rough``.
+* **Pecks**: a hole deeper than :data:`PECK_RATIO` diameters is peck-drilled: pecks of one
+  diameter (equal, the last one to the depth), :data:`BACK` mm back after each (chip
+  breaking), out to the R plane every :data:`EVERY` pecks (clearing the chips) and back in to
+  :data:`BACK` above the hole's bottom; a dwell of the drill's ``dwell_rev`` revolutions at the
+  bottom. The HNC-21T has no peck-drilling cycle: the pecks are plain blocks (``--drill-style
+  blocks``) or one WHILE-loop macro subprogram called with G65 (``--drill-style macro``), with
+  the same moves.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Sequence
+
+from ..errors import PlanError
+from ..geometry import Line, Segment
+from ..geometry.intersect import vertical_hits
+from ..tooling import Machine, Tool, ToolLibrary
+from .model import DrillCut, Operation
+from .tools import describe
+
+#: a hole deeper than this many diameters is peck-drilled
+PECK_RATIO = 3.0
+#: the drill backs off this far after each peck (chip breaking), mm
+BACK = 0.5
+#: a full retract to the R plane after this many pecks
+EVERY = 3
+#: the R plane: the drill rapids to this far in front of the face, then feeds, mm
+R_PLANE = 1.0
+#: least stock (radial and axial, mm) an opener drill leaves for the boring bar
+STOCK = 0.3
+#: a through hole's drill runs its full diameter this far past the part's left end, mm
+THROUGH = 0.5
+#: the spot drill's cone ends at this share of the first drill's diameter
+SPOT_SHARE = 0.9
+#: the boring bar's contour runs on this far along the drilled hole past where the bore
+#: meets it, mm
+RUN_ON = 1.0
+#: drill point angles that are the same, deg
+ANGLE_TOL = 0.5
+
+
+def _fmt(v: float) -> str:
+    return f"{v:.3f}".rstrip("0").rstrip(".")
+
+
+@dataclass
+class Hole:
+    """What drilling leaves: the operations (in order), the bore chain left for the boring
+    bar (None: the drills make the whole bore) and the radius of the drilled hole the bar
+    starts from (the smallest hole drilled)."""
+    ops: list[Operation]
+    bar_chain: list[Segment] | None
+    radius: float
+
+    @property
+    def entry(self) -> float:
+        """The widest hole drilled (diameter): the boring bar enters it."""
+        return max(op.drill.diameter for op in self.ops if op.tool.kind == "drill")
+
+
+def _radius(chain: Sequence[Segment], z: float) -> float | None:
+    """The bore's radius at ``z`` (the largest where a face lies at ``z``), None outside it."""
+    hits = [x for _i, x in vertical_hits(chain, z)]
+    return max(hits) if hits else None
+
+
+def _fits(chain: Sequence[Segment], d: float, angle: float, z_tip: float, z_stop: float,
+          margin: float) -> bool:
+    """A drill of diameter ``d`` and point ``angle`` with its tip at ``z_tip`` lies inside
+    the bore (``margin`` mm from it, radially and along Z) from the face down to ``z_stop``
+    (the part's left end: past it is chuck-side stock)."""
+    rd = d / 2
+    cot = 1.0 / math.tan(math.radians(angle) / 2)
+    # the point: its surface at radius r lies at z_tip + r cot; the bore there must be wider
+    n = 60
+    for i in range(n + 1):
+        r = rd * i / n
+        z = z_tip + r * cot
+        for dz in (margin, 0.0):
+            zz = z - dz
+            if zz >= 0.0 or zz <= z_stop:
+                continue
+            rb = _radius(chain, zz)
+            if rb is None or rb < r + margin - 1e-6:
+                return False
+    # the body: from the point's full diameter to the face
+    z_body = z_tip + rd * cot
+    lo = max(z_body - margin, z_stop + 1e-6)
+    if lo < 0.0:
+        k = max(8, int((0.0 - lo) / 0.25))
+        for i in range(k + 1):
+            zz = lo + (0.0 - lo) * i / k
+            zz = min(zz, -1e-6)
+            rb = _radius(chain, zz)
+            if rb is None or rb < rd + margin - 1e-6:
+                return False
+        # every corner of the bore between the samples
+        for s in chain:
+            for p in (s.start, s.end):
+                if lo <= p[1] < 0.0 and p[0] < rd + margin - 1e-6 and p[1] > z_stop:
+                    # a point of the bore inside the drill's body (a step face's inner end)
+                    r_here = _radius(chain, p[1] + 1e-4)
+                    if r_here is None or r_here < rd + margin - 1e-6:
+                        return False
+    return True
+
+
+def _cone(seg: Segment) -> float | None:
+    """The included angle of a bottom line down to the axis (deg; 180 for a flat bottom)."""
+    if not isinstance(seg, Line):
+        return None
+    (x0, z0), (_x1, z1) = seg.start, seg.end
+    if x0 <= 1e-9:
+        return None
+    return 2.0 * math.degrees(math.atan2(x0, z0 - z1))
+
+
+def _split_at_radius(chain: Sequence[Segment], r: float) -> list[Segment]:
+    """The chain up to where its radius first falls to ``r`` (the segment that crosses it
+    cut there), continued :data:`RUN_ON` mm along the drilled surface after it (the bar's
+    nose then rounds the edge where the bore meets the drilled hole); empty when the chain
+    starts at ``r``."""
+    out: list[Segment] = []
+    rest: list[Segment] = []
+    for i, s in enumerate(chain):
+        if s.start[0] <= r + 1e-6:
+            rest = list(chain[i:])
+            break
+        if s.end[0] <= r + 1e-6:
+            if isinstance(s, Line):
+                t = (s.start[0] - r) / (s.start[0] - s.end[0])
+                p = (r, s.start[1] + t * (s.end[1] - s.start[1]))
+                if math.dist(p, s.start) > 1e-9:
+                    out.append(Line(s.start, p))
+                if math.dist(p, s.end) > 1e-9:
+                    rest = [Line(p, s.end)]
+                rest += list(chain[i + 1:])
+            else:
+                from .analysis import _split_at_x
+                parts = _split_at_x(s, r)
+                out.append(parts[0] if parts else s)
+                rest = ([parts[1]] if parts else []) + list(chain[i + 1:])
+            break
+        out.append(s)
+    if not out:
+        return []
+    left = RUN_ON
+    for s in rest:
+        if left <= 1e-9 or not isinstance(s, Line):
+            break
+        if s.length <= left:
+            out.append(s)
+            left -= s.length
+        else:
+            out.append(Line(s.start, s.point_at(left / s.length)))
+            left = 0.0
+    return out
+
+
+def plan_hole(chain: list[Segment], lib: ToolLibrary, machine: Machine, name: str,
+              z_min: float, z_face: float, z_a: float, style: str) -> Hole:
+    """The drilling of the bore ``chain`` (radius >= 0, from the face toward -Z) of a part
+    from solid bar (see the module doc)."""
+    from .planner import rpm_limit
+    if style not in ("blocks", "macro"):
+        raise PlanError(f"drill style must be blocks or macro, got {style!r}")
+    drills = sorted([t for t in lib.tools if t.kind == "drill"], key=lambda t: -t.diameter)
+    bars = [t for t in lib.tools if t.kind == "bore" and "rough" in t.uses]
+    r_mouth = chain[0].start[0]
+    blind = chain[-1].end[0] <= 1e-6
+    walls = chain[:-1] if blind else chain
+    r_min = min((min(s.start[0], s.end[0]) for s in walls), default=r_mouth)
+    z_bottom = chain[-1].end[1] if blind else z_min
+    feature = (f"blind bore diameter {_fmt(2 * r_min)} to Z{_fmt(chain[-1].start[1])}" if blind
+               else f"through bore diameter {_fmt(2 * r_min)}")
+    if not drills:
+        raise PlanError(f"part {name}: the {feature} from solid bar needs a drill (kind = "
+                        f"\"drill\") in the tool library, e.g. diameter {_fmt(_drill_size(r_min))}; "
+                        f"there is none (or give a tube stock)")
+    if blind:
+        ang = _cone(chain[-1])
+        if ang is None or not any(abs(ang - t.point_angle) <= ANGLE_TOL for t in drills):
+            what = ("a flat bottom" if ang is not None and ang > 179.0
+                    else f"a {_fmt(ang)} deg cone" if ang is not None else "a curved bottom")
+            pts = sorted({f"{t.point_angle:g}" for t in drills})
+            raise PlanError(f"part {name}: the {feature} ends in {what} at Z{_fmt(z_bottom)}: a "
+                            f"drill leaves its point there and no boring bar reaches the centre "
+                            f"of a hole from solid; model the bottom as the drill's point (a "
+                            f"{'/'.join(pts)} deg cone to the axis) or add a drill whose point is "
+                            f"that bottom")
+        cands = [t for t in drills if abs(ang - t.point_angle) <= ANGLE_TOL]
+        # the point's tip on the model's apex, rounded toward the face (the program's 0.001)
+        apex = math.ceil(chain[-1].end[1] * 1000 - 1e-6) / 1000
+        pilot = next((t for t in cands if _fits(chain, t.diameter, t.point_angle, apex,
+                                                -math.inf, 0.0)), None)
+        z_tip = apex
+    else:
+        pilot = None
+        z_tip = 0.0
+        for t in drills:
+            h = t.diameter / 2 / math.tan(math.radians(t.point_angle) / 2)
+            zt = z_min - THROUGH - h
+            if _fits(chain, t.diameter, t.point_angle, zt, z_min, 0.0):
+                pilot, z_tip = t, zt
+                break
+        cands = drills
+    if pilot is None:
+        small = min(cands, key=lambda t: t.diameter)
+        raise PlanError(f"part {name}: no drill in the library fits the {feature}: the smallest, "
+                        f"T{small.number:02d} ({_fmt(small.diameter)} mm), is wider than the bore; "
+                        f"it needs a drill of at most {_fmt(2 * r_min)} mm"
+                        + (f" with a {cands[0].point_angle:g} deg point" if blind else ""))
+    rp = pilot.diameter / 2
+    bar_chain = _split_at_radius(chain, rp)
+    hole_ops_tools: list[tuple[Tool, float]] = []  # (drill, tip z), in the order they run
+    hole_ops_tools.append((pilot, z_tip))
+    hole_r = rp
+    if bar_chain:
+        if not bars:
+            raise PlanError(f"part {name}: the {feature} is wider than the drill T"
+                            f"{pilot.number:02d} ({_fmt(pilot.diameter)} mm) near the face: it "
+                            f"needs a boring bar (kind bore, uses 'rough'); the library has none")
+        bar = min(bars, key=lambda t: t.min_bore)
+        if bar.min_bore > pilot.diameter + 1e-9:
+            opener = _opener(chain, drills, bar.min_bore, z_min if not blind else -math.inf,
+                             pilot)
+            if opener is None:
+                r_wide = max(max(s.start[0], s.end[0]) for s in bar_chain)
+                raise PlanError(
+                    f"part {name}: the {feature} is bored from diameter {_fmt(2 * r_wide)} down "
+                    f"to the drill's {_fmt(pilot.diameter)} mm, under the smallest bore the "
+                    f"boring bar T{bar.number:02d} enters (min_bore {_fmt(bar.min_bore)}), and no "
+                    f"drill of {_fmt(bar.min_bore)} mm or more opens the hole while staying "
+                    f"{_fmt(STOCK)} mm inside the bore: it needs a boring bar with min_bore <= "
+                    f"{_fmt(pilot.diameter)} or a drill of diameter {_fmt(bar.min_bore)} to "
+                    f"{_fmt(2 * (r_wide - STOCK))} mm")
+            hole_ops_tools.append(opener)
+    # depth: the flutes must reach the hole's bottom from the face
+    for t, zt in hole_ops_tools:
+        if z_face - zt > t.flute_length + 1e-9:
+            raise PlanError(f"part {name}: the {feature} needs T{t.number:02d} {t.name} to drill "
+                            f"{_fmt(z_face - zt)} mm deep (to Z{_fmt(zt)}); its flutes reach "
+                            f"{_fmt(t.flute_length)} mm: it needs a {_fmt(t.diameter)} mm drill "
+                            f"with flute_length >= {_fmt(z_face - zt)}")
+    ops: list[Operation] = []
+    spots = [t for t in lib.tools if t.kind == "center_drill"]
+    first, first_tip = hole_ops_tools[0]
+    if spots:
+        s = spots[0]
+        ds = min(s.diameter, SPOT_SHARE * first.diameter)
+        zs = z_face - ds / 2 / math.tan(math.radians(s.point_angle) / 2)
+        # the spot's cone must lie inside the first drill's hole (never deeper than its cone)
+        cot_f = 1.0 / math.tan(math.radians(first.point_angle) / 2)
+        cot_s = 1.0 / math.tan(math.radians(s.point_angle) / 2)
+        inside = zs >= first_tip - 1e-9 and all(
+            z_face - (ds / 2 - r) * cot_s + 0.0 >= first_tip + r * cot_f - 1e-9
+            for r in (ds / 2 * i / 20 for i in range(21)))
+        if inside and _fits(chain, ds, s.point_angle, zs, z_min if not blind else -math.inf,
+                            0.0):
+            ops.append(_drill_op(s, zs, ds, z_face, z_a, machine, rpm_limit(s, machine), style,
+                                 f"spot the hole's centre for T{first.number:02d}, its "
+                                 f"{_fmt(s.point_angle)} deg cone to diameter {_fmt(ds)}"))
+    for i, (t, zt) in enumerate(hole_ops_tools):
+        if i == 0:
+            what = (f"drill the {feature} to size with its point" if not bar_chain
+                    else f"drill the {feature}" + (" (the pilot)" if len(hole_ops_tools) > 1
+                                                   else " for the boring bar"))
+        else:
+            what = (f"open the hole to {_fmt(t.diameter)} mm for the boring bar T"
+                    f"{min(bars, key=lambda b: b.min_bore).number:02d} (min_bore "
+                    f"{_fmt(min(b.min_bore for b in bars))}), as deep as it stays "
+                    f"{_fmt(STOCK)} mm inside the bore")
+        ops.append(_drill_op(t, zt, t.diameter, z_face, z_a, machine, rpm_limit(t, machine),
+                             style, what))
+    return Hole(ops=ops, bar_chain=bar_chain or None, radius=hole_r)
+
+
+def _drill_size(r: float) -> float:
+    return math.floor(2 * r)
+
+
+def _opener(chain: Sequence[Segment], drills: Sequence[Tool], min_bore: float, z_stop: float,
+            pilot: Tool) -> tuple[Tool, float] | None:
+    """The largest drill of at least ``min_bore`` that fits :data:`STOCK` inside the bore,
+    with its tip as deep as that allows (bisection to 0.01 mm), or None."""
+    for t in drills:
+        if t.diameter < min_bore - 1e-9 or t.diameter <= pilot.diameter + 1e-9:
+            continue
+        h = t.diameter / 2 / math.tan(math.radians(t.point_angle) / 2)
+        hi = -h  # the full diameter just inside the face
+        if not _fits(chain, t.diameter, t.point_angle, hi, z_stop, STOCK):
+            continue
+        lo = min(s.bbox()[1] for s in chain) - h
+        if _fits(chain, t.diameter, t.point_angle, lo, z_stop, STOCK):
+            return t, lo
+        while hi - lo > 0.01:
+            mid = (hi + lo) / 2
+            if _fits(chain, t.diameter, t.point_angle, mid, z_stop, STOCK):
+                hi = mid
+            else:
+                lo = mid
+        return t, math.ceil(hi * 100 - 1e-6) / 100
+    return None
+
+
+def _drill_op(t: Tool, z_end: float, d: float, z_face: float, z_a: float, machine: Machine,
+              limit: float, style: str, what: str) -> Operation:
+    rpm = min(limit, t.vc_rough * 1000.0 / (math.pi * t.diameter))
+    rpm = float(math.floor(rpm + 1e-9))
+    f = t.feed_rough
+    z_clear = z_face + R_PLANE
+    depth = z_face - z_end
+    cut = DrillCut(z_clear=z_clear, z_end=z_end, back=BACK, every=EVERY, style=style,
+                   z_top=z_face, diameter=d,
+                   dwell=max(0.05, round(t.dwell_rev * 60.0 / rpm, 2)))
+    peck_note = ""
+    if depth > PECK_RATIO * t.diameter + 1e-9 and t.kind == "drill":
+        n = max(2, math.ceil(depth / t.diameter - 1e-9))
+        q = math.ceil(depth / n * 1000 - 1e-6) / 1000
+        cut.peck = q
+        cut.pecks = [round(z_face - q * i, 6) for i in range(1, n)
+                     if z_face - q * i > z_end + 1e-6]
+        peck_note = (f"; {_fmt(depth)} mm deep (over {PECK_RATIO:g} x D): {len(cut.pecks) + 1} "
+                     f"pecks of {_fmt(q)} mm, {_fmt(BACK)} mm back after each, out to "
+                     f"Z{_fmt(z_clear)} every {EVERY}"
+                     + (" (a WHILE-loop macro subprogram)" if style == "macro" else ""))
+    reason = (f"{what} with {describe(t)} to Z{_fmt(z_end)} (its point's tip); G97 S{_fmt(rpm)} "
+              f"({_fmt(t.vc_rough)} m/min at diameter {_fmt(t.diameter)}, at most "
+              f"{_fmt(limit)} rpm), F{_fmt(f)}" + peck_note
+              + f", a dwell of {_fmt(cut.dwell)} s at the bottom")
+    return Operation(name="spot" if t.kind == "center_drill" else "drill", kind="drill", tool=t,
+                     reason=reason, start=(0.0, z_a), spindle="rpm", speed=rpm, feed=f,
+                     drill=cut, contour=[Line((0.0, z_clear), (0.0, z_end))],
+                     retract=[(0.0, z_a)])
