@@ -215,9 +215,12 @@ def test_thread_insert_pitch_ranges_from_iso_codes():
     assert not cuts_pitch(tool("16ERA60"), 1.75) and not cuts_pitch(tool("16ER1.5ISO"), 1.0)
 
 
-def test_bar_for_a_part_with_a_bore():
-    with pytest.raises(PlanError, match="pre-drilled hole"):
-        plan(bushing(), "42x45+2")
+def test_bar_for_a_part_with_a_bore_is_drilled_before_the_boring_bar():
+    p = plan(bushing(), "42x45+2")
+    names = [op.name for op in p.operations]
+    assert names.index("drill") < names.index("bore_rough")
+    drill = p.operations[names.index("drill")]
+    assert drill.tool.kind == "drill" and drill.start[0] == 0.0
 
 
 # ---------------------------------------------------------------- interpreter

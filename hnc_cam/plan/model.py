@@ -23,7 +23,7 @@ def _n(v: float) -> str:
 #: segment kinds of a contour block
 SEGMENT_KINDS = ("rapid", "line", "cw", "ccw")
 #: operation kinds (the post chooses a template per kind, see :func:`Operation.role`)
-KINDS = ("face", "rough", "finish", "groove", "thread", "part")
+KINDS = ("face", "rough", "finish", "groove", "thread", "part", "drill")
 
 
 @dataclass
@@ -176,6 +176,34 @@ class ThreadCut:
 
 
 @dataclass
+class DrillCut:
+    """Drilling on the axis from ``z_clear`` (the R plane in front of the hole) to ``z_end``
+    (the point's tip). ``pecks``: the Z each peck feeds to before ``z_end`` (empty: one
+    feed); after a peck the drill backs off ``back`` mm (chip breaking), or every ``every``
+    pecks rapids out to ``z_clear`` (clearing the chips) and back to ``back`` above the
+    peck's depth; ``dwell`` s at the bottom. ``style``: ``blocks`` (plain moves) or ``macro``
+    (a WHILE-loop subprogram called with the numbers: ``z_top`` the first peck's start,
+    ``peck`` the depth per peck)."""
+    z_clear: float
+    z_end: float
+    pecks: list[float] = field(default_factory=list)
+    back: float = 0.5
+    every: int = 3
+    dwell: float = 0.0
+    style: str = "blocks"
+    z_top: float = 0.0
+    peck: float = 0.0
+    diameter: float = 0.0
+
+    @property
+    def steps(self) -> list[tuple[float, str]]:
+        """Each peck's depth and what follows it: ``back`` (chip breaking) or ``out`` (a full
+        retract, then back in)."""
+        return [(z, "out" if (i + 1) % self.every == 0 else "back")
+                for i, z in enumerate(self.pecks)]
+
+
+@dataclass
 class Operation:
     """One step of the program.
 
@@ -215,6 +243,7 @@ class Operation:
     rough: RoughCut | None = None
     groove: GrooveCut | None = None
     thread: ThreadCut | None = None
+    drill: DrillCut | None = None
     new_tool: bool = True
     #: False when the previous operation ran the same tool at the same speed: the spindle
     #: is not set again
@@ -275,7 +304,7 @@ class Operation:
             return "G71E" if r.pockets else "G71"
         if self.kind == "thread":
             return "G76" if self.thread.method == "cycle" else "G82"
-        if self.kind in ("groove", "part"):
+        if self.kind in ("groove", "part", "drill"):
             return "G01"
         return "contour"
 
@@ -319,6 +348,11 @@ class Operation:
                     f"{len(self.passes)}X {f}")
         if self.name == "thread":
             return f"{t} THREAD LEAD {_n(self.thread.lead)} S{_n(self.speed)}"
+        if self.kind == "drill":
+            d = self.drill
+            what = "SPOT" if self.tool.kind == "center_drill" else "DRILL"
+            pk = f" PECK {_n(d.peck)}" if d.pecks else ""
+            return f"{t} {what} D{_n(d.diameter)} Z{_n(d.z_end)}{pk} S{_n(self.speed)} {f}"
         if self.name == "partoff":
             return f"{t} PART OFF Z{_n(self.start[1])} S{_n(self.speed)} {f}"
         return f"{t} {self.name.upper()} {cycle}"

@@ -23,6 +23,9 @@ Rules (each operation records its reason, which the program prints as a comment)
     zone alone, from the level the envelope left, and its own semi-finishing pass;
   - cycles start on the stock (G71 at its diameter, G72 on its face) and, after facing, the
     contours start near the face's edge (:func:`hnc_cam.plan.contour.drop_face`).
+* **Holes from solid**: a bore in a bar is drilled first (:mod:`hnc_cam.plan.drilling`:
+  spot drill, pilot, opener, pecks), then the boring bar works from the drilled hole as from a
+  tube's bore on what the drills leave.
 * **ID roughing** of a bore from a tube: ``G71`` type I with a negative X allowance (type II
   with a negative E for a bore with undercuts) with the boring bar; finished with the same or
   a finishing boring bar.
@@ -95,6 +98,8 @@ class Options:
     #: the diameter the part-off ends at: -1 = past the centre (X-1); a small positive
     #: diameter leaves a stem for a parts catcher
     partoff_dia: float = -1.0
+    #: peck drilling as plain blocks or as a WHILE-loop macro subprogram (blocks | macro)
+    drill_style: str = "blocks"
 
 
 def _fmt(v: float) -> str:
@@ -160,11 +165,6 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
             if rb > rmin + 1e-6:
                 raise PlanError(f"stock {stock.spec}: the tube's bore (diameter {_fmt(stock.bore)}) "
                                 f"is larger than the part's smallest bore diameter {_fmt(2 * rmin)}")
-        elif bore_chain:
-            raise PlanError(f"part {name} has a bore (diameter "
-                            f"{_fmt(2 * min(s.bbox()[0] for s in bore_chain))}) but the stock "
-                            f"{stock.spec} is a solid bar: give a tube stock D/dxL with a "
-                            f"pre-drilled hole (this planner does not drill)")
 
     if opts.allowance_x < 0 or opts.allowance_z < 0:
         raise PlanError(f"finishing allowance X{_fmt(2 * opts.allowance_x)} Z{_fmt(opts.allowance_z)}: "
@@ -231,7 +231,14 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
 
     # ---------------- bore ----------------
     bore_ops: list[Operation] = []
-    if bore_chain:
+    if bore_chain and stock.kind == "bar":
+        from .drilling import plan_hole
+        hole = plan_hole(bore_chain, tools, machine, name, z_min, z_face, z_a, opts.drill_style)
+        bore_ops = list(hole.ops)
+        if hole.bar_chain:
+            bore_ops += _plan_bore(hole.bar_chain, stock, tools, opts, name, z_a,
+                                   hole=hole.entry, x_hole=hole.radius)
+    elif bore_chain:
         bore_ops = _plan_bore(bore_chain, stock, tools, opts, name, z_a)
 
     rough_od, finish_od = od_ops
@@ -502,7 +509,8 @@ def _cap_rough(op: Operation, ops: Sequence[Operation], limit: float) -> None:
     price of one speed for the cycle). Dialects with a clamp word (``G50 S``) keep G96."""
     vc = op.speed
     lo, hi = _x_range(op, ops)
-    hi += op.rough.retract  # a pass's lift: G72 feeds in from the start plus its retract
+    if op.rough.strategy == "face":
+        hi += op.rough.retract  # a pass's lift: G72 feeds in from the start plus its retract
     r_c = vc * 1000.0 / (2 * math.pi * limit)
     if lo >= r_c - 1e-9:
         return
@@ -614,6 +622,8 @@ def _split_rough(op: Operation, ops: Sequence[Operation], limit: float) -> bool:
         op.spindle_changed = True  # the op ends in the inner cycle's G97
     else:
         _cap_contour(op, limit)
+        if op.blocks[0].spindle == Spindle("rpm", rpm):
+            op.blocks[0].spindle = None  # the inner cycle's G97 holds
     op.reason += (f"; G96 S{_fmt(vc)} needs more than {_fmt(limit)} rpm inside diameter "
                   f"{_fmt(2 * r_c)}: without a G96 clamp word (HNC-21T) the cycle runs in two, "
                   f"G96 down to diameter {_fmt(2 * top)}, then G97 S{_fmt(rpm)} inside it")
@@ -1070,15 +1080,26 @@ def _groove_op(t: Tool, z_l: float, z_r: float, x_b: float, level: float,
 # ------------------------------------------------------------------------------------------
 
 def _plan_bore(chain: list[Segment], stock: Stock, lib: ToolLibrary, opts: Options, name: str,
-               z_a: float) -> list[Operation]:
-    rb = stock.bore / 2
+               z_a: float, hole: float | None = None,
+               x_hole: float | None = None) -> list[Operation]:
+    """Rough and finish a bore from the tube's hole, or from a drilled ``hole`` (the diameter
+    the bar enters; ``x_hole``: the radius the roughing cycle starts from, the smallest hole
+    drilled)."""
+    drilled = hole is not None
+    rb = (x_hole if drilled else stock.bore / 2)
+    entry = hole if drilled else stock.bore
     bars = [t for t in lib.tools if t.kind == "bore" and "rough" in t.uses]
     if not bars:
         raise PlanError(f"part {name} has a bore: the tool library has no boring bar "
                         f"(kind bore, uses 'rough')")
-    fits = [t for t in bars if t.min_bore <= stock.bore + 1e-9]
+    fits = [t for t in bars if t.min_bore <= entry + 1e-9]
     if not fits:
         t = min(bars, key=lambda t: t.min_bore)
+        if drilled:
+            raise PlanError(f"part {name}: the drilled hole (diameter {_fmt(entry)}) is smaller "
+                            f"than the smallest bore the boring bar T{t.number:02d} enters "
+                            f"(min_bore {_fmt(t.min_bore)}): it needs a boring bar for diameter "
+                            f"{_fmt(entry)}")
         raise PlanError(f"part {name}: the stock's hole (diameter {_fmt(stock.bore)}) is smaller "
                         f"than the smallest bore the boring bar T{t.number:02d} enters (diameter "
                         f"{_fmt(t.min_bore)}): it needs a boring bar for diameter "
@@ -1135,7 +1156,8 @@ def _plan_bore(chain: list[Segment], stock: Stock, lib: ToolLibrary, opts: Optio
     rough_start = (rb, z_a)  # on the stock's hole: the first level one full depth in
     rough = Operation(
         name="bore_rough", kind="rough", tool=rough_t,
-        reason=(f"tube stock {stock.spec}: bore roughed with {describe(rough_t)}, "
+        reason=((f"drilled hole diameter {_fmt(2 * rb)}" if drilled
+                 else f"tube stock {stock.spec}") + f": bore roughed with {describe(rough_t)}, "
                 + ("G71 type I with a negative X allowance" if monotonic
                    else "G71 type II with a negative E (bore undercuts)")),
         start=rough_start, speed=rough_t.vc_rough, feed=rough_t.feed_rough, ns=ns, nf=nf,
