@@ -551,6 +551,20 @@ def test_chuck_rated_speed_caps_every_move_in_every_dialect(tmp_path, dialect, p
     assert max(m.spindle for m in free.toolpath.moves) > 1500.0 + 1e-6
 
 
+@pytest.mark.parametrize("body,limit,chuck", [("[chuck]\nmax_rpm = 1500\n", 1500, True),
+                                              ("[chuck]\nmax_rpm = 5000\n", 4000, False),
+                                              ("", 4000, False)])
+def test_hnc_header_states_the_limit_the_program_keeps(tmp_path, body, limit, chuck):
+    import re
+    prog = generate(_pin(), stock="14x36+1", machine=_chuck_machine(tmp_path, body))
+    head = [ln for ln in prog.text.splitlines() if "SPINDLE LIMIT" in ln]
+    assert len(head) == 1
+    assert int(re.search(r"SPINDLE LIMIT (\d+) RPM", head[0]).group(1)) == limit
+    assert ("CHUCK" in head[0]) == chuck
+    # the limit stated is the one every move keeps, and reached by the pin's small diameters
+    assert max(m.spindle for m in prog.toolpath.moves) == pytest.approx(limit)
+
+
 @pytest.mark.parametrize("body,line,what", [
     ("[chuck]\nmax_rmp = 1500\n", 5, "did you mean 'max_rpm'"),
     ("[chuck]\nmax_rpm = -1\n", 5, "max_rpm"),
