@@ -769,3 +769,74 @@ N170 RET
     rep = _verify(tp, [(0, 0), (10, 0), (10, -4), (15, -4), (25, -6), (25, -10), (40, -10),
                        (40, -30), (0, -30)], "80x30+0")
     assert rep.passed, rep.summary()
+
+
+#: a shaft with a relief: a 30 degree flank (to Z) down from the 30 mm diameter into a 16 mm
+#: relief and a flank back up to 36 mm; roughed with the 35 degree copying insert (T5)
+RELIEF = """%_N_RELIEF_MPF
+N10 G18 G23 G90 G95 T5 D1 S800 M3
+N20 G0 X50 Z5
+N30 _CNAME="KR"
+N40 R105={r105} R106=1 R108=1.5 R109={r109} R110=1 R111=0.25 R112=0.1
+N50 LCYC95
+N60 G0 X80 Z50
+N70 M2
+%_N_KR_SPF
+N100 G1 X20 Z0
+N110 X30 Z-5
+N120 Z-12
+N130 X16 Z-24
+N140 Z-30
+N150 X36 Z-34
+N160 Z-40
+N170 X46
+N180 RET
+"""
+RELIEF_PART = [(0, 0), (10, 0), (15, -5), (15, -12), (8, -24), (8, -30), (18, -34), (18, -40),
+               (0, -40)]
+
+
+def _relief_entries(tp):
+    """(start, end, angle to Z in degrees) of each move that enters a relief pass: a feed
+    move down to where a cut along -Z starts, inside the relief (below the flank's top at
+    X30 Z-12 + the allowance, above its bottom + the allowance)."""
+    ms = [m for m in tp.moves if m.op == "LCYC95"]
+    out = []
+    for a, b in zip(ms, ms[1:]):
+        cut = (b.kind == "line" and abs(b.start[0] - b.end[0]) < 1e-9 and b.end[1] < b.start[1])
+        if (a.kind == "line" and cut and a.end[0] < a.start[0] - 1e-9 and a.end[1] < -11.0
+                and a.end[0] > 9.0 + 1e-6):
+            ang = math.degrees(math.atan2(a.start[0] - a.end[0], abs(a.end[1] - a.start[1])))
+            out.append((a.start, a.end, ang))
+    return out
+
+
+@pytest.mark.parametrize("r109", [45.0, 80.0])
+def test_lcyc95_enters_a_relief_at_the_insertion_angle(r109):
+    tp = run802(RELIEF.format(r105=9, r109=r109))
+    entries = _relief_entries(tp)
+    # the relief's levels below the flank's top (radius 16 = 15 + R106): 4 passes 16/11 mm
+    # apart, each entered along a line at R109 to Z ending on the allowance-offset flank
+    assert len(entries) == 4
+    for start, end, ang in entries:
+        assert ang == pytest.approx(r109, abs=1e-6)
+        # the end on the offset flank (15, -12) -> (8, -24) moved by (1, 1)
+        assert end[1] == pytest.approx(-11.0 - (16.0 - end[0]) * 12.0 / 7.0, abs=1e-6)
+        # from the level above (the roughing depth), which the pass above has cleared
+        assert start[0] - end[0] == pytest.approx(entries[0][0][0] - entries[0][1][0], abs=1e-6)
+    rep = _verify(tp, RELIEF_PART, "45x42+0")
+    assert rep.passed, rep.summary()
+
+
+def test_lcyc95_relief_insertion_zero_plunges_straight_and_steep_flanks_stay_straight():
+    straight = _relief_entries(run802(RELIEF.format(r105=9, r109=0)))
+    assert len(straight) == 4 and all(a == pytest.approx(90.0) for _, _, a in straight)
+    # an entry at 20 degrees would run into the 30 degree flank: the tool plunges straight
+    # in front of it (the entry is never shallower than the flank it ends on)
+    shallow = run802(RELIEF.format(r105=9, r109=20))
+    got = _relief_entries(shallow)
+    assert len(got) == len(straight)
+    for (s1, e1, _), (s0, e0, _) in zip(got, straight):
+        assert s1 == pytest.approx(s0, abs=1e-9) and e1 == pytest.approx(e0, abs=1e-9)
+    rep = _verify(shallow, RELIEF_PART, "45x42+0")
+    assert rep.passed, rep.summary()

@@ -18,8 +18,9 @@ import math
 from typing import Any, Callable, Optional
 
 from ...geometry.corner import CornerError, corner
+from ...geometry.intersect import horizontal_hits, intersect, vertical_hits
 from ...geometry.primitives import Arc, Line, Point, reverse_chain
-from ...geometry.roughing import RoughingError, first_non_monotonic, rough_turn
+from ...geometry.roughing import RoughingError, RoughMove, first_non_monotonic, rough_turn
 from ...geometry.tip import tip_direction
 from ...nc.compensation import CompItem, compensate_moves
 from ...nc.cycles_simple import thread_passes
@@ -390,7 +391,16 @@ def lcyc95(ctx: Any) -> None:
             _alarm(ctx, 61606, f"the contour {name}{where}: {err.message}")
         for w in plan.warnings:
             ctx.warn(f"{_name(ctx)}: {w}")
-        for m in plan.moves:
+
+        def at(lv: float, t: float) -> Point:
+            p = [0.0, 0.0]
+            p[lvl_axis] = lvl_sign * lv
+            p[cut_axis] = csign * t
+            return (p[0], p[1])
+
+        moves = relief_insertion(plan.moves, insertion, level, lambda p: csign * p[cut_axis],
+                                 at, plan.offset_profile, face)
+        for m in moves:
             s = m.seg
             if m.kind == "rapid":
                 legs.rapid(s.end)
@@ -432,6 +442,89 @@ def lcyc95(ctx: Any) -> None:
         q[lvl_axis] = a[lvl_axis]
         legs.rapid((q[0], q[1]))
         legs.rapid(a)
+
+
+def relief_insertion(moves: list, angle: float, level: Callable[[Point], float],
+                     along: Callable[[Point], float], at: Callable[[float, float], Point],
+                     wall: list, face: bool) -> list:
+    """The roughing ``moves`` (:class:`RoughMove`) with each plunge into a relief cut entered
+    at ``angle`` (degrees, R109) to the longitudinal axis of the cut (Z for longitudinal
+    machining, X for face machining), descending in the cutting direction.
+
+    ``level(p)`` is a point's depth coordinate (larger toward the stock), ``along(p)`` its
+    place along the cut (growing in the cutting direction), ``at(level, along)`` the point,
+    ``wall`` the allowance-offset contour (the part the entry must not enter). A relief pass
+    at level ``u`` below the level ``w`` above it, starting at ``s`` (on the relief's wall):
+    the entry is the line at ``angle`` that ends at ``(u, s)``, from the level ``w`` (the
+    tool comes down to its start in rapid over the cleared level). Where the relief's wall
+    is steeper than ``angle``, that line would enter the part: the entry then starts where
+    the line leaves the wall, and the tool reaches that point by a straight plunge from the
+    level ``w``; a vertical wall leaves the straight plunge at ``s``. The pass's level is
+    cut whole from ``s``, so no wedge is left. ``angle`` 0 (R109 not set): the moves
+    unchanged, a straight plunge."""
+    if angle <= 0.0:
+        return list(moves)
+    run = 1.0 / math.tan(math.radians(angle))  # the advance along the cut per mm of depth
+
+    def inside(p: Point) -> bool:
+        hits = horizontal_hits(wall, p[0]) if face else vertical_hits(wall, p[1])
+        if not hits:
+            return False
+        top = max(level(at_axis(v, p)) for _, v in hits)
+        return level(p) < top - 1e-7
+
+    def at_axis(v: float, p: Point) -> Point:
+        return (p[0], v) if face else (v, p[1])
+
+    def free_rise(u: float, s: float, w: float) -> float:
+        """How far (in depth) the entry line rises from (u, s) toward the level w before it
+        would enter the part."""
+        p0, p1 = at(u, s), at(w, s - (w - u) * run)
+        line = Line(p0, p1)
+        cuts = {0.0, w - u}
+        for seg in wall:
+            for q in intersect(line, seg):
+                lam = level(q) - u
+                if 0.0 < lam < w - u:
+                    cuts.add(lam)
+        marks = sorted(cuts)
+        for a, b in zip(marks, marks[1:]):
+            m = 0.5 * (a + b)
+            if inside(at(u + m, s - m * run)):
+                return a
+        return w - u
+
+    out: list = []
+    for i, m in enumerate(moves):
+        if (m.role == "plunge" and i + 1 < len(moves) and moves[i + 1].role == "cut" and out
+                and out[-1].role in ("approach", "link") and out[-1].kind == "rapid"
+                and math.dist(out[-1].seg.end, m.seg.start) < 1e-9):
+            w, s = level(m.seg.start), along(m.seg.start)
+            u = level(m.seg.end)
+            lam = free_rise(u, s, w)
+            tc = s - lam * run
+            ap = out.pop()
+            src = ap.seg.start
+            prev = out[-1] if out else None
+            if (prev is not None and prev.kind == "rapid" and prev.role == "link"
+                    and math.dist(prev.seg.end, src) < 1e-9
+                    and abs(level(prev.seg.start) - level(src)) < 1e-9):
+                out.pop()  # the travel along the level: straight to the entry's start
+                src = prev.seg.start
+            mid = at(level(src), tc)
+            if math.dist(src, mid) > 1e-12:
+                out.append(RoughMove("rapid", Line(src, mid), "link", ap.level))
+            top = at(w, tc)
+            if math.dist(mid, top) > 1e-12:
+                out.append(RoughMove("rapid", Line(mid, top), "approach", ap.level))
+            low = at(u + lam, tc)
+            if lam < w - u - 1e-9:
+                out.append(RoughMove("feed", Line(top, low), "plunge", m.level))
+            if lam > 1e-9:
+                out.append(RoughMove("feed", Line(low, m.seg.end), "plunge", m.level))
+            continue
+        out.append(m)
+    return out
 
 
 # --------------------------------------------------------------------------- LCYC97
