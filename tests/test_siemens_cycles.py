@@ -462,6 +462,19 @@ def test_lcyc94_form_e_external_shoulder_on_the_left():
     assert ctx.pos == pytest.approx((21.0, -26.5))
 
 
+@pytest.mark.parametrize("d,r,t,f", [(3.0, 0.2, 0.1, 1.0), (8.0, 0.2, 0.2, 2.0),
+                                     (12.0, 0.6, 0.2, 2.0), (100.0, 1.0, 0.4, 4.0)])
+def test_lcyc94_sizes_follow_the_din_509_table(d, r, t, f):
+    # the DIN 509 E sizes by diameter (up to 3, 3-10, 10-18, above 80 mm): length f from
+    # the face, depth t, radius r ending on the face
+    ctx = run("LCYC94", {100: d, 101: -30, 105: 55, 107: 3}, (d, 0.0))
+    pts = [m[1] for m in ctx.moves if m[0] in ("feed", "arc")]
+    assert pts[0] == pytest.approx((d / 2, -30.0 + f))
+    assert min(p[0] for p in pts) == pytest.approx(d / 2 - t)
+    assert pts[2] == pytest.approx((d / 2 - t, -30.0 + r))
+    assert pts[3] == pytest.approx((d / 2 - t + r, -30.0))
+
+
 def test_lcyc94_form_f_cuts_into_the_face_internal_mirror():
     # a bore X60 against a face at Z-20 toward -Z, boring bar: tip position 2 (+X, -Z)
     ctx = run("LCYC94", {100: 60, 101: -20, 105: 56, 107: 2}, (20.0, 5.0))

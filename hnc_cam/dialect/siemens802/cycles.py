@@ -761,8 +761,9 @@ def lcyc93(ctx: Any) -> None:
 # --------------------------------------------------------------------------- LCYC94
 
 #: DIN 509 undercut sizes by finished diameter (series 1 of the standard): (diameter up to,
-#: radius r, depth t1, length f, face depth t2 of form F)
-UNDERCUTS = ((18.0, 0.6, 0.2, 2.0, 0.1), (80.0, 0.6, 0.3, 2.5, 0.2),
+#: radius r, depth t1, length f, face depth t2 of form F); from 3 mm (61601 below)
+UNDERCUTS = ((3.0, 0.2, 0.1, 1.0, 0.1), (10.0, 0.2, 0.2, 2.0, 0.1),
+             (18.0, 0.6, 0.2, 2.0, 0.1), (80.0, 0.6, 0.3, 2.5, 0.2),
              (math.inf, 1.0, 0.4, 4.0, 0.3))
 #: the run-out flank toward the shaft and the face flank of form F (degrees, DIN 509)
 UNDERCUT_RUNOUT = 15.0
