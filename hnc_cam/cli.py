@@ -120,6 +120,9 @@ def _add_gen_options(p: argparse.ArgumentParser) -> None:
                    "part held by --grip is parted off")
     p.add_argument("--partoff-dia", type=_positive_mm, metavar="MM", help="end the part-off "
                    "at this diameter (a stem for a parts catcher) instead of past the centre")
+    p.add_argument("--drill-style", choices=["blocks", "macro"], default="blocks",
+                   help="peck drilling as plain blocks, or as a WHILE-loop macro subprogram "
+                   "called with G65 (HNC-21T; the HNC-21T has no peck-drilling cycle)")
 
 
 def _add_dialect(p: argparse.ArgumentParser) -> None:

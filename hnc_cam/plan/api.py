@@ -223,7 +223,7 @@ def generate(part: Any, stock: str | Stock | None = None, *, params: Mapping[str
              face_cycle: str = "g81", file: str = "<generated>",
              material: str | None = None, allowance: Any = None,
              dialect: str | None = None, grip: float | None = None, partoff: bool = True,
-             partoff_dia: float | None = None) -> Program:
+             partoff_dia: float | None = None, drill_style: str = "blocks") -> Program:
     """Plan, render, interpret (and verify) a program for ``part``.
 
     ``part``: a part file path (``parts/*.py``, ``.step``/``.stp``), a loaded part
@@ -242,6 +242,8 @@ def generate(part: Any, stock: str | Stock | None = None, *, params: Mapping[str
     ``partoff``: a part held in the chuck (a grip given) is parted off with the library's
     parting blade (False: it stays on the bar, its left end cut just past the part);
     ``partoff_dia``: the part-off ends at this diameter instead of past the centre.
+    ``drill_style``: peck drilling as plain blocks (``blocks``) or, on the HNC-21T, a WHILE-loop
+    macro subprogram (``macro``).
     """
     from .. import __version__
     from ..post import cycle_labels, render
@@ -280,7 +282,8 @@ def generate(part: Any, stock: str | Stock | None = None, *, params: Mapping[str
     opts = Options(comp=comp, program_number=int(program_number), thread_cycle=thread_cycle,
                    face_cycle=face_cycle, allowance_x=ax / 2, allowance_z=az,
                    partoff=bool(partoff),
-                   partoff_dia=float(partoff_dia) if partoff_dia is not None else -1.0)
+                   partoff_dia=float(partoff_dia) if partoff_dia is not None else -1.0,
+                   drill_style=drill_style)
     plan = make_plan(prof, st, lib, mach, opts, name=name, params=pparams, version=__version__)
     dia = dialect_of(dialect, mach)
     text = render(plan, dialect=dia, templates=templates, number_format=number_format,

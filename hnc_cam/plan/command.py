@@ -39,7 +39,8 @@ def _options(args: argparse.Namespace) -> dict[str, Any]:
                 allowance=getattr(args, "allowance", None),
                 dialect=getattr(args, "dialect", None), grip=getattr(args, "grip", None),
                 partoff=not getattr(args, "no_partoff", False),
-                partoff_dia=getattr(args, "partoff_dia", None))
+                partoff_dia=getattr(args, "partoff_dia", None),
+                drill_style=getattr(args, "drill_style", "blocks") or "blocks")
 
 
 def user_template_error(e: HncError, templates: Any) -> HncError:

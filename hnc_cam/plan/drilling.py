@@ -97,8 +97,16 @@ def _fits(chain: Sequence[Segment], d: float, angle: float, z_tip: float, z_stop
     cot = 1.0 / math.tan(math.radians(angle) / 2)
     # the point: its surface at radius r lies at z_tip + r cot; the bore there must be wider
     n = 60
-    for i in range(n + 1):
-        r = rd * i / n
+    # samples, and just past each radius where the bore steps (the margin off it)
+    rs = [rd * i / n for i in range(n + 1)]
+    for s in chain:
+        for v in (s.start[0] - margin, s.end[0] - margin):
+            rs += [v + 1e-6 for v in (v,) if 0.0 <= v + 1e-6 <= rd]
+        # and where the point passes each corner of the bore (just beyond it)
+        for zv in (s.start[1], s.end[1]):
+            v = (zv + margin - 1e-4 - z_tip) / cot
+            rs += [v for v in (v,) if 0.0 <= v <= rd]
+    for r in rs:
         z = z_tip + r * cot
         for dz in (margin, 0.0):
             zz = z - dz
@@ -223,7 +231,7 @@ def plan_hole(chain: list[Segment], lib: ToolLibrary, machine: Machine, name: st
         z_tip = 0.0
         for t in drills:
             h = t.diameter / 2 / math.tan(math.radians(t.point_angle) / 2)
-            zt = z_min - THROUGH - h
+            zt = math.floor((z_min - THROUGH - h) * 1000 + 1e-6) / 1000
             if _fits(chain, t.diameter, t.point_angle, zt, z_min, 0.0):
                 pilot, z_tip = t, zt
                 break
@@ -249,15 +257,16 @@ def plan_hole(chain: list[Segment], lib: ToolLibrary, machine: Machine, name: st
             opener = _opener(chain, drills, bar.min_bore, z_min if not blind else -math.inf,
                              pilot)
             if opener is None:
-                r_wide = max(max(s.start[0], s.end[0]) for s in bar_chain)
+                r_open = min(p[0] for s in bar_chain for p in (s.start, s.end)
+                             if p[0] > rp + 1e-6)
                 raise PlanError(
-                    f"part {name}: the {feature} is bored from diameter {_fmt(2 * r_wide)} down "
-                    f"to the drill's {_fmt(pilot.diameter)} mm, under the smallest bore the "
-                    f"boring bar T{bar.number:02d} enters (min_bore {_fmt(bar.min_bore)}), and no "
-                    f"drill of {_fmt(bar.min_bore)} mm or more opens the hole while staying "
-                    f"{_fmt(STOCK)} mm inside the bore: it needs a boring bar with min_bore <= "
-                    f"{_fmt(pilot.diameter)} or a drill of diameter {_fmt(bar.min_bore)} to "
-                    f"{_fmt(2 * (r_wide - STOCK))} mm")
+                    f"part {name}: the {feature} is diameter {_fmt(2 * r_open)} near the face, "
+                    f"wider than the drill T{pilot.number:02d} ({_fmt(pilot.diameter)} mm) makes "
+                    f"it; the boring bar T{bar.number:02d} enters a hole of min_bore "
+                    f"{_fmt(bar.min_bore)} and no drill of {_fmt(bar.min_bore)} mm or more opens "
+                    f"it while staying {_fmt(STOCK)} mm inside the bore: it needs a boring bar "
+                    f"with min_bore <= {_fmt(pilot.diameter)} or a drill of diameter "
+                    f"{_fmt(bar.min_bore)} to {_fmt(2 * (r_open - STOCK))} mm")
             hole_ops_tools.append(opener)
     # depth: the flutes must reach the hole's bottom from the face
     for t, zt in hole_ops_tools:
@@ -273,6 +282,7 @@ def plan_hole(chain: list[Segment], lib: ToolLibrary, machine: Machine, name: st
         s = spots[0]
         ds = min(s.diameter, SPOT_SHARE * first.diameter)
         zs = z_face - ds / 2 / math.tan(math.radians(s.point_angle) / 2)
+        zs = math.ceil(zs * 1000 - 1e-6) / 1000
         # the spot's cone must lie inside the first drill's hole (never deeper than its cone)
         cot_f = 1.0 / math.tan(math.radians(first.point_angle) / 2)
         cot_s = 1.0 / math.tan(math.radians(s.point_angle) / 2)
