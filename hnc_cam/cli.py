@@ -51,6 +51,17 @@ def _jobs(s: str) -> int:
     return v
 
 
+def _count(s: str) -> int:
+    try:
+        v = int(s)
+    except ValueError:
+        v = -1
+    if not 0 <= v <= 10000:
+        raise argparse.ArgumentTypeError(f"{s!r}: expected a whole number of parameter sets "
+                                         f"(0-10000)")
+    return v
+
+
 def _scheduler(s: str) -> str:
     """A Dask scheduler address, tcp://HOST:PORT (checked here; connected to by family)."""
     import re
@@ -204,10 +215,19 @@ def build_parser() -> argparse.ArgumentParser:
     _add_dialect(p)
     p.set_defaults(func=("hnc_cam.plan.command", "generate_command"))
 
-    p = sub.add_parser("family", help="one program per row of a CSV table")
+    p = sub.add_parser("family", help="one program per row of a CSV table, or (--macro) one "
+                       "parametric macro program for the whole family")
     p.add_argument("part")
-    p.add_argument("--table", required=True, metavar="FILE.csv")
-    p.add_argument("--out", required=True, metavar="DIR")
+    p.add_argument("--table", metavar="FILE.csv", help="the rows (required without --macro; "
+                   "with --macro: the rows the operator selects by number, each checked)")
+    p.add_argument("--out", metavar="DIR", help="the programs' folder (required without --macro)")
+    p.add_argument("--macro", action="store_true", help="write one macro program whose "
+                   "dimensions are variables of the family's parameters, proven by --check")
+    p.add_argument("-o", "--output", metavar="OUT", help="with --macro: the program file (a "
+                   "folder DIR/ where the family splits into several programs)")
+    p.add_argument("--check", type=_count, default=None, metavar="N", help="with --macro: "
+                   "run, simulate and verify the macro program for N sampled parameter sets "
+                   "(default 5) and every table row")
     p.add_argument("--jobs", type=_jobs, default=0, metavar="N", help="worker processes (0 = all cores)")
     p.add_argument("--scheduler", type=_scheduler, metavar="tcp://HOST:PORT",
                    help="run the rows on this Dask distributed cluster (needs the cluster "

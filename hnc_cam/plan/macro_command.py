@@ -1,0 +1,154 @@
+"""``hnc-cam family PART --macro``: one parametric macro program for the family, derived by
+:mod:`hnc_cam.plan.macro_program` and proven by ``--check`` before anything is written."""
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+from typing import Any
+
+from ..errors import PartError, PlanError
+
+#: the domain box: each real parameter within this fraction of its value (grown to cover the
+#: table's rows)
+SPREAD = 0.05
+#: parameter sets ``--check`` runs by default
+DEFAULT_CHECK = 5
+#: the dialects a macro program is written in
+DIALECTS = ("hnc21t", "fanuc0it")
+#: generate() keywords a variant takes from the command line
+_GEN_KEYS = ("tools", "machine", "templates", "number_format", "block_numbers", "thread_cycle",
+             "face_cycle", "material", "allowance", "grip", "partoff", "partoff_dia")
+
+
+def _rows(path: str) -> list[dict[str, str]]:
+    from .command import read_table
+    _header, rows = read_table(path)
+    out = []
+    for _idx, line, cells in rows:
+        if isinstance(cells, str):
+            raise PartError(f"{path}:{line}: {cells}")
+        cells = {k: v for k, v in cells.items() if k not in ("program_number", "stock") and v}
+        out.append(cells)
+    if not out:
+        raise PartError(f"{path}: the table has no rows")
+    return out
+
+
+def macro_command(args: argparse.Namespace) -> int:
+    from ..cad import parse_set
+    from ..io import write_atomic
+    from .api import VerificationError, _load_machine, _load_tools, dialect_of
+    from .command import _check_part_file, _check_tables, _options
+    from .macro import load_family
+    from .macro_program import (Ctx, check_program, derive_pieces, family_stock,
+                                fix_unmachinable, piece_of, render_program, sample)
+
+    if getattr(args, "out", None):
+        raise PlanError("--macro writes one program: give it with -o OUT (--out DIR is the "
+                        "per-row mode's folder)")
+    for opt in ("scheduler", "report", "junit"):
+        if getattr(args, opt, None):
+            raise PlanError(f"--{opt} belongs to the per-row mode, not to --macro")
+    _check_part_file(args.part)
+    _check_tables(args)
+    if Path(args.part).suffix.lower() != ".py":
+        raise PartError(f"{args.part}: --macro derives the program from a family's sketch(): "
+                        f"give the part's .py file")
+    opts = _options(args)
+    lib = _load_tools(opts["tools"])
+    mach = _load_machine(opts["machine"], lib)
+    if opts["grip"] is not None:
+        from ..tooling import with_grip
+        mach = with_grip(mach, float(opts["grip"]))
+    dia = dialect_of(opts["dialect"], mach)
+    if dia not in DIALECTS:
+        raise PlanError(f"--macro writes {' and '.join(DIALECTS)} macro programs, not {dia}")
+    rows = _rows(args.table) if args.table else []
+    base = parse_set(args.params or [])
+    fam = load_family(args.part, base, rows, spread=SPREAD)
+    from ..cad.loader import resolve_params
+    full_rows = [dict(fam.params, **resolve_params(fam.mod, r, args.part)) for r in rows]
+    gen = {k: opts[k] for k in _GEN_KEYS}
+    gen.update(comp="control", verify=False, dialect=dia)
+    if args.stock:
+        from ..tooling import Stock
+        if Stock.parse(args.stock).kind == "offset":
+            raise PlanError("--macro needs a bar or tube stock (DxL+F), not an offset stock: "
+                            "one stock serves every variant")
+        stock = Stock.parse(args.stock).spec
+    else:
+        stock = family_stock(fam, fam.lo, fam.hi,
+                             sample(fam, fam.trace, fam.lo, fam.hi, 20, "stock") + full_rows)
+    ctx = Ctx(args.part, gen, stock, dia)
+    fixed = fix_unmachinable(ctx, fam)
+    for i, r in enumerate(full_rows, 1):
+        for k, why in fixed.items():
+            if r[k] != fam.params[k]:
+                raise PartError(f"{args.table}: row {i} gives {k}={r[k]:g}: {k} stays at "
+                                f"{fam.params[k]:g} in the macro ({why})")
+    pieces = derive_pieces(ctx, fam)
+    for pc in pieces:
+        pc.fixed = fixed
+    number = args.program_number if args.program_number is not None else 1
+    if not 1 <= number <= 8999:
+        raise PlanError(f"--program-number {number}: the macro program needs 1-8999 (its "
+                        f"subprogram is numbered 1000 above it)")
+    # the rows each piece holds
+    held: dict[int, list[dict[str, Any]]] = {i: [] for i in range(len(pieces))}
+    for i, r in enumerate(full_rows, 1):
+        pc = piece_of(pieces, r)
+        if pc is None:
+            raise PartError(f"{args.table}: row {i} ({', '.join(f'{k}={r[k]:g}' for k in fam.free)}) "
+                            f"fails the family's checks")
+        held[pieces.index(pc)].append(r)
+    n_check = DEFAULT_CHECK if args.check is None else args.check
+    texts: list[tuple[str, str]] = []
+    checked = 0
+    for i, pc in enumerate(pieces):
+        num = number + i
+        prow = held[i]
+        final = render_program(pc, dia, rows=prow or None, number=num)
+        runs = [(f"sample {j + 1}", p, render_program(pc, dia, values=p, number=num))
+                for j, p in enumerate(sample(fam, pc.tr, pc.lo, pc.hi, n_check, ("check", i)))]
+        runs += [(f"table row {j}", r, render_program(pc, dia, rows=prow, row=j, number=num))
+                 for j, r in enumerate(prow, 1)]
+        for res in check_program(ctx, pc, runs, mach, lib, opts["tol"]):
+            checked += 1
+            if not res["ok"]:
+                raise VerificationError(f"{args.part}: the macro program fails its check for "
+                                        f"{res['set']} ({res['params']}): {res['message']}; "
+                                        f"nothing written")
+        texts.append((f"O{num:04d}.nc", final.text))
+    out = args.output
+    if len(texts) > 1:
+        if not out or not (out.endswith("/") or Path(out).is_dir()):
+            raise PlanError(f"{args.part}: the family's program changes shape over the domain, "
+                            f"so it is {len(texts)} programs ("
+                            + "; ".join(", ".join(pc.bounds) for pc in pieces)
+                            + "): give a folder with -o DIR/")
+        d = Path(out)
+        try:
+            d.mkdir(parents=True, exist_ok=True)
+        except OSError as e:
+            raise PlanError(f"-o {out}: cannot create the folder: {e.strerror or e}") from None
+        for name, text in texts:
+            write_atomic(d / name, text)
+    elif out:
+        if out.endswith("/") or Path(out).is_dir():
+            Path(out).mkdir(parents=True, exist_ok=True)
+            write_atomic(Path(out) / texts[0][0], texts[0][1])
+        else:
+            write_atomic(out, texts[0][1])
+    else:
+        sys.stdout.write(texts[0][1])
+        sys.stdout.flush()
+    fitted = sum(s.kind == "fit" for pc in pieces for s in pc.slots)
+    print(f"{args.part}: {len(pieces)} macro program(s) for {len(fam.free)} parameter(s) "
+          f"({', '.join(fam.free)}), {fitted} fitted word(s), stock {stock}; checked "
+          f"{checked} parameter set(s): pass"
+          + ("" if len(pieces) == 1 else
+             "; pieces: " + "; ".join(", ".join(pc.bounds) for pc in pieces)), file=sys.stderr)
+    for k, why in fixed.items():
+        print(f"warning: {k} stays at {fam.params[k]:g}: {why}", file=sys.stderr)
+    return 0

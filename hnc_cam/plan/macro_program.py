@@ -1,0 +1,877 @@
+"""One parametric macro program per part family, fitted from per-variant programs and proven.
+
+*Derive* (:func:`derive`): the family is traced (:func:`hnc_cam.plan.macro.load_family`: every
+contour point, corner trim and radius an exact expression of the parameters, the family's
+checks, the domain box). One stock serves the whole domain: the largest the family's
+``STOCK`` gives over the box (or ``--stock``). The per-variant program (``--comp control``:
+the contour is the part itself) is generated for the nominal set and for sampled valid
+sets; each is cut into blocks and words, and every variant must have the same *skeleton*
+(the same blocks with the same letters and G/M/T codes; sequence numbers and comments
+aside). Each numeric word that is not the same in every variant is fitted as an exact
+expression: a constant, or an affine combination (coefficients snapped to small fractions)
+of at most three traced features and parameters, fitted on some variants and held to the
+written precision on all the others. An S or F word that fits nothing takes the safe bound
+(the lowest of the variants: a slower spindle or feed) and says so in a comment; any other
+word that fits nothing is refused, naming it, its line and the parameters that move it.
+
+*Topology* (:func:`derive_pieces`): where a variant's skeleton differs from the nominal's,
+the one parameter that changes it is found (moving each parameter alone) and the boundary
+found by bisection; the domain is split there and each piece derived on its own (a program
+per piece, each checking its own range). A change no single parameter makes is refused,
+naming the parameters and the block that changes.
+
+*Render* (:func:`render_program`): HNC-21T macro B — a main program with one
+``#n=VALUE (NAME)`` per parameter (or, with a table, one block of them per row under
+``IF [#50 EQ k]``, the operator setting the row number ``#50``), the family's checks and the
+domain box before any motion, then ``M98 P…`` of the macro subprogram in the same file, whose
+temporaries are all assigned before its first block. FANUC 0i macro B — ``G65 P… A… B…``
+with the arguments of the FANUC letter table (A #1, B #2, C #3, I #4, ...), checks as
+``#3000=n(MESSAGE)``.
+
+*Check* (:func:`check_program`): the macro program, with each sampled set (and every table
+row) substituted, is run through :func:`hnc_cam.nc.run`, simulated and verified against that
+variant's model as ``verify`` does (:func:`hnc_cam.plan.api._verify`), and its toolpath
+compared with the per-variant program's.
+"""
+from __future__ import annotations
+
+import math
+import random
+import re
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Any
+
+from ..errors import HncError, PartError, PlanError
+from .macro import (Check, Family, Lets, _ev, _holds, _node, _num, _params_of, _simplify,
+                    _trace, features, hnc_checks, load_family, render)
+
+#: the written precision of a word (3 decimals) and what a fit may miss it by
+TOL = 0.0011
+#: the letters whose value is part of a block's skeleton (a code, not a dimension)
+_CODES = set("GMTO")
+_WORD = re.compile(r"([A-Z])\s*([-+]?(?:\d+\.?\d*|\.\d+))")
+#: FANUC macro arguments (argument specification I): letter -> local variable
+FANUC_ARGS = {"A": 1, "B": 2, "C": 3, "I": 4, "J": 5, "K": 6, "D": 7, "E": 8, "F": 9,
+              "H": 11, "M": 13, "Q": 17, "R": 18, "S": 19, "T": 20, "U": 21, "V": 22,
+              "W": 23, "X": 24, "Y": 25, "Z": 26}
+#: HNC-21T globals: the row number, then the parameters, then the temporaries
+HNC_FIRST, HNC_LAST = 50, 199
+
+
+# ------------------------------------------------------------------------------------------
+# blocks and words
+# ------------------------------------------------------------------------------------------
+
+@dataclass
+class Word:
+    letter: str
+    text: str  # the number as written
+    span: tuple[int, int]  # of the number in the line
+
+    @property
+    def value(self) -> float:
+        return float(self.text)
+
+
+@dataclass
+class Block:
+    line: int  # 1-based line in the program
+    raw: str
+    words: list[Word]  # the words outside comments, N aside
+    key: tuple  # skeleton
+
+    @property
+    def floating(self) -> bool:
+        """A block that only switches the spindle's mode (``G96 S…``, ``G97 S…``, ``G50 S…``):
+        where the planner puts one follows the diameter at which constant surface speed
+        meets the spindle limit, so it moves with the parameters; it is no part of the
+        skeleton (the macro keeps the nominal's G96/G50 and leaves the G97 to the control's
+        clamp of G96 at its spindle limit)."""
+        return (any(w.letter == "S" for w in self.words)
+                and all(w.letter == "S" or (w.letter == "G" and float(w.text) in (96, 97, 50))
+                        or (w.letter == "M" and float(w.text) in (3, 4))
+                        for w in self.words) and self.key[-1] == "")
+
+    @property
+    def droppable(self) -> bool:
+        """A floating ``G97 S…`` that starts nothing (the control clamps G96 itself)."""
+        return self.floating and any(w.letter == "G" and float(w.text) == 97
+                                     for w in self.words) \
+            and not any(w.letter == "M" for w in self.words)
+
+
+def blocks(text: str) -> list[Block]:
+    """The blocks of a program that carry words (comment-only lines aside)."""
+    out: list[Block] = []
+    for i, raw in enumerate(text.splitlines(), 1):
+        spans, depth, start = [], 0, 0
+        for j, ch in enumerate(raw):  # the parts outside comments
+            if ch == "(":
+                if depth == 0:
+                    spans.append((start, j))
+                depth += 1
+            elif ch == ")" and depth:
+                depth -= 1
+                if depth == 0:
+                    start = j + 1
+        if depth == 0:
+            spans.append((start, len(raw)))
+        words: list[Word] = []
+        rest: list[str] = []
+        for a, b in spans:
+            seg = raw[a:b]
+            pos = 0
+            for m in _WORD.finditer(seg):
+                rest.append(seg[pos:m.start()].strip())
+                pos = m.end()
+                if m.group(1) == "N" and not words:
+                    continue
+                words.append(Word(m.group(1), m.group(2), (a + m.start(2), a + m.end(2))))
+            rest.append(seg[pos:].strip())
+        other = "".join(rest)
+        if not words and not other:
+            continue
+        key = tuple((w.letter, w.text if w.letter in _CODES else None) for w in words) + (other,)
+        out.append(Block(i, raw, words, key))
+    return out
+
+
+def core(bs: list[Block]) -> list[Block]:
+    """The blocks that make the skeleton (floating spindle switches aside)."""
+    return [b for b in bs if not b.floating]
+
+
+def skeleton(bs: list[Block]) -> tuple:
+    return tuple(b.key for b in core(bs))
+
+
+def _first_difference(a: list[Block], b: list[Block]) -> str:
+    a, b = core(a), core(b)
+    for x, y in zip(a, b):
+        if x.key != y.key:
+            return f"line {x.line} [{x.raw.strip()}] becomes [{y.raw.strip()}]"
+    longer, n = (a, len(b)) if len(a) > len(b) else (b, len(a))
+    extra = longer[n] if n < len(longer) else longer[-1]
+    return (f"the program has {abs(len(a) - len(b))} block(s) "
+            f"{'fewer' if len(a) > len(b) else 'more'} from line {extra.line} "
+            f"[{extra.raw.strip()}]")
+
+
+# ------------------------------------------------------------------------------------------
+# variants
+# ------------------------------------------------------------------------------------------
+
+def _fmt(v: Any) -> str:
+    return _num(float(v)) if isinstance(v, float) else str(v)
+
+
+def _pset(p: dict[str, Any], free: list[str]) -> str:
+    return ", ".join(f"{k}={_fmt(p[k])}" for k in free)
+
+
+@dataclass
+class Ctx:
+    """What every variant is generated with."""
+    path: str
+    opts: dict[str, Any]  # generate() keywords (comp control, no verify)
+    stock: str
+    dialect: str
+    cache: dict = field(default_factory=dict)
+
+    def program(self, p: dict[str, Any]) -> str:
+        key = tuple(sorted((k, _fmt(v)) for k, v in p.items()))
+        if key not in self.cache:
+            from .api import generate
+            try:
+                prog = generate(self.path, self.stock, params={k: _fmt(v) for k, v in p.items()},
+                                **self.opts)
+            except HncError as e:
+                raise PlanError(f"{self.path}: the family's program cannot be generated for "
+                                f"{', '.join(f'{k}={v}' for k, v in key)} (inside the macro's "
+                                f"domain): {str(e).splitlines()[0]}") from None
+            self.cache[key] = prog.text
+        return self.cache[key]
+
+
+def _valid(fam: Family, tr: Any, p: dict[str, float], lo: dict, hi: dict) -> bool:
+    return (all(lo[k] <= p[k] <= hi[k] for k in fam.free)
+            and all(all(_holds(c, p) for c in ch.conds) for ch in tr.checks)
+            and all(_holds(c if v else ("not", c), p) for c, v in tr.branches))
+
+
+def sample(fam: Family, tr: Any, lo: dict, hi: dict, n: int, seed: Any,
+           limit: int = 4000) -> list[dict[str, Any]]:
+    """``n`` parameter sets drawn uniformly from the box ``lo``..``hi`` that pass the family's
+    checks and keep the traced branches (fewer when the box holds few valid sets)."""
+    rnd = random.Random(str(seed))
+    out: list[dict[str, Any]] = []
+    for _ in range(limit):
+        if len(out) >= n:
+            break
+        p = dict(fam.params)
+        for k in fam.free:
+            p[k] = round(rnd.uniform(lo[k], hi[k]), 4)
+        if _valid(fam, tr, p, lo, hi):
+            out.append(p)
+    return out
+
+
+def _sketch_ok(fam: Family, p: dict[str, Any]) -> None:
+    """``sketch()`` must accept a set the family's checks accept."""
+    try:
+        fam.mod.sketch(**p)
+    except Exception as e:  # noqa: BLE001 - the family's own fault, named
+        raise PartError(f"{fam.path}: sketch() raises for {_pset(p, fam.free)}, which its "
+                        f"checks accept (inside the declared domain): "
+                        f"{type(e).__name__}: {e}") from None
+
+
+def family_stock(fam: Family, lo: dict, hi: dict, sets: list[dict[str, Any]]) -> str:
+    """The stock the largest variant needs: the family's ``STOCK`` at the top of the box and at
+    every set, the one with the largest diameter, then length."""
+    from ..tooling import Stock
+    fn = getattr(fam.mod, "STOCK", None)
+    best: Any = None
+    cands = [dict(fam.params, **hi)] + sets
+    for p in cands:
+        try:
+            spec = fn(**p) if callable(fn) else None
+            if spec is None:
+                from .api import _load_part, default_stock_for
+                spec = default_stock_for(_load_part(fam.path, {k: _fmt(v) for k, v in
+                                                              p.items()})[0])
+            st = Stock.parse(str(spec))
+        except Exception:  # noqa: BLE001 - an invalid corner of the box says nothing
+            continue
+        if best is None or (st.diameter, st.length, st.face) > (best.diameter, best.length,
+                                                                  best.face):
+            best = st
+    if best is None:
+        raise PartError(f"{fam.path}: no stock for the family's domain (STOCK() fails at every "
+                        f"sampled set): give one with --stock")
+    return best.spec
+
+
+# ------------------------------------------------------------------------------------------
+# fitting
+# ------------------------------------------------------------------------------------------
+
+@dataclass
+class Slot:
+    block: int  # index into the nominal's blocks
+    word: int  # index into the block's words
+    kind: str  # "const" | "fit" | "bound"
+    node: tuple | None = None
+    value: float | None = None
+    note: str = ""
+
+
+def _candidates(fam: Family, tr: Any, sets: list[dict[str, Any]]):
+    """Columns (values over ``sets``) of the distinct non-constant features and parameters,
+    with their expressions (the shortest of equal columns)."""
+    import numpy as np
+    feats = [(k, ("p", k)) for k in fam.free] + features(tr)
+    cols: dict[tuple, tuple[tuple, np.ndarray, int]] = {}
+    for _desc, n in feats:
+        try:
+            v = np.array([_ev(n, p) for p in sets])
+        except (ValueError, ZeroDivisionError, OverflowError):
+            continue
+        if not np.all(np.isfinite(v)) or np.ptp(v) < 1e-9:
+            continue
+        key = tuple(np.round(v, 7))
+        size = len(render(n, {k: "#" for k in fam.free})) if n[0] != "p" else 0
+        if key not in cols or size < cols[key][2]:
+            cols[key] = (n, v, size)
+    nodes = [c[0] for c in cols.values()]
+    mat = np.array([c[1] for c in cols.values()]).T if cols else np.zeros((len(sets), 0))
+    return nodes, mat
+
+
+def _cross_columns(tr: Any, nb: list[Block], allb: list[list[Block]], allp: list[dict]):
+    """The crossings' expressions and values over the sets (those defined at every set)."""
+    import numpy as np
+    dias = sorted({w.value for bi, b in enumerate(nb) for wi, w in enumerate(b.words)
+                   if w.letter == "X" and w.value > 0
+                   and all(vb[bi].words[wi].text == w.text for vb in allb)})
+    nodes, cols = [], []
+    for n in crossings(tr, dias):
+        try:
+            v = np.array([_ev(n, p) for p in allp])
+        except (ValueError, ZeroDivisionError, OverflowError):
+            continue
+        if np.all(np.isfinite(v)):
+            nodes.append(n)
+            cols.append(v)
+    return nodes, cols
+
+
+def _fit_single(y, nodes: list[tuple], cols: list) -> tuple | None:
+    """``y`` as one crossing plus a constant."""
+    import numpy as np
+    for n, v in zip(nodes, cols):
+        res = y - v
+        const = round(float((res.max() + res.min()) / 2), 4)
+        if np.max(np.abs(res - const)) <= TOL:
+            return _combine([n], (0,), [1.0], const)
+    return None
+
+
+def _snap(c: float) -> float:
+    """The nearest simple fraction (the held-out check decides whether it holds)."""
+    f = Fraction(c).limit_denominator(12)
+    return float(f) if abs(float(f) - c) < 0.05 * max(1.0, abs(c)) else round(c, 9)
+
+
+def _fit_word(y, mat, n_fit: int):
+    """(column indices, coefficients, constant) of the sparsest exact affine fit, else None."""
+    import itertools
+
+    import numpy as np
+    n, m = mat.shape
+
+    def attempt(idx: tuple[int, ...]):
+        a = np.column_stack([mat[:n_fit, list(idx)], np.ones(n_fit)]) if idx else \
+            np.ones((n_fit, 1))
+        sol, *_ = np.linalg.lstsq(a, y[:n_fit], rcond=None)
+        for coefs in ([_snap(c) for c in sol[:-1]], [round(c, 9) for c in sol[:-1]]):
+            pred = mat[:, list(idx)] @ np.array(coefs) if idx else np.zeros(n)
+            res = y - pred
+            mid = float((res.max() + res.min()) / 2)
+            for const in (round(mid, 3), round(mid, 4)):
+                if np.max(np.abs(res - const)) <= TOL:
+                    return idx, coefs, const
+        return None
+
+    r = attempt(())
+    if r:
+        return r
+    for i in range(m):
+        r = attempt((i,))
+        if r:
+            return r
+    best: list[tuple[float, tuple[int, int]]] = []
+    for pair in itertools.combinations(range(m), 2):
+        r = attempt(pair)
+        if r:
+            return r
+        a = np.column_stack([mat[:n_fit, list(pair)], np.ones(n_fit)])
+        sol, *_ = np.linalg.lstsq(a, y[:n_fit], rcond=None)
+        best.append((float(np.max(np.abs(a @ sol - y[:n_fit]))), pair))
+    best.sort()
+    for _err, pair in best[:12]:
+        for k in range(m):
+            if k not in pair:
+                r = attempt(pair + (k,))
+                if r:
+                    return r
+    return None
+
+
+def _combine(nodes: list[tuple], idx, coefs, const) -> tuple:
+    out: tuple | None = None
+    for i, c in zip(idx, coefs):
+        n, neg = nodes[i], c < 0
+        term = n if abs(c) == 1 else ("*", ("c", abs(c)), n)
+        if out is None:
+            out = ("neg", term) if neg else term
+        else:
+            out = ("-" if neg else "+", out, term)
+    if out is None:
+        return ("c", const)
+    if const > 0:
+        return ("+", out, ("c", const))
+    if const < 0:
+        return ("-", out, ("c", -const))
+    return out
+
+
+def _n(v: Any) -> tuple:
+    return _node(v)
+
+
+def crossings(tr: Any, diameters: list[float]) -> list[tuple]:
+    """Where each traced segment crosses each diameter the program holds constant (a roughing
+    cycle split at the diameter where constant surface speed meets the spindle limit): Z of
+    the crossing as an exact expression (both roots of an arc; the fit keeps the one that
+    holds)."""
+    out: list[tuple] = []
+    for seg in tr.segments:
+        x0, z0, x1, z1 = _n(seg[1][0]), _n(seg[1][1]), _n(seg[2][0]), _n(seg[2][1])
+        for dia in diameters:
+            rc = ("c", dia / 2)
+            if seg[0] == "L":
+                out.append(("+", z0, ("*", ("/", ("-", rc, x0), ("-", x1, x0)),
+                                      ("-", z1, z0))))
+                continue
+            r = _n(seg[4])
+            if seg[3] is not None:
+                centers = [(_n(seg[3][0]), _n(seg[3][1]))]
+            else:
+                dx, dz = ("-", x1, x0), ("-", z1, z0)
+                ln = ("f", "sqrt", ("+", ("*", dx, dx), ("*", dz, dz)))
+                h = ("f", "sqrt", ("-", ("*", r, r), ("/", ("*", ln, ln), ("c", 4.0))))
+                mx, mz = ("/", ("+", x0, x1), ("c", 2.0)), ("/", ("+", z0, z1), ("c", 2.0))
+                ux, uz = ("/", ("neg", dz), ln), ("/", dx, ln)
+                centers = [(("+", mx, ("*", ux, h)), ("+", mz, ("*", uz, h))),
+                           (("-", mx, ("*", ux, h)), ("-", mz, ("*", uz, h)))]
+            for cx, cz in centers:
+                q = ("f", "sqrt", ("-", ("*", r, r), ("*", ("-", rc, cx), ("-", rc, cx))))
+                out += [("+", cz, q), ("-", cz, q)]
+    return out
+
+
+@dataclass
+class Piece:
+    """One macro program: its domain (the box and the traced conditions) and its words."""
+    fam: Family
+    tr: Any
+    lo: dict[str, float]
+    hi: dict[str, float]
+    nominal: dict[str, Any]
+    text: str  # the nominal variant's program
+    blocks: list[Block]
+    slots: list[Slot]
+    sets: list[dict[str, Any]]  # the variants it was fitted and held to
+    bounds: list[str] = field(default_factory=list)  # how this piece's range was cut
+    stock: str = ""
+
+
+class TopologyChange(Exception):
+    def __init__(self, p: dict[str, Any], diff: str):
+        super().__init__(diff)
+        self.p, self.diff = p, diff
+
+
+def _movers(ctx: Ctx, fam: Family, tr: Any, nominal: dict, lo: dict, hi: dict,
+            bi: int, wi: int, nb: list[Block]) -> list[str]:
+    """The parameters whose change alone moves word ``wi`` of block ``bi``."""
+    out = []
+    base = nb[bi].words[wi].text
+    for k in fam.free:
+        for t in (0.5, -0.5):
+            p = dict(nominal)
+            p[k] = nominal[k] + t * (hi[k] - lo[k]) / 2
+            if not _valid(fam, tr, p, lo, hi):
+                continue
+            vb = core(blocks(ctx.program(p)))
+            if skeleton(vb) == skeleton(nb) and vb[bi].words[wi].text != base:
+                out.append(k)
+                break
+    return out
+
+
+def derive_piece(ctx: Ctx, fam: Family, lo: dict, hi: dict, nominal: dict[str, Any],
+                 n_fit: int = 10, n_hold: int = 8, seed: Any = 0) -> Piece:
+    """Fit one program over the box ``lo``..``hi`` (raises :class:`TopologyChange` where a
+    variant's skeleton differs)."""
+    import numpy as np
+    tr = _trace(fam.mod, nominal, fam.free)
+    _sketch_ok(fam, nominal)
+    text = ctx.program(nominal)
+    nb = core(blocks(text))
+    sk = skeleton(nb)
+    sets = sample(fam, tr, lo, hi, n_fit + n_hold, ("fit", seed))
+    if len(sets) < 4:
+        raise PartError(f"{fam.path}: too few valid parameter sets near "
+                        f"{_pset(nominal, fam.free)} to derive a macro ({len(sets)} of the "
+                        f"sampled sets pass the family's checks)")
+    progs = []
+    for p in sets:
+        _sketch_ok(fam, p)
+        vb = core(blocks(ctx.program(p)))
+        if skeleton(vb) != sk:
+            raise TopologyChange(p, _first_difference(nb, vb))
+        progs.append(vb)
+    n_fit = min(n_fit, len(sets) - 2)
+    allp = [nominal] + sets
+    allb = [nb] + progs
+    nodes, mat = _candidates(fam, tr, allp)
+    cross = None
+    slots: list[Slot] = []
+    for bi, b in enumerate(nb):
+        for wi, w in enumerate(b.words):
+            texts = {vb[bi].words[wi].text for vb in allb}
+            cycle = w.letter in "PQ" and any(x.letter == "G" and float(x.text) in (70, 71, 72, 73)
+                                             for x in b.words)
+            if len(texts) == 1 or w.letter in _CODES or cycle:  # a cycle's P/Q: our own N
+                slots.append(Slot(bi, wi, "const"))
+                continue
+            y = np.array([vb[bi].words[wi].value for vb in allb])
+            r = _fit_word(y, mat, n_fit + 1)
+            if r is not None:
+                node = _combine(nodes, *r)
+                slots.append(Slot(bi, wi, "fit", node))
+                continue
+            if w.letter == "Z":
+                if cross is None:
+                    cross = _cross_columns(tr, nb, allb, allp)
+                node = _fit_single(y, *cross)
+                if node is not None:
+                    slots.append(Slot(bi, wi, "fit", node))
+                    continue
+            if w.letter in ("S", "F"):
+                v = float(min(y))
+                slots.append(Slot(bi, wi, "bound", value=v,
+                                  note=f"{w.letter}{_num(v)}: THE LOWEST OF {len(y)} VARIANTS"))
+                continue
+            movers = _movers(ctx, fam, tr, nominal, lo, hi, bi, wi, nb)
+            raise PlanError(f"{fam.path}: the word {w.letter}{w.text} of the family's program "
+                            f"(line {b.line}: {b.raw.strip()}) fits no exact expression of the "
+                            f"parameters (moved by {', '.join(movers) or 'several parameters together'}); "
+                            f"no macro is written")
+    return Piece(fam, tr, dict(lo), dict(hi), dict(nominal), text, nb, slots, sets,
+                 stock=ctx.stock)
+
+
+def _differs(ctx: Ctx, fam: Family, nb_sk: tuple, p: dict) -> bool:
+    try:
+        return skeleton(blocks(ctx.program(p))) != nb_sk
+    except PlanError:  # no program there: counted as the other side
+        return True
+
+
+def fix_unmachinable(ctx: Ctx, fam: Family) -> dict[str, str]:
+    """Parameters the tool library cannot vary (a thread's pitch needs its own insert, a
+    groove no narrower than the blade): moved alone to either end of the box, the per-variant
+    program cannot be generated. They stay at their value, like whole numbers (the macro says
+    so); the reason for each."""
+    out: dict[str, str] = {}
+    for k in list(fam.free):
+        for side in ("lo", "hi"):
+            box = fam.lo if side == "lo" else fam.hi
+            end, why = box[k], ""
+            for frac in (1.0, 0.5, 0.25):  # the box shrinks to where the library cuts it
+                v = fam.params[k] + frac * (end - fam.params[k])
+                p = dict(fam.params, **{k: v})
+                if not _valid(fam, fam.trace, p, fam.lo, fam.hi):
+                    break
+                try:
+                    ctx.program(p)
+                    box[k] = v
+                    why = ""
+                    break
+                except PlanError as e:
+                    why = str(e).rsplit("): ", 1)[-1]
+            if why:
+                out[k] = why
+                break
+    if out:
+        fam.free = [k for k in fam.free if k not in out]
+        for k in out:
+            fam.lo.pop(k, None)
+            fam.hi.pop(k, None)
+        fam.trace = _trace(fam.mod, fam.params, fam.free)
+    return out
+
+
+def derive_pieces(ctx: Ctx, fam: Family, max_pieces: int = 6, **kw: Any) -> list[Piece]:
+    """The fewest pieces (cut along one parameter at a time) that each hold one program."""
+    todo = [(dict(fam.lo), dict(fam.hi), dict(fam.params), [])]
+    done: list[Piece] = []
+    while todo:
+        lo, hi, nominal, cuts = todo.pop(0)
+        try:
+            pc = derive_piece(ctx, fam, lo, hi, nominal, **kw)
+            pc.bounds = cuts
+            done.append(pc)
+            continue
+        except TopologyChange as t:
+            change = t
+        if len(done) + len(todo) + 2 > max_pieces:
+            raise PlanError(f"{fam.path}: the family's program changes shape in more than "
+                            f"{max_pieces} places over the domain ({change.diff}); no macro is "
+                            f"written")
+        tr = _trace(fam.mod, nominal, fam.free)
+        sk = skeleton(blocks(ctx.program(nominal)))
+        who = None
+        for k in fam.free:
+            p = dict(nominal, **{k: change.p[k]})
+            if _valid(fam, tr, p, lo, hi) and _differs(ctx, fam, sk, p):
+                who = k
+                break
+        if who is None:
+            moved = [k for k in fam.free if abs(change.p[k] - nominal[k]) > 1e-9]
+            raise PlanError(f"{fam.path}: the family's program changes shape between "
+                            f"{_pset(nominal, fam.free)} and {_pset(change.p, fam.free)}, and no "
+                            f"single parameter changes it ({', '.join(moved)} together): "
+                            f"{change.diff}; no macro is written")
+        a, b = nominal[who], change.p[who]
+        for _ in range(14):  # the boundary to 1/16000 of the step
+            m = (a + b) / 2
+            if _differs(ctx, fam, sk, dict(nominal, **{who: m})):
+                b = m
+            else:
+                a = m
+        edge = round((a + b) / 2, 4)
+        lo1, hi1, lo2, hi2 = dict(lo), dict(hi), dict(lo), dict(hi)
+        if change.p[who] > nominal[who]:
+            hi1[who], lo2[who] = edge, edge
+            c1, c2 = f"{who} < {_num(edge)}", f"{who} >= {_num(edge)}"
+        else:
+            lo1[who], hi2[who] = edge, edge
+            c1, c2 = f"{who} >= {_num(edge)}", f"{who} < {_num(edge)}"
+        # the other side's own nominal: the middle of its range, else the set that changed
+        mid = dict(nominal, **{who: round((lo2[who] + hi2[who]) / 2, 4)})
+        if not _valid(fam, _trace(fam.mod, mid, fam.free), mid, lo2, hi2):
+            mid = change.p
+        todo.append((lo1, hi1, nominal, cuts + [c1]))
+        todo.append((lo2, hi2, mid, cuts + [c2]))
+    return done
+
+
+# ------------------------------------------------------------------------------------------
+# rendering
+# ------------------------------------------------------------------------------------------
+
+@dataclass
+class Rendered:
+    text: str
+    var: dict[str, str]
+    dialect: str
+
+
+def _letters(free: list[str]) -> dict[str, str]:
+    """FANUC argument letters for the parameters: the name's first letter where free, else
+    the next free one in the table's order."""
+    if len(free) > len(FANUC_ARGS):
+        raise PlanError(f"the family has {len(free)} parameters; a FANUC G65 call passes at "
+                        f"most {len(FANUC_ARGS)} (its argument letters)")
+    out: dict[str, str] = {}
+    left = list(FANUC_ARGS)
+    for k in free:
+        first = k[0].upper()
+        letter = first if first in left else left[0]
+        left.remove(letter)
+        out[k] = letter
+    return out
+
+
+def _box_checks(pc: Piece) -> list[Check]:
+    out = []
+    for k in pc.fam.free:
+        out.append(Check([(">=", ("p", k), ("c", pc.lo[k])), ("<=", ("p", k), ("c", pc.hi[k]))],
+                         f"{k} outside {_num(pc.lo[k])}..{_num(pc.hi[k])}", [k]))
+    for c, v in pc.tr.branches:
+        out.append(Check([c if v else ("not", c)], "shape changes", sorted(_params_of(c))))
+    return out
+
+
+class _Checks:
+    def __init__(self, checks: list[Check]):
+        self.checks = checks
+
+
+def _fanuc_checks(checks: list[Check], lets: Lets) -> list[str]:
+    out = []
+    ops = {"<": "LT", "<=": "LE", ">": "GT", ">=": "GE"}
+    neg = {"<": "GE", "<=": "GT", ">": "LE", ">=": "LT"}
+    for i, ch in enumerate(checks):
+        msg = re.sub(r"[^A-Z0-9 ,.=<>+-]", "", ch.message.upper().replace("(", "").replace(")", ""))
+        names = " ".join(n.upper() for n in ch.names)[:26] or "PARAMETERS"
+        for c in ch.conds:  # FANUC: one IF per failing condition, GOTO-free
+            if c[0] == "not":
+                c2 = c[1]
+                line = f"IF [{lets.expr(c2[1])} {ops[c2[0]]} {lets.expr(c2[2])}]"
+            else:
+                line = f"IF [{lets.expr(c[1])} {neg[c[0]]} {lets.expr(c[2])}]"
+            out.extend(lets.lines)
+            lets.lines.clear()
+            out.append(f"{line} THEN #3000={min(100 + i, 200)}({names})")
+        del msg
+    return out
+
+
+def render_program(pieces_or_one: Piece, dialect: str = "hnc21t", values: dict | None = None,
+                   rows: list[dict[str, Any]] | None = None, row: int = 1, number: int = 1,
+                   note: str = "") -> Rendered:
+    """The macro program of one piece: the main program with ``values`` (default: the
+    nominal set) or with the table ``rows`` (the operator's row number ``row``), and the
+    macro subprogram."""
+    pc = pieces_or_one
+    fam = pc.fam
+    vals = dict(pc.nominal, **(values or {}))
+    sub = 1000 + number if number < 9000 else number - 1000
+    fanuc = dialect == "fanuc0it"
+    checks = list(pc.tr.checks) + _box_checks(pc)
+    if fanuc:
+        letters = _letters(fam.free)
+        var = {k: f"#{FANUC_ARGS[letters[k]]}" for k in fam.free}
+        lets = Lets(var, dialect, first=100, last=199)
+    else:
+        first = HNC_FIRST + (1 if rows else 0)
+        var = {k: f"#{first + i}" for i, k in enumerate(fam.free)}
+        if first + len(fam.free) > HNC_LAST:
+            raise PlanError(f"the family has {len(fam.free)} parameters: more than the "
+                            f"HNC-21T's globals #{HNC_FIRST}-#{HNC_LAST} hold")
+        lets = Lets(var, dialect, first=first + len(fam.free), last=HNC_LAST)
+    from pathlib import Path
+    head = [f"(MACRO PROGRAM OF THE FAMILY {Path(fam.path).stem})",
+            f"(STOCK {pc.stock} - ONE STOCK FOR THE WHOLE DOMAIN, THE LARGEST VARIANT'S)",
+            "(COMPENSATION CONTROL: PART PROFILE WITH G41/G42)",
+            "(PROVEN FOR " + " ".join(f"{k.upper()} {_num(pc.lo[k])}..{_num(pc.hi[k])}"
+                                      for k in fam.free) + ")"]
+    if pc.bounds:
+        head.append("(THIS PIECE OF THE DOMAIN: " + ", ".join(b.upper() for b in pc.bounds) + ")")
+    if note:
+        head.append(f"({note})")
+    fixed = [k for k, v in fam.params.items() if k not in fam.free]
+    if fixed:
+        head.append("(FIXED " + " ".join(f"{k.upper()}={_fmt(fam.params[k])}" for k in fixed) + ")")
+    # the subprogram first (its temporaries are numbered after the checks')
+    body_lets_start = None
+    main: list[str] = []
+    if fanuc:
+        main += ["%", f"O{number:04d}"] + head
+        check_lines = []  # the checks live in the macro (G65 passes the arguments)
+        def argtext(p):
+            return " ".join(f"{letters[k]}{_num(float(p[k]))}" + ("." if "." not in _num(float(p[k])) else "")
+                            for k in fam.free)
+        if rows:
+            main.append(f"(ONE CALL PER TABLE ROW: {len(rows)} ROWS)")
+            for r in rows:
+                main.append(f"G65 P{sub} {argtext(dict(vals, **r))}")
+        else:
+            for k in fam.free:
+                main.append(f"({letters[k]} = {k.upper()})")
+            main.append(f"G65 P{sub} {argtext(vals)}")
+        main.append("M30")
+        check_lines = _fanuc_checks(checks, lets)
+    else:
+        main += [f"%{number:04d}"] + head
+        if rows:
+            main.append(f"#{HNC_FIRST}={row} (ROW: THE TABLE ROW TO MAKE, 1-{len(rows)})")
+            for i, r in enumerate(rows, 1):
+                rv = dict(vals, **r)
+                main.append(f"IF [#{HNC_FIRST} EQ {i}]")
+                main += [f"{var[k]}={_num(float(rv[k]))} ({k.upper()})" for k in fam.free]
+                main.append("ENDIF")
+            main += [f"IF [[#{HNC_FIRST} LT 1] OR [#{HNC_FIRST} GT {len(rows)}]]",
+                     "(NO SUCH TABLE ROW)", "M30", "ENDIF"]
+        else:
+            main += [f"{var[k]}={_num(float(vals[k]))} ({k.upper()})" for k in fam.free]
+        main += hnc_checks(_Checks(checks), lets)
+        main += [f"M98 P{sub}", "M30"]
+        check_lines = []
+    body: list[str] = []
+    for s in pc.slots:
+        if s.kind == "fit":
+            lets.expr(s.node)
+    pre = list(lets.lines)
+    lets.lines.clear()
+    by_block: dict[int, list[Slot]] = {}
+    for s in pc.slots:
+        by_block.setdefault(s.block, []).append(s)
+    bmap = {b.line: i for i, b in enumerate(pc.blocks)}
+    floating = {b.line: b.droppable for b in blocks(pc.text) if b.floating}
+    lines = pc.text.splitlines()
+    start = 1
+    if fanuc:
+        start = next(i for i, ln in enumerate(lines) if ln.startswith("O")) + 1
+    else:
+        start = next(i for i, ln in enumerate(lines) if ln.startswith("%")) + 1
+    notes: list[str] = []
+    for i, raw in enumerate(lines[start:], start + 1):
+        if raw.strip() == "%":
+            continue
+        bi = bmap.get(i)
+        if bi is None and i in floating:
+            if not floating[i]:
+                body.append(raw)
+            continue
+        if bi is None:
+            if raw.lstrip().startswith("(PARAMETERS") or raw.lstrip().startswith("(STOCK") \
+                    or raw.lstrip().startswith("(PART") or raw.lstrip().startswith("(COMPENSATION"):
+                continue
+            body.append(raw)
+            continue
+        b = pc.blocks[bi]
+        out = raw
+        for s in sorted(by_block.get(bi, []), key=lambda s: -b.words[s.word].span[0]):
+            w = b.words[s.word]
+            a, e = w.span
+            if s.kind == "fit":
+                rep = f"[{lets.expr(s.node)}]"
+            elif s.kind == "bound":
+                rep = _num(s.value) if not fanuc or w.letter == "S" else _num(s.value)
+                notes.append(s.note)
+            else:
+                continue
+            out = out[:a] + rep + out[e:]
+        if re.search(r"\bM30\b", out) and bi is not None:
+            out = re.sub(r"\bM30\b", "M99", out)
+        body.append(out)
+    sub_head = [f"%{sub}" if not fanuc else f"O{sub}"]
+    sub_head += [f"({n})" for n in dict.fromkeys(notes)]
+    text = "\n".join(main + sub_head + check_lines + pre + body) + "\n"
+    if fanuc:
+        text += "%\n"
+    del body_lets_start
+    return Rendered(text, var, dialect)
+
+
+# ------------------------------------------------------------------------------------------
+# proof
+# ------------------------------------------------------------------------------------------
+
+def _compare(a: Any, b: Any, where: str) -> str | None:
+    ma = [m for m in a.moves if m.kind != "dwell"]
+    mb = [m for m in b.moves if m.kind != "dwell"]
+    if len(ma) != len(mb):
+        return f"{where}: {len(ma)} moves where the per-variant program makes {len(mb)}"
+    worst = 0.0
+    for x, y in zip(ma, mb):
+        if x.kind != y.kind:
+            return f"{where}: a {x.kind} move (line {x.line}) where the per-variant program " \
+                   f"makes a {y.kind} (line {y.line})"
+        worst = max(worst, abs(x.end[0] - y.end[0]) * 2, abs(x.end[1] - y.end[1]))
+    if worst > 0.001:
+        return f"{where}: the toolpath is {worst:.4f} mm from the per-variant program's"
+    return None
+
+
+def check_program(ctx: Ctx, pc: Piece, sets: list[tuple[str, dict[str, Any], Any]],
+                  machine: Any, tools: Any, tol: float) -> list[dict[str, Any]]:
+    """Run each (label, parameter set, rendered program) through the interpreter, simulate
+    and verify it against its variant's model; the results (``ok``, ``message``)."""
+    from ..errors import NCError
+    from ..nc import run
+    from ..tooling import Stock
+    from .api import _load_part, _verify
+    stock = Stock.parse(ctx.stock)
+    out = []
+    for label, p, rend in sets:
+        res: dict[str, Any] = {"set": label, "params": _pset(p, pc.fam.free), "ok": False}
+        try:
+            tp = run(rend.text, machine=machine, file="<macro>", start="reference",
+                     dialect=ctx.dialect)
+        except NCError as e:
+            res["message"] = f"the macro program raises an alarm: {e.one_line()}"
+            out.append(res)
+            continue
+        ref = run(ctx.program(p), machine=machine, file="<variant>", start="reference",
+                  dialect=ctx.dialect)
+        diff = _compare(tp, ref, "toolpath")
+        if diff:
+            res["message"] = diff
+            out.append(res)
+            continue
+        prof = _load_part(pc.fam.path, {k: _fmt(v) for k, v in p.items()})[0]
+        rep = _verify(prof, None, stock, tp, machine, tools, tol)
+        if rep is None:
+            res.update(ok=True, message="not verified: the simulator is not available")
+        elif not rep.passed:
+            res["message"] = "fails verification: " + rep.summary().replace("\n", "; ")
+        else:
+            res.update(ok=True, message="pass", overcut=rep.max_overcut_mm,
+                       undercut=rep.max_undercut_mm)
+        out.append(res)
+    return out
+
+
+def piece_of(pieces: list[Piece], p: dict[str, Any]) -> Piece | None:
+    for pc in pieces:
+        if _valid(pc.fam, pc.tr, p, pc.lo, pc.hi):
+            return pc
+    return None
