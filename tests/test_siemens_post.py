@@ -511,3 +511,17 @@ def test_corner_words_next_to_arcs_in_cr_and_ik_form():
     wrong = list(cr)
     wrong[1] = Block("ccw", *t2, r=2.5)
     assert [w for _, w, _ in corner_blocks(wrong, (20.0, 0.0))][:2] == ["", ""]
+
+
+def test_summary_names_the_802_program_and_its_lcyc95_finish():
+    ctrl = generate(PARTS / "stepped_shaft.py", dialect="siemens802", comp="control", verify=False)
+    cam = generate(PARTS / "stepped_shaft.py", dialect="siemens802", comp="cam", verify=False)
+    assert ctrl.summary().startswith("%_N_STEPPED_SHAFT_MPF: face G1, rough LCYC95, finish LCYC95,")
+    # the tip path (CAM compensation) calls the contour subprogram: no LCYC95 finishing
+    assert cam.summary().startswith("%_N_STEPPED_SHAFT_MPF: face G1, rough LCYC95, finish contour,")
+    assert "R105=5" in ctrl.text and "R105=5" not in cam.text
+    # HNC and FANUC: their program number and their own names, as before
+    hnc = generate(PARTS / "stepped_shaft.py", comp="control", verify=False)
+    fanuc = generate(PARTS / "stepped_shaft.py", dialect="fanuc0it", comp="control", verify=False)
+    assert hnc.summary().startswith("O0001 stepped_shaft: face G01, rough G71, finish contour,")
+    assert fanuc.summary().startswith("O0001 stepped_shaft: face G01, rough G71, finish G70,")

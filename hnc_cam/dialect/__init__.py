@@ -77,6 +77,9 @@ class Dialect:
     repeatable_groups: frozenset = frozenset()
     #: alarm texts of the shared executor: "unknown_g" (format fields g), "two_in_group" (g, grp)
     messages: Mapping[str, str] = field(default_factory=dict)
+    #: the name a generated program is shown by, from its number and the part's name (None:
+    #: ``O0001 NAME``, the HNC/FANUC program number)
+    program_title: Optional[Callable[[int, str], str]] = None
 
     def syntax(self, calculator: bool = False, block_delete: bool = False):
         """The reader of this dialect (``load``, ``parse_statement``, ``fast_words``)."""

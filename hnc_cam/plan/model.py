@@ -402,15 +402,22 @@ class Plan:
                 return o
         raise ValueError(f"no operation has the contour labelled {op.ns!r}")
 
-    def label_key(self, op: Operation) -> str:
+    def label_key(self, op: Operation, labels: Any = None) -> str:
         """The key of ``op`` in a dialect's cycle names (``labels.j2``): its role, with
         ``_cycle``/``_passes`` for facing, ``_pockets`` for a bore with undercuts and
-        ``_roughed`` for a finishing contour a roughing cycle carries."""
+        ``_roughed`` for a finishing contour a roughing cycle carries. Given the dialect's
+        ``labels``, a key they name more precisely is preferred: ``finish_roughed_comp`` for
+        such a finish the control compensates, carried by a stock-removal (not a
+        pattern-repeat) roughing (the SINUMERIK runs it as LCYC95 finishing)."""
         if op.kind == "face":
             return f"face_{op.face.method}"
         if op.kind == "rough" and op.rough.side == "id" and op.rough.pockets:
             return "rough_bore_pockets"
         if op.kind == "finish" and self.roughed(op):
+            if (labels is not None and op.nose_comp != "none" and "finish_roughed_comp" in labels
+                    and not any(o.kind == "rough" and o.ns == op.ns and o.rough is not None
+                                and o.rough.strategy == "pattern" for o in self.operations)):
+                return "finish_roughed_comp"
             return "finish_roughed"
         return op.role
 

@@ -21,6 +21,13 @@ def _executor():
     return SiemensInterp
 
 
+def program_title(number: int, name: str) -> str:
+    """The main program's name as the post writes it: ``%_N_NAME_MPF`` (the number is not
+    the 802's)."""
+    from ...post.filters import program_name
+    return f"%_N_{program_name(name)}_MPF"
+
+
 def _make() -> Dialect:
     from . import codes, memory
     return Dialect(
@@ -30,7 +37,7 @@ def _make() -> Dialect:
         memory=memory.MEMORY_MAP, call_letters={}, cycles=_cycles,
         cycle_motion=codes.CYCLE_MOTION, m_cnc=codes.M_CNC,
         features=frozenset({"block_delete", "r_parameters", "named_calls", "labels"}),
-        executor=_executor, messages=codes.MESSAGES)
+        executor=_executor, messages=codes.MESSAGES, program_title=program_title)
 
 
 DIALECT = _make()
