@@ -136,7 +136,8 @@ class Tool:
     hand: str = "R"
     holder: str = ""
     approach: float = 95.0  # holder approach angle kappa_r, deg
-    #: turn | bore | thread | groove | part (a parting blade) | drill | center_drill
+    #: turn | bore | thread | groove | groove_id (an inside grooving bar) | part (a parting
+    #: blade) | drill | center_drill
     kind: str = "turn"
     uses: tuple[str, ...] = ("rough", "finish")
     depth: float = 1.5  # roughing depth of cut per side, mm
@@ -148,7 +149,8 @@ class Tool:
     min_bore: float = 0.0  # smallest bore diameter a boring bar enters, mm
     max_rpm: float = 0.0  # the tool's own spindle limit (0: the machine's), rpm
     dwell_rev: float = 2.0  # spindle revolutions at the bottom of a groove plunge
-    #: a parting blade's reach below the stock's surface (radial, mm; 0 = not limited)
+    #: a parting blade's reach below the stock's surface, an inside grooving bar's beyond
+    #: the bore (radial, mm; 0 = not limited)
     max_depth: float = 0.0
     x_offset: float = 0.0  # diameter
     z_offset: float = 0.0
@@ -597,10 +599,10 @@ TOOL_KEYS = {
     "hand": Key("str", choices=("R", "L", "N"), fold=True),
     "tip": Key("int", 0, 9),
     "approach": Key("float", 0, 180, "deg", lo_open=True),
-    "kind": Key("str", choices=("turn", "bore", "thread", "groove", "part", "drill",
-                                "center_drill")),
+    "kind": Key("str", choices=("turn", "bore", "thread", "groove", "groove_id", "part",
+                                "drill", "center_drill")),
     "uses": Key("strs", choices=("rough", "finish", "face", "profile", "thread", "thread_id",
-                                 "groove", "part", "drill", "center")),
+                                 "groove", "groove_id", "part", "drill", "center")),
     "diameter": Key("float", 0.1, 200, "mm", lo_open=True),
     "point_angle": Key("float", 30, 179, "deg"),
     "flute_length": Key("float", 0.5, 1000, "mm"),

@@ -305,3 +305,46 @@ def test_material_table_limits_drill_speed():
     # 304: at most 18 m/min: 286 rpm at 20 mm
     assert drill.speed == math.floor(18.0 * 1000 / (math.pi * 20.0))
     assert drill.feed == 0.2
+
+
+# ---------------------------------------------------------------- inside thread and relief
+
+@pytest.mark.parametrize("comp", ["cam", "control"])
+def test_nut_from_solid_with_an_inside_thread_into_an_inside_relief(comp):
+    prog = generate(FRESH / "nut_m24.py", comp=comp)
+    assert prog.report.passed, prog.report.summary()
+    ops = prog.plan.operations
+    names = [op.name for op in ops]
+    assert names.index("drill") < names.index("bore_rough") < names.index("bore_finish") \
+        < names.index("groove") < names.index("thread")
+    groove = ops[names.index("groove")]
+    assert groove.tool.kind == "groove_id" and groove.tool.number == 15
+    # the 3 mm relief Z-13..-16 out to diameter 25.5, one plunge of the 3 mm insert with its
+    # -Z corner at Z-16, in and out of the bore along Z inside the minor diameter less 2 mm
+    moves = [m for m in _moves(prog, 15) if m.kind in ("rapid", "line")]
+    x_in = round((24 - 1.0825 * 1.5) / 2 - 1.0, 3)  # as the program writes it
+    ends = [(round(m.end[0], 4), round(m.end[1], 4)) for m in moves]
+    inside = ends[ends.index((round(x_in, 4), 2.0)):]
+    assert inside[:5] == [(round(x_in, 4), 2.0), (round(x_in, 4), -16.0),
+                          (round(22.376 / 2 - 0.6, 4), -16.0), (12.75, -16.0),
+                          (round(22.376 / 2 - 0.6, 4), -16.0)]
+    assert max(m.end[0] for m in moves if m.kind == "line") == pytest.approx(12.75)
+    # the inside G76 to the major diameter, ending at the relief, depth 0.5413 x 1.5
+    thread = ops[names.index("thread")]
+    assert thread.tool.number == 6 and thread.thread.z_end == pytest.approx(-13.0)
+    assert re.search(r"^N\d+ G76 C1 R0 E0 A60 X24 Z-13 K0\.812 ", prog.text, re.M)
+
+
+def test_nut_parted_off_the_bar_in_fanuc():
+    prog = generate(FRESH / "nut_m24.py", grip=15, dialect="fanuc0it")
+    assert prog.report.passed and prog.plan.operations[-1].kind == "part"
+
+
+def test_inside_groove_narrower_than_the_insert_is_refused(tmp_path, capsys):
+    r = 11.0
+    f = _part(tmp_path, "ring2", [(r + 1, 0), (17, 0), (17, -20), (r, -20), (r, -12),
+                                  (12.5, -12), (12.5, -10), (r, -10), (r, -1)], "36x45+1")
+    err = _refused(tmp_path, capsys, f)
+    assert ("inside groove from Z-10 to Z-12 (2 mm wide, out to diameter 25) in the bore of "
+            "diameter 22: no boring bar reaches it and no inside grooving tool in the library "
+            "cuts it; it needs a kind = \"groove_id\" tool at most 2 mm wide") in err

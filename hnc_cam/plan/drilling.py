@@ -366,3 +366,100 @@ def _drill_op(t: Tool, z_end: float, d: float, z_face: float, z_a: float, machin
                      reason=reason, start=(0.0, z_a), spindle="rpm", speed=rpm, feed=f,
                      drill=cut, contour=[Line((0.0, z_clear), (0.0, z_end))],
                      retract=[(0.0, z_a)])
+
+
+# ------------------------------------------------------------------------------------------
+# inside reliefs and ring grooves
+# ------------------------------------------------------------------------------------------
+
+#: the inside grooving tool backs out this far inside the bore between plunges, mm (radius)
+ID_CLEAR = 0.6
+
+
+def bridge_id_grooves(norm: list[Segment], bars: Sequence[Tool], lib: ToolLibrary,
+                      machine: Machine, name: str, z_a: float
+                      ) -> tuple[list[Segment], list[Operation]]:
+    """Square grooves in the bore (``norm``: the bore mirrored to OD form) that no boring bar
+    of ``bars`` reaches: bridged at the bore's diameter for the bar, and plunged with the
+    library's inside grooving tool (``kind = "groove_id"``): the widest insert not wider
+    than the groove whose bar enters the bore there (``min_bore``) and reaches the groove's
+    bottom (``max_depth``). Returns the bridged chain and the grooving operations (after
+    the bore's finishing). A square groove no such tool cuts is refused, naming the tool it
+    needs; other undercuts are left to the caller."""
+    from . import analysis as an
+    from .planner import GROOVE_FINISH, rpm_limit
+    from .tools import back_reach
+    items = an.pocket_items(norm)
+    pockets = [it for it in items if isinstance(it, an.Pocket)]
+    if not pockets:
+        return norm, []
+    tools = [t for t in lib.tools if t.kind == "groove_id"]
+    bridged: set[int] = set()
+    ops: list[Operation] = []
+    for p in pockets:
+        if any(back_reach(t) >= p.max_descent - 1e-9 for t in bars):
+            continue
+        sq = an.square_groove(p)
+        if sq is None:
+            continue
+        z_l, z_r, xb = sq
+        r_b, r_l = -xb, -p.level
+        width = z_r - z_l
+        label = (f"inside groove from Z{_fmt(z_r)} to Z{_fmt(z_l)} ({_fmt(width)} mm wide, out to "
+                 f"diameter {_fmt(2 * r_b)}) in the bore of diameter {_fmt(2 * r_l)}")
+        fits = [t for t in tools if 0 < t.insert.width <= width + 1e-9
+                and t.min_bore <= 2 * r_l + 1e-9
+                and (t.max_depth <= 0 or t.max_depth >= r_b - r_l - 1e-9)]
+        if not fits:
+            have = ", ".join(f"T{t.number:02d} {t.insert.width:g} mm (min_bore {t.min_bore:g}, "
+                             f"reach {t.max_depth:g})" for t in tools) or "none"
+            raise PlanError(f"part {name}: {label}: no boring bar reaches it and no inside "
+                            f"grooving tool in the library cuts it; it needs a kind = "
+                            f"\"groove_id\" tool at most {_fmt(width)} mm wide entering diameter "
+                            f"{_fmt(2 * r_l)} and reaching {_fmt(r_b - r_l)} mm deep (inside "
+                            f"grooving tools in the library: {have})")
+        t = max(fits, key=lambda t: t.insert.width)
+        # inside the bore all the way from the face to the groove
+        r_path = min(min(-s.start[0], -s.end[0]) for s in norm
+                     if max(s.start[1], s.end[1]) > z_r - 1e-9)
+        x_in = max(0.0, min(r_path, r_l) - 1.0)
+        bridged.add(id(p))
+        ops.append(_groove_id_op(t, z_l, z_r, r_b, r_l, x_in, z_a, rpm_limit(t, machine),
+                                 GROOVE_FINISH, label))
+    if not bridged:
+        return norm, []
+    return an.assemble(items, bridge=lambda p: id(p) in bridged), ops
+
+
+def _groove_id_op(t: Tool, z_l: float, z_r: float, r_b: float, r_l: float, x_in: float,
+                  z_a: float, max_rpm: float, finish: float, label: str) -> Operation:
+    """Plunges outward with the inside grooving insert (controlled point: its corner at -Z),
+    each back in to :data:`ID_CLEAR` inside the bore; a dwell at the bottom; a groove wider
+    than the insert plunged leaving ``finish`` on its walls and bottom, then finished in one
+    pass (as the outside grooves, mirrored)."""
+    from .model import GrooveCut, GrooveFinish
+    w = t.insert.width
+    wide = z_r - z_l - w > 1e-6
+    fa = finish if wide and z_r - z_l - w > 2 * finish + 1e-6 else 0.0
+    first, last = z_r - w - fa, z_l + fa
+    step = max(0.1 * w, w - 2 * t.nose_radius - 0.05)
+    n = max(1, math.ceil((first - last) / step - 1e-9) + 1) if first - last > 1e-9 else 1
+    pos = [first - (first - last) * i / (n - 1) for i in range(n)] if n > 1 else [last]
+    rpm = t.vc_finish * 1000.0 / (2 * math.pi * max(r_b, 1e-3))
+    capped = rpm > max_rpm
+    rpm = min(max_rpm, rpm)
+    dwell = round(t.dwell_rev * 60.0 / rpm, 2)
+    cut = GrooveCut(x_bottom=r_b - fa, x_clear=r_l - ID_CLEAR, dwell=max(dwell, 0.05))
+    if fa > 0:
+        cut.finish = GrooveFinish(z_right=z_r - w, z_left=z_l, x_bottom=r_b)
+    op = Operation(
+        name="groove", kind="groove", tool=t,
+        reason=(f"{label}: no boring bar reaches its walls; plunged with {describe(t)} in "
+                f"{len(pos)} plunge{'s' if len(pos) > 1 else ''}"
+                + (", then one finishing pass on the walls and bottom" if fa > 0 else "")
+                + f", in and out of the bore along Z at diameter {_fmt(2 * x_in)}"),
+        start=(x_in, pos[0]), spindle="rpm" if capped else "css",
+        speed=rpm if capped else t.vc_finish, feed=t.feed_finish, passes=pos, groove=cut)
+    op.approach = [(x_in, z_a), (None, pos[0])]
+    op.retract = [(x_in, z_a)]
+    return op

@@ -237,9 +237,9 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
         bore_ops = list(hole.ops)
         if hole.bar_chain:
             bore_ops += _plan_bore(hole.bar_chain, stock, tools, opts, name, z_a,
-                                   hole=hole.entry, x_hole=hole.radius)
+                                   hole=hole.entry, x_hole=hole.radius, machine=machine)
     elif bore_chain:
-        bore_ops = _plan_bore(bore_chain, stock, tools, opts, name, z_a)
+        bore_ops = _plan_bore(bore_chain, stock, tools, opts, name, z_a, machine=machine)
 
     rough_od, finish_od = od_ops
     ops.extend(rough_od)
@@ -280,7 +280,8 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
     prev = None
     for op in ops + [None]:
         kind = prev.tool.kind if prev is not None else "turn"
-        first = "z" if kind == "bore" or machine.tool_change[0] < r_stock + opts.clearance else "x"
+        first = "z" if kind in ("bore", "groove_id") or \
+            machine.tool_change[0] < r_stock + opts.clearance else "x"
         if op is None:
             plan.leave_first = first
         else:
@@ -1081,7 +1082,7 @@ def _groove_op(t: Tool, z_l: float, z_r: float, x_b: float, level: float,
 
 def _plan_bore(chain: list[Segment], stock: Stock, lib: ToolLibrary, opts: Options, name: str,
                z_a: float, hole: float | None = None,
-               x_hole: float | None = None) -> list[Operation]:
+               x_hole: float | None = None, machine: Machine | None = None) -> list[Operation]:
     """Rough and finish a bore from the tube's hole, or from a drilled ``hole`` (the diameter
     the bar enters; ``x_hole``: the radius the roughing cycle starts from, the smallest hole
     drilled)."""
@@ -1122,6 +1123,11 @@ def _plan_bore(chain: list[Segment], stock: Stock, lib: ToolLibrary, opts: Optio
                          f"operation")
             norm = norm[:k] + [Line(tail[0].start, (tail[0].start[0], z1))]
             chain = an.mirror_chain(norm)
+    # square grooves no boring bar reaches (reliefs, ring grooves): plunged with the inside
+    # grooving tool after the finishing, bridged for the bar
+    from .drilling import bridge_id_grooves
+    norm, id_grooves = bridge_id_grooves(norm, fits, lib, machine, name, z_a)
+    chain = an.mirror_chain(norm)
     items = an.pocket_items(norm)
     pockets = [it for it in items if isinstance(it, an.Pocket)]
     monotonic = not pockets
@@ -1172,7 +1178,7 @@ def _plan_bore(chain: list[Segment], stock: Stock, lib: ToolLibrary, opts: Optio
                    else f" (G41 from register {fin_t.register})")),
         start=start, speed=fin_t.vc_finish, feed=fin_t.feed_finish, blocks=blocks, ns=ns,
         nf=nf, nose_comp=comp, contour=prog, retract=_retract([(x_a, last[1]), (x_a, z_a)], blocks))
-    return [rough, finish]
+    return [rough, finish] + id_grooves
 
 
 # ------------------------------------------------------------------------------------------

@@ -156,7 +156,7 @@ def apply_material(lib: ToolLibrary, material: dict) -> ToolLibrary:
                 kw["vc_rough"] = _clip(t.vc_rough, d["vc"])
             if "feed" in d:
                 kw["feed_rough"] = _clip(t.feed_rough, d["feed"])
-        elif t.kind == "groove":
+        elif t.kind in ("groove", "groove_id"):
             if "vc" in g:
                 kw["vc_finish"] = _clip(t.vc_finish, g["vc"])
             if "feed" in g:
