@@ -242,6 +242,11 @@ def _check_fields(t: Thread, where: str) -> None:
         (t.z_start > t.z_end, f"z_start={t.z_start!r} must be greater than z_end="
                               f"{t.z_end!r} (z_start is the end nearer the right face)"),
         (0 < t.angle < 180, f"angle={t.angle!r} must be between 0 and 180 deg"),
+        (isinstance(t.taper, (int, float)) and math.isfinite(t.taper) and abs(t.taper) <= 0.25,
+         f"taper={t.taper!r} must be a diameter change per mm between -0.25 and 0.25 "
+         f"(1:16 = 0.0625)"),
+        (not (t.internal and t.taper), "an internal taper thread is not supported (only "
+                                       "external taper threads)"),
     ) if not ok]
     if bad:
         raise PartError(f"{where}: THREADS: {t}: {'; '.join(bad)}")
@@ -483,13 +488,14 @@ _THREAD_RE = re.compile(rf"M?({_NUM})[xX]({_NUM})@({_NUM})(?::|\.\.)({_NUM})((?:
 def parse_thread(spec: str) -> Thread:
     """A thread given on the command line (``--thread``), for a STEP file, which cannot
     declare one, or in addition to a part file's ``THREADS``: ``[M]DxP@ZSTART:ZEND`` with
-    options ``,starts=N`` ``,internal`` ``,angle=DEG``; Z in program coordinates (right face
-    Z0), ``ZSTART`` the end nearer the right face. ``M20x1.5@0:-22``,
-    ``M30x2@-5:-25,internal``."""
+    options ``,starts=N`` ``,internal`` ``,angle=DEG`` ``,taper=1:16`` (or the diameter
+    change per mm, ``taper=0.0625``; D is then the largest major diameter); Z in program
+    coordinates (right face Z0), ``ZSTART`` the end nearer the right face.
+    ``M20x1.5@0:-22``, ``M30x2@-5:-25,internal``."""
     text = spec.strip()
     m = _THREAD_RE.fullmatch(text)
     bad = (f"--thread {spec!r}: expected [M]DxP@ZSTART:ZEND[,starts=N][,internal]"
-           f"[,angle=DEG], e.g. M20x1.5@0:-22")
+           f"[,angle=DEG][,taper=1:16], e.g. M20x1.5@0:-22")
     if m is None:
         raise PartError(bad)
     d, p, z0, z1 = (float(m.group(i)) for i in (1, 2, 3, 4))
@@ -507,9 +513,12 @@ def parse_thread(spec: str) -> Thread:
                 kw["starts"] = int(n)
             elif key == "angle" and val:
                 kw["angle"] = float(val)
+            elif key == "taper" and val:
+                a, colon, b = val.partition(":")
+                kw["taper"] = float(a) / float(b) if colon else float(val)
             else:
                 raise ValueError
-        except ValueError:
+        except (ValueError, ZeroDivisionError):
             raise PartError(f"{bad} (not understood: {opt!r})") from None
     t = Thread(z_start=z0, z_end=z1, diameter=d, pitch=p, **kw)
     _check_fields(t, f"--thread {spec!r}")
@@ -551,6 +560,20 @@ def _check_threads(prof: TurnedProfile, threads: list[Thread], where: str) -> No
                             f"(Z{prof.z_max:g}..Z{prof.z_min:g})")
         zs = [t.z_start + (t.z_end - t.z_start) * (i + 0.5) / 17 for i in range(17)]
         major = t.diameter / 2
+        if not t.internal and t.taper:
+            # a taper thread: the part under the taper line at every point, above its root
+            for z in zs:
+                r = max(_radii(prof.outside, z), default=0.0)
+                d = t.major_at(z)
+                if r > d / 2 + 0.01:
+                    raise PartError(f"{where}: {name}: the part is {2 * r:.3f} in diameter at "
+                                    f"Z{z:.3f}, larger than the taper thread's major diameter "
+                                    f"{d:.3f} there")
+                if r < d / 2 - t.depth:
+                    raise PartError(f"{where}: {name}: the part is only {2 * r:.3f} in diameter "
+                                    f"at Z{z:.3f}, under the taper thread's minor diameter "
+                                    f"{d - 2 * t.depth:.3f} there: nothing to thread")
+            continue
         if not t.internal:
             rmax = max(max(_radii(prof.outside, z), default=0.0) for z in zs)
             if rmax > major + 0.01:

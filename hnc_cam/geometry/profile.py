@@ -19,7 +19,11 @@ class Thread:
     ``z_start`` is the end nearer the right face (larger Z), ``z_end`` the end toward the
     chuck; ``diameter`` the nominal (major) diameter; ``pitch`` the pitch; ``starts`` the
     number of starts (lead = pitch * starts); ``internal`` for a thread in the bore;
-    ``standard`` such as ``"metric"`` (ISO 60 deg); ``angle`` the profile angle.
+    ``standard`` such as ``"metric"`` (ISO 60 deg); ``angle`` the profile angle; ``taper``
+    the change of the diameter per mm of length from ``z_start`` toward ``z_end`` (a taper
+    thread: 1/16 = 0.0625 for NPT/BSPT, whose diameter grows toward the chuck; negative for
+    one narrowing toward the chuck; 0 straight). On a taper thread ``diameter`` is the
+    largest major diameter: at ``z_end`` for a positive taper, at ``z_start`` for a negative.
     """
     z_start: float
     z_end: float
@@ -29,10 +33,17 @@ class Thread:
     internal: bool = False
     standard: str = "metric"
     angle: float = 60.0
+    taper: float = 0.0
 
     @property
     def lead(self) -> float:
         return self.pitch * self.starts
+
+    def major_at(self, z: float) -> float:
+        """The major diameter at ``z`` (the taper line, also beyond the thread's ends)."""
+        if self.taper >= 0:
+            return self.diameter - self.taper * (z - self.z_end)
+        return self.diameter + self.taper * (self.z_start - z)
 
     @property
     def depth(self) -> float:
@@ -42,8 +53,15 @@ class Thread:
 
     @property
     def minor_diameter(self) -> float:
-        """Minor diameter the thread must reach (external: d3 = d - 1.2269 P)."""
-        return self.diameter - 2 * self.depth if not self.internal else self.diameter - 1.0825 * self.pitch
+        """Minor diameter the thread must reach (external: d3 = d - 1.2269 P). On a taper
+        thread the smallest along its full form, one pitch in from its small end (where
+        verification measures the thread from)."""
+        d = self.diameter
+        if self.taper > 0:
+            d = self.major_at(self.z_start - self.pitch)
+        elif self.taper < 0:
+            d = self.major_at(self.z_end + self.pitch)
+        return d - 2 * self.depth if not self.internal else d - 1.0825 * self.pitch
 
 
 @dataclass

@@ -158,7 +158,9 @@ class ThreadCut:
     cycle block per radius of the operation's ``passes``, the last repeated). ``height``:
     thread depth (radius); ``first_depth``, ``min_depth``, ``finish_allowance`` (radius);
     ``finish_passes``; ``runout_z``/``runout_x``: the run-out at the end (Z length, X rise,
-    radius; 0 = none); ``angle`` of the profile; ``starts`` and the spindle ``start_angles``."""
+    radius; 0 = none); ``angle`` of the profile; ``starts`` and the spindle ``start_angles``;
+    ``taper``: the root's radius change per mm toward +Z (a taper thread; 0 straight): a
+    dialect's taper word is ``taper`` times the Z from its cycle's start to its end."""
     method: str
     x_root: float
     z_end: float
@@ -173,6 +175,7 @@ class ThreadCut:
     finish_passes: int = 1
     runout_z: float = 0.0
     runout_x: float = 0.0
+    taper: float = 0.0
 
 
 @dataclass

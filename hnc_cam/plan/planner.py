@@ -121,7 +121,7 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
     outside = an.translate_chain(profile.outside, shift)
     bore = an.translate_chain(profile.bore, shift) if profile.bore else None
     threads = [Thread(t.z_start + shift, t.z_end + shift, t.diameter, t.pitch, t.starts,
-                      t.internal, t.standard, t.angle) for t in profile.threads]
+                      t.internal, t.standard, t.angle, t.taper) for t in profile.threads]
     prof = TurnedProfile(outside=outside, bore=bore, threads=threads, name=profile.name,
                          params=dict(profile.params), notes=list(profile.notes))
     z_min = prof.z_min
@@ -1225,8 +1225,16 @@ def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stoc
     chain = bore if th.internal else od
     if chain is None:
         raise PlanError(f"{label}: the part has no bore for an internal thread")
+    if th.internal and th.taper:
+        raise PlanError(f"{label}: an internal taper thread is not supported (only external "
+                        f"taper threads)")
     sgn = -1.0 if th.internal else 1.0
     r_major = th.diameter / 2
+
+    def dr(z: float) -> float:
+        """The taper: the thread's radii at ``z`` less those at its largest diameter."""
+        return (th.major_at(z) - th.diameter) / 2
+
     depth = th.depth
     r_root = r_major - depth if not th.internal else r_major
     r_crest = r_major if not th.internal else r_major - depth  # the surface the thread is cut in
@@ -1238,9 +1246,9 @@ def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stoc
         # inside the ends by 0.1 um: a shoulder wall at the thread's end is not above it
         z = min(max(z_hi - (z_hi - z_lo) * i / n, z_lo + 1e-4), z_hi - 1e-4)
         r = _radius_at(chain, z, th.internal)
-        if r is not None and sgn * (r - r_crest) > 0.01:
+        if r is not None and sgn * (r - r_crest - dr(z)) > 0.01:
             raise PlanError(f"{label}: the part is at diameter {_fmt(2 * r)} at Z{_fmt(z)}, "
-                            f"beyond the thread's diameter {_fmt(2 * r_crest)}")
+                            f"beyond the thread's diameter {_fmt(2 * (r_crest + dr(z)))}")
     # full form: the thread needs at least two leads where the part stands at the crest
     # diameter (a chamfer at its start is below it); shorter, no turn reaches full depth
     lead = th.lead
@@ -1249,7 +1257,7 @@ def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stoc
     for i in range(m):
         z = z_hi - (z_hi - z_lo) * (i + 0.5) / m
         r = _radius_at(chain, z, th.internal)
-        if r is not None and sgn * (r - r_crest) >= -0.02:
+        if r is not None and sgn * (r - r_crest - dr(z)) >= -0.02:
             full += (z_hi - z_lo) / m
     if full < 2 * lead - 1e-6:
         length = z_hi - z_lo
@@ -1283,9 +1291,10 @@ def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stoc
             # run-out (the thread's own run-out zone); the part must stay below the flank
             # and the crest
             beyond = z_end - z
-            limit = r_crest + 0.005
+            limit = r_crest + dr(z) + 0.005
             if beyond > 0.5 * th.pitch:
-                limit = min(limit, r_root + beyond / math.tan(math.radians(th.angle / 2)))
+                limit = min(limit, r_root + dr(z_end)
+                            + beyond / math.tan(math.radians(th.angle / 2)))
             if r is not None and sgn * (r - (limit if not th.internal else r_root)) > 0.005 \
                     if not th.internal else (r is not None and r - r_root < -0.005):
                 return z
@@ -1307,7 +1316,8 @@ def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stoc
     half = math.radians(th.angle / 2)
     at_wall = _radius_at(chain, z_wall + 0.05, False) if z_wall is not None else None
     if z_wall is not None and z_end - z_wall < need - 1e-9 and not th.internal \
-            and opts.thread_cycle == "g76" and at_wall is not None and at_wall >= r_crest - 0.02:
+            and opts.thread_cycle == "g76" and at_wall is not None \
+            and at_wall >= r_crest + dr(z_wall) - 0.02:
         # no relief (G76 only, the external thread): the cycle's run-out (R toward the wall,
         # E out to the crest) pulls the insert out over one lead; it ends where the leading
         # flank, at the crest, clears the shoulder (as far up as the simulator draws the
@@ -1315,7 +1325,8 @@ def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stoc
         r_sh = max((r for r in (_radius_at(chain, z_wall - d, False) for d in (0.05, 0.5, 2.0))
                     if r is not None), default=r_crest)
         # (G76 shifts each pass's end by its depth along the flank, toward the wall)
-        gap = 0.2 + (min(max(r_sh - r_crest, 0.0), 6.0 * math.cos(half)) + depth) * math.tan(half)
+        gap = 0.2 + (min(max(r_sh - r_crest - dr(z_wall), 0.0), 6.0 * math.cos(half)) + depth) \
+            * math.tan(half)
         z_full = z_wall + gap + lead
         if z_hi - z_full < 2 * lead - 1e-9:
             raise PlanError(f"{label} runs into the shoulder at Z{_fmt(z_wall)} with no relief, and "
@@ -1345,20 +1356,23 @@ def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stoc
     # HNC-21T's encoder-following spindle, n <= 1200 / lead - 80
     rpm = min(t.rpm or 500.0, rpm_limit(t, machine), max(50.0, 1200.0 / lead - 80.0))
     q = round(min(0.5, max(0.1, depth * 0.4)), 3)
-    cut = ThreadCut(method="cycle", x_root=r_root, z_end=z_end, height=depth, lead=lead,
-                    angle=th.angle, starts=th.starts,
+    cut = ThreadCut(method="cycle", x_root=r_root + dr(z_end), z_end=z_end, height=depth,
+                    lead=lead, angle=th.angle, starts=th.starts,
                     start_angles=[360.0 * i / th.starts for i in range(th.starts)],
                     first_depth=q, min_depth=0.05, finish_allowance=0.05, finish_passes=1,
-                    runout_z=run_r, runout_x=run_e)
+                    runout_z=run_r, runout_x=run_e, taper=-th.taper / 2)
     if opts.thread_cycle == "g82":
         npass = max(3, math.ceil((depth / q) ** 2))
-        passes = [r_crest - sgn * depth * math.sqrt(i / npass) for i in range(1, npass + 1)]
+        passes = [r_crest + dr(z_end) - sgn * depth * math.sqrt(i / npass)
+                  for i in range(1, npass + 1)]
         passes.append(passes[-1])  # spring pass
         cut.method = "passes"
         how = f"{len(passes)} single-pass threading cycles (the last a spring pass)"
     else:
         passes = []
         how = "the multiple-pass threading cycle"
+    if th.taper:
+        how += f" along a taper of {_fmt(abs(th.taper))} on the diameter per mm"
     return Operation(
         name="thread", kind="thread", tool=t,
         reason=(f"{label}: {how}, depth {_fmt(depth)} mm ("
