@@ -14,6 +14,8 @@ moves in air; rapids, tool changes and threads are all in the cycle time, not in
 Then the workholding parts (:data:`HELD`), each held in the chuck by its grip: parted off
 from the bar (the part-off in the cycle time; the bound counts the stub left in the chuck
 as removed, so their ratio is low) or, for the long thin shaft, with the stick-out warning.
+Last the parts with holes from solid bar (:data:`FROM_SOLID`): the drilling is in the cycle
+time, not in the bound (its volume counts as removed at the roughing tool's rate).
 
 Run: python benchmarks/quality.py [--comp cam|control] [PART ...]
 """
@@ -32,6 +34,10 @@ sys.path.insert(0, str(REPO))
 #: parts held in the chuck: (part file, grip mm)
 HELD = [(REPO / "tests" / "data" / "turning_parts" / "pin_partoff.py", 20.0),
         (REPO / "tests" / "data" / "turning_parts" / "thin_shaft.py", 15.0)]
+#: holes from solid bar: drilled (spot, pilot, opener, pecks), then bored
+FROM_SOLID = [REPO / "tests" / "data" / "turning_parts" / "blind_bore.py",
+              REPO / "tests" / "data" / "turning_parts" / "stepped_blind_bore.py",
+              REPO / "tests" / "data" / "turning_parts" / "nut_m24.py"]
 
 
 def _finish_time(op, max_rpm: float) -> float:
@@ -79,7 +85,8 @@ def main(argv=None) -> int:
     ap.add_argument("--comp", default="cam", choices=("cam", "control"))
     a = ap.parse_args(argv)
     parts = [(Path(p), None) for p in a.parts] or \
-        [(p, None) for p in sorted((REPO / "parts").glob("*.py"))] + HELD
+        [(p, None) for p in sorted((REPO / "parts").glob("*.py"))] + HELD + \
+        [(p, None) for p in FROM_SOLID]
     print(f"comp {a.comp}; load average {os.getloadavg()[0]:.2f}")
     print(f"{'part':16s} {'cycle s':>8s} {'air %':>6s} {'blocks':>6s} {'tools':>5s} "
           f"{'bound s':>8s} {'cycle/bound':>11s}")

@@ -216,6 +216,15 @@ def test_fanuc_pecks_with_g74(dialect):
     assert feeds == [round(1.0 - 10.902 * k, 3) for k in range(1, 5)] + [-43.605]
 
 
+@pytest.mark.parametrize("comp", ["cam", "control"])
+def test_siemens802_drills_in_plain_blocks(comp):
+    prog = generate(FRESH / "stepped_blind_bore.py", dialect="siemens802", comp=comp)
+    assert prog.report.passed, prog.report.summary()
+    assert re.search(r"^N\d+ G1 Z-43\.605\nN\d+ G4 F0\.18\nN\d+ G0 Z1$", prog.text, re.M)
+    feeds = [round(m.end[1], 3) for m in _moves(prog, 12) if m.kind == "line"]
+    assert feeds == PECKS + [-43.605]
+
+
 def test_generate_cli_drill_style_macro(tmp_path, capsys):
     out = tmp_path / "o.nc"
     rc = main(["generate", str(FRESH / "stepped_blind_bore.py"), "--drill-style", "macro",
