@@ -138,9 +138,15 @@ def test_t_d_edge_radius_and_compensation():
     assert pts(tp, "line") != pts(tp0, "line")
 
 
-def test_edge_without_a_register_alarms():
+def test_edge_without_a_register_alarms(tmp_path):
+    # the default tool library fills registers 1-15: T1 D2 reads register 2; a D that names
+    # neither an edge of the tool nor a register alarms at the D word
+    assert {m.register for m in run("N10 T1 D2\nG0 X20\nM30\n").moves} == {2}
+    p = tmp_path / "m.toml"
+    p.write_text('controller = "siemens802"\nuse_tool_library = false\n'
+                 "[[register]]\nnumber = 1\nradius = 0.4\n")
     with pytest.raises(NCError) as e:
-        run("N10 T1 D2\nM30\n")
+        nc.run("N10 T1 D2\nM30\n", load_machine(str(p)), start=(50.0, 50.0), dialect=S802)
     assert e.value.col == 8 and "edge 2" in e.value.message
 
 
@@ -209,3 +215,19 @@ def test_cli_simulate_an_802_program(tmp_path):
                         "--stock", "50x60", str(p)], capture_output=True, text=True)
     assert r.returncode == 0, r.stderr
     assert "no collisions" in r.stdout
+
+
+def test_d_without_an_edge_register_is_the_register_of_that_number(tmp_path):
+    p = tmp_path / "m.toml"
+    p.write_text('controller = "siemens802"\nuse_tool_library = false\n'
+                 "[[register]]\nnumber = 3\nradius = 0.4\ntip = 3\n"
+                 "[[register]]\nnumber = 5\nradius = 0.8\ntip = 2\n")
+    mach = load_machine(str(p))
+    seen = []
+    d = dataclasses.replace(S802, cycles=lambda: {"LCYC93": lambda ctx: seen.append(ctx.tool_nose())})
+    # T3 D5: tool 3 has no edge 5, register 5 is the tool library's register of this tool
+    tp = nc.run("T3 D5\nG0 X20 Z5\nLCYC93\nM30\n", mach, start=(50.0, 50.0), dialect=d)
+    assert seen == [(0.8, 2)] and {(m.tool, m.register) for m in tp.moves} == {(3, 5)}
+    with pytest.raises(NCError) as e:
+        nc.run("T3 D4\nG0 X20 Z5\nM30\n", mach, start=(50.0, 50.0), dialect=S802)
+    assert (e.value.line, e.value.col) == (1, 4) and "nor a register 4" in e.value.one_line()

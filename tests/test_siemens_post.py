@@ -525,3 +525,59 @@ def test_summary_names_the_802_program_and_its_lcyc95_finish():
     fanuc = generate(PARTS / "stepped_shaft.py", dialect="fanuc0it", comp="control", verify=False)
     assert hnc.summary().startswith("O0001 stepped_shaft: face G01, rough G71, finish contour,")
     assert fanuc.summary().startswith("O0001 stepped_shaft: face G01, rough G71, finish G70,")
+
+
+#: a tool library written by a user whose offsets sit in other registers than the turret
+#: positions: the roughing tool at position 1 keeps its offsets in register 3, the finishing
+#: tool at 2 in register 4, the parting blade at 8 in register 5
+SHIFTED_TOOLS = '''\
+[[tool]]
+number = 1
+register = 3
+name = "OD roughing 80 deg"
+insert = "CNMG120408"
+holder = "PCLNR2525M12"
+tip = 3
+kind = "turn"
+uses = ["rough", "face"]
+depth = 1.5
+
+[[tool]]
+number = 2
+register = 4
+name = "OD finishing 35 deg"
+insert = "VNMG160404"
+holder = "SVJBR2525M16"
+tip = 3
+kind = "turn"
+uses = ["finish", "rough", "profile"]
+depth = 1.0
+
+[[tool]]
+number = 8
+register = 5
+name = "Parting blade 3 mm"
+insert = "GROOVE3.0"
+radius = 0.2
+tip = 4
+kind = "part"
+uses = ["part"]
+max_depth = 26.0
+feed_finish = 0.06
+vc_finish = 100.0
+max_rpm = 1500.0
+'''
+
+
+def test_t_d_names_the_library_register_of_each_tool(tmp_path):
+    lib = tmp_path / "tools.toml"
+    lib.write_text(SHIFTED_TOOLS)
+    prog = generate(PARTS / "stepped_shaft.py", "45x140+2", dialect="siemens802", comp="control",
+                    tools=lib, grip=20)
+    main = [re.sub(r"^N\d+ ", "", b) for b in blocks(next(iter(programs(prog.text).values())))]
+    assert [b for b in main if re.fullmatch(r"T\d+ D\d+", b)] == ["T1 D3", "T2 D4", "T8 D5"]
+    # the 802 reader takes each D as the tool's register: the moves of T2 carry register 4,
+    # whose 0.4 mm nose the control's compensation used; the part verifies
+    regs = {(m.tool, m.register) for m in prog.toolpath.moves if m.kind != "dwell"}
+    assert {(1, 3), (2, 4), (8, 5)} <= regs and not any(t and r == t for t, r in regs)
+    assert prog.report.passed and prog.report.max_overcut_mm <= 0.01

@@ -333,13 +333,20 @@ class SiemensInterp(SiemensMemory, Interp):
         self.tdx = self.tdz = 0.0
 
     def _edge_register(self, b: Blk, tool: int, edge: int) -> int:
+        """Edge ``edge`` of ``tool``: D1 is the register numbered as the tool; D d the machine
+        file's ``[[register]] number = tool, edge = d``, else the register numbered d (the
+        tool library's register of a tool whose register is not its number: the post writes
+        its D so)."""
         if edge == 1:
             return tool
         reg = EDGE_KEY * edge + tool
-        if reg not in self.m.registers:
-            raise self.balarm(b, f"T{tool} D{edge}: the machine file has no register for edge {edge} "
-                                 f"of tool {tool} ([[register]] number = {tool}, edge = {edge})", "D")
-        return reg
+        if reg in self.m.registers:
+            return reg
+        if edge != tool and edge in self.m.registers:
+            return edge
+        raise self.balarm(b, f"T{tool} D{edge}: the machine file has no register for edge {edge} "
+                             f"of tool {tool} ([[register]] number = {tool}, edge = {edge}) nor a "
+                             f"register {edge}", "D")
 
     def tool_nose(self) -> tuple[float, int]:
         reg = self._register(self.reg) if self.reg else None
