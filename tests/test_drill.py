@@ -344,9 +344,14 @@ def test_nut_from_solid_with_an_inside_thread_into_an_inside_relief(comp):
     assert re.search(r"^N\d+ G76 C1 R0 E0 A60 X24 Z-13 K0\.812 ", prog.text, re.M)
 
 
-def test_nut_parted_off_the_bar_in_fanuc():
-    prog = generate(FRESH / "nut_m24.py", grip=15, dialect="fanuc0it")
+@pytest.mark.parametrize("dialect", ["fanuc0it", "haas", "siemens802"])
+def test_nut_parted_off_the_bar_in_every_dialect(dialect):
+    prog = generate(FRESH / "nut_m24.py", grip=15, dialect=dialect)
     assert prog.report.passed and prog.plan.operations[-1].kind == "part"
+    # the relief plunged outward from inside the bore to diameter 25.5
+    plunge = [m for m in _moves(prog, 15) if m.kind == "line"]
+    assert [(round(m.start[0], 3), round(m.end[0], 3), m.end[1]) for m in plunge] == [
+        (10.588, 12.75, -16.0)]
 
 
 def test_inside_groove_narrower_than_the_insert_is_refused(tmp_path, capsys):

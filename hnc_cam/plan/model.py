@@ -280,7 +280,8 @@ class Operation:
     @property
     def role(self) -> str:
         """What the post chooses the template by: face | rough_turn | rough_turn_pockets |
-        rough_face | rough_pattern | rough_bore | finish | groove | thread | thread_passes."""
+        rough_face | rough_pattern | rough_bore | finish | groove | groove_id (inside) | thread |
+        thread_passes | part | drill."""
         if self.kind == "rough":
             r = self.rough
             if r.side == "id":
@@ -290,6 +291,8 @@ class Operation:
             return f"rough_{r.strategy}"
         if self.kind == "thread" and self.thread.method == "passes":
             return "thread_passes"
+        if self.kind == "groove" and self.tool.kind == "groove_id":
+            return "groove_id"
         return self.kind
 
     # -- labels: the HNC-21T code that does the work, kept as the operation's name in
