@@ -99,3 +99,18 @@ def test_deep_brackets_and_long_lines_alarm():
                  "N10 G0 X1\nGOTOB N" + "0" * 30 + "10\nM30", "_" + "A" * 5000 + "\nM30"):
         e = outcome(text)
         assert isinstance(e, NCError) and e.line in (1, 2)
+
+
+CORNER_BLOCKS = ["G1 X20 Z-5", "G1 X30 Z-10 RND=2", "G1 Z-20 CHF=1.5", "G2 X40 Z-25 CR=5 RND=1",
+                 "G3 X30 Z-30 CR=6 CHF=0.5", "G2 X20 Z-40 I-5 K0", "G3 AR=90 I0 K-4 RND=0.8",
+                 "G5 X44 Z-50 IX=50 KZ=-45 CHF=1", "G91 G2 X5 Z-5 CR=5 RND=3", "G90",
+                 "G2 X20 Z-40 I0 K0 RND=1", "G1 Z-40 RND=50", "G3 X10 Z-10 CR=-8 RND=0.5",
+                 "G2 X30 Z-40 I5 K-5", "G1 X30 RND=0.2", "G0 X60", "G1 X0"]
+
+
+@SETTINGS
+@given(st.lists(st.sampled_from(CORNER_BLOCKS), max_size=20))
+def test_random_corners_next_to_arcs(blocks):
+    """Rounds and chamfers between random lines and arcs: a path or one alarm, never a
+    traceback."""
+    outcome("\n".join(["G0 X40 Z5", "G1 Z0 F100"] + blocks + ["M30"]))
