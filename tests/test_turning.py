@@ -406,6 +406,47 @@ def test_thread_without_relief_runs_out_before_the_shoulder():
     assert prog.report.threads[0].achieved_diameter == pytest.approx(18.16, abs=0.05)
 
 
+def _sleeve(thread_len=16.0):
+    # M30x1.5 inside from the right face, then the bore steps in to 24 mm: no relief
+    from hnc_cam.geometry import Thread
+    return TurnedProfile(chain((14.2, 0), (20, 0), (20, -40), (12, -40)),
+                         bore=chain((14.2, 0), (14.2, -thread_len), (12, -thread_len), (12, -40)),
+                         threads=[Thread(0.0, -thread_len, 30.0, 1.5, internal=True)],
+                         name="sleeve")
+
+
+@pytest.mark.parametrize("dialect", ["hnc21t", "fanuc0it"])
+@pytest.mark.parametrize("part,stock,wall,internal", [
+    (_sleeve(), "42/22x45+1", -16.0, True),
+    (_stud_to_shoulder(), "30x50+1", -25.0, False),
+])
+@pytest.mark.parametrize("cycle", ["g76", "g82"])
+def test_threads_at_a_wall_without_relief_run_out_before_it(dialect, part, stock, wall,
+                                                            internal, cycle):
+    """Inside and outside, G76 and G82 (FANUC: G76's chamfer, G32 passes): full depth ends
+    one lead and the flank's clearance before the shoulder, each pass leaves along the
+    run-out away from the work while still moving toward the shoulder, and no pass reaches
+    it; the thread verifies at the standard's diameter."""
+    prog = generate(part, stock=stock, thread_cycle=cycle, dialect=dialect)
+    assert prog.report.passed, prog.report.summary()
+    th = [m for m in prog.toolpath.moves if m.kind == "thread"]
+    s = -1.0 if internal else 1.0
+    root = min(s * m.end[0] for m in th) * s
+    full = [m for m in th if abs(m.start[0] - root) < 1e-6 and abs(m.end[0] - root) < 1e-6]
+    assert full and min(m.end[1] for m in full) >= wall + 1.5 - 1e-6
+    outs = [m for m in th if s * (m.end[0] - m.start[0]) > 1e-6]
+    assert outs and all(m.end[1] < m.start[1] - 1e-6 for m in outs)
+    assert min(m.end[1] for m in th) > wall
+    t = prog.report.threads[0]
+    assert abs(t.achieved_diameter - t.target_diameter) <= 0.05
+
+
+def test_internal_thread_at_a_wall_with_no_room_for_the_run_out_names_the_minimum():
+    with pytest.raises(PlanError, match=r"internal thread M30x1.5 from Z0 to Z-5 runs into the "
+                                        r"shoulder.* needs at least 6.5 mm"):
+        generate(_sleeve(5.0), stock="42/22x45+1", verify=False)
+
+
 def test_thread_without_relief_and_no_room_for_the_run_out_is_refused():
     # two full leads and the run-out do not fit in 5 mm
     prof = TurnedProfile(chain((0, 0), (9, 0), (10, -1), (10, -5), (13, -5), (13, -30),

@@ -46,9 +46,11 @@ Rules (each operation records its reason, which the program prints as a comment)
   insert's flanks clear what follows; the start is three leads (plus the flank infeed) before
   the thread; G97 capped by the machine and by 1200/lead - 80 rpm. Refused when the relief
   after the thread is shorter than half the lead plus 0.2 mm, or when less than two leads
-  of the thread are at full form. An outside G76 thread that runs into a shoulder with no
-  relief ends one lead (plus the flank's clearance) before it and leaves along the cycle's
-  R/E run-out; refused when the run-out and two full leads do not fit.
+  of the thread are at full form. A thread (outside or inside, G76 or G82) that runs into a
+  shoulder with no relief (inside: also a bore going on at the minor diameter) ends one lead
+  (plus the flank's clearance) before it and leaves along the cycle's R/E run-out; refused,
+  naming the thread length needed, when the run-out and two full leads do not fit. A taper
+  thread (:attr:`hnc_cam.geometry.Thread.taper`, outside only) is cut along its taper.
 * Roughing allowances: 0.4 mm on the diameter / 0.1 mm in Z by default (``--allowance``,
   the material table), increased where the roughing
   tool, following the program contour uncompensated (``--comp control``) or the finishing
@@ -1314,28 +1316,31 @@ def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stoc
             break
     run_r = run_e = 0.0
     half = math.radians(th.angle / 2)
-    at_wall = _radius_at(chain, z_wall + 0.05, False) if z_wall is not None else None
-    if z_wall is not None and z_end - z_wall < need - 1e-9 and not th.internal \
-            and opts.thread_cycle == "g76" and at_wall is not None \
-            and at_wall >= r_crest + dr(z_wall) - 0.02:
-        # no relief (G76 only, the external thread): the cycle's run-out (R toward the wall,
-        # E out to the crest) pulls the insert out over one lead; it ends where the leading
-        # flank, at the crest, clears the shoulder (as far up as the simulator draws the
-        # flank, 6 mm) by 0.2 mm
-        r_sh = max((r for r in (_radius_at(chain, z_wall - d, False) for d in (0.05, 0.5, 2.0))
-                    if r is not None), default=r_crest)
+    at_wall = _radius_at(chain, z_wall + 0.05, th.internal) if z_wall is not None else None
+    if z_wall is not None and z_end - z_wall < need - 1e-9 and at_wall is not None \
+            and sgn * (at_wall - r_crest - dr(z_wall)) >= -0.02:
+        # no relief (a shoulder outside, a shoulder or the bore going on at the minor
+        # diameter inside): the cycle's run-out (R toward the wall, E out to the crest, G76
+        # and G82) pulls the insert out over one lead; it ends where the leading flank, at
+        # the crest, clears the shoulder (as far as the simulator draws the flank, 6 mm) by
+        # 0.2 mm
+        r_sh = [r for r in (_radius_at(chain, z_wall - d, th.internal) for d in (0.05, 0.5, 2.0))
+                if r is not None]
+        rise = max((sgn * (r - r_crest - dr(z_wall)) for r in r_sh), default=0.0)
         # (G76 shifts each pass's end by its depth along the flank, toward the wall)
-        gap = 0.2 + (min(max(r_sh - r_crest - dr(z_wall), 0.0), 6.0 * math.cos(half)) + depth) \
-            * math.tan(half)
+        gap = 0.2 + (min(max(rise, 0.0), 6.0 * math.cos(half)) + depth) * math.tan(half)
         z_full = z_wall + gap + lead
+        cyc = "G76" if opts.thread_cycle == "g76" else "G82"
         if z_hi - z_full < 2 * lead - 1e-9:
             raise PlanError(f"{label} runs into the shoulder at Z{_fmt(z_wall)} with no relief, and "
-                            f"even G76's run-out does not fit: the run-out needs "
+                            f"even {cyc}'s run-out does not fit: the run-out needs "
                             f"{_fmt(gap + lead)} mm before the shoulder and two leads "
                             f"({_fmt(2 * lead)} mm) at full depth before that; the thread is "
-                            f"{_fmt(z_hi - z_wall)} mm long (cut a relief groove or shorten it)")
+                            f"{_fmt(z_hi - z_wall)} mm long, it needs at least "
+                            f"{_fmt(math.ceil((gap + 3 * lead) * 10 - 1e-6) / 10)} mm "
+                            f"(cut a relief groove or shorten it)")
         z_end, z_wall = z_full, None
-        run_r, run_e = -lead, depth
+        run_r, run_e = -lead, sgn * depth
     if z_wall is not None and z_end - z_wall < need - 1e-9:
         raise PlanError(f"{label} is longer than the relief allows: it ends "
                         f"{_fmt(max(0.0, z_lo - z_wall))} mm before the wall at Z{_fmt(z_wall)}, and "
