@@ -190,3 +190,191 @@ def test_fanuc_macro_words_follow_the_contour(name):
         for m, s in zip(cuts, segs):
             assert m.end[0] == pytest.approx(s.end[0], abs=1e-6)
             assert m.end[1] == pytest.approx(s.end[1], abs=1e-6)
+
+
+# ------------------------------------------------------------------------------------------
+# family --macro: the derived program, its proof and its refusals
+# ------------------------------------------------------------------------------------------
+
+FRESH = Path(__file__).resolve().parent / "data" / "families"
+
+
+def _derive(path, dialect="hnc21t", base=None, rows=None):
+    """(context, family, pieces) of the macro derivation, as the command does it."""
+    from hnc_cam.plan import macro_command as mc
+    from hnc_cam.plan.macro import load_family
+    from hnc_cam.plan.macro_program import (Ctx, derive_pieces, family_stock,
+                                            fix_unmachinable, sample)
+    fam = load_family(str(path), base or {}, rows, spread=mc.SPREAD)
+    stock = family_stock(fam, fam.lo, fam.hi, sample(fam, fam.trace, fam.lo, fam.hi, 20, "stock"))
+    ctx = Ctx(str(path), dict(comp="control", verify=False, dialect=dialect), stock, dialect)
+    fix_unmachinable(ctx, fam)
+    return ctx, fam, derive_pieces(ctx, fam)
+
+
+def _sweep(path, dialect, n=20):
+    """The macro program for ``n`` random valid sets: its interpreter toolpath equals the
+    per-variant program's (same stock) within 0.001 mm and verifies against the model."""
+    from hnc_cam.plan.api import _load_machine, _load_tools
+    from hnc_cam.plan.macro_program import check_program, render_program, sample
+    ctx, fam, pieces = _derive(path, dialect)
+    lib = _load_tools(None)
+    mach = _load_machine(None, lib)
+    done = 0
+    for i, pc in enumerate(pieces):
+        sets = sample(fam, pc.tr, pc.lo, pc.hi, max(1, n // len(pieces)), ("sweep", i))
+        runs = [(str(j), p, render_program(pc, dialect, values=p)) for j, p in enumerate(sets)]
+        for r in check_program(ctx, pc, runs, mach, lib, 0.01):
+            assert r["ok"], r
+            done += 1
+    assert done >= n - len(pieces)
+    return ctx, fam, pieces
+
+
+@pytest.mark.parametrize("dialect", ["hnc21t", "fanuc0it"])
+def test_macro_of_a_fresh_family_follows_every_variant(dialect):
+    ctx, fam, pieces = _sweep(FRESH / "pin.py", dialect)
+    assert len(pieces) == 1
+    assert set(fam.free) == {"length", "d", "l", "collar", "chamfer"}
+    assert sum(s.kind == "fit" for s in pieces[0].slots) >= 10
+
+
+def test_macro_words_are_the_families_dimensions():
+    """The fitted words evaluate to the contour's own dimensions: the collar's diameter is
+    the collar parameter, the end of the finishing pass 0.05 past the left end."""
+    from hnc_cam.plan.macro_program import core, blocks
+    ctx, fam, (pc,) = _derive(FRESH / "pin.py")
+    p = dict(fam.params, collar=35.0, length=61.0)
+    for s in pc.slots:
+        if s.kind != "fit":
+            continue
+        w = pc.blocks[s.block].words[s.word]
+        v = _ev(s.node, p)
+        ref = core(blocks(ctx.program(p)))[s.block].words[s.word].value
+        assert v == pytest.approx(ref, abs=0.00055), (w, v, ref)
+
+
+@pytest.mark.parametrize("name", FAMILIES)
+def test_every_bundled_family_gets_a_macro_or_one_clear_refusal(name, tmp_path):
+    """A bundled family gives its macro program, proven on 20 sets, or (where the planner's
+    program is not one exact program over the domain) a one-line refusal, exit 2, nothing
+    written."""
+    import subprocess
+    import sys
+    out = tmp_path / "m.nc"
+    r = subprocess.run([sys.executable, "-m", "hnc_cam", "family", str(PARTS / name), "--macro",
+                        "--check", "20", "-o", str(out)], capture_output=True, text=True,
+                       timeout=600)
+    if r.returncode == 0:
+        text = out.read_text()
+        assert "M98 P1001" in text and "%1001" in text and "[" in text
+    else:
+        assert r.returncode in (1, 2), r.stderr
+        assert not out.exists() and not list(tmp_path.iterdir())
+        lines = [ln for ln in r.stderr.splitlines() if ln.startswith("error:")]
+        assert len(lines) == 1 and "Traceback" not in r.stderr, r.stderr
+
+
+def test_a_groove_that_appears_splits_the_family_at_its_parameter(tmp_path):
+    from hnc_cam.cli import main
+    from hnc_cam.nc import run
+    ctx, fam, pieces = _derive(FRESH / "grooved_pin.py")
+    assert len(pieces) == 2
+    cuts = {b for pc in pieces for b in pc.bounds}
+    assert cuts == {"length < 52", "length >= 52"}
+    # a file is refused (two programs), nothing written; a folder holds both
+    f = tmp_path / "one.nc"
+    assert main(["family", str(FRESH / "grooved_pin.py"), "--macro", "--check", "2",
+                 "-o", str(f)]) == 2
+    assert not f.exists()
+    d = tmp_path / "out"
+    assert main(["family", str(FRESH / "grooved_pin.py"), "--macro", "--check", "2",
+                 "-o", f"{d}/"]) == 0
+    short, long_ = (d / "O0001.nc").read_text(), (d / "O0002.nc").read_text()
+    # each program refuses a length of the other piece before any motion
+    for text, bad in ((short, 54.0), (long_, 49.0)):
+        var = next(ln.split("=")[0] for ln in text.splitlines() if ln.endswith("(LENGTH)"))
+        t = text.replace(next(ln for ln in text.splitlines() if ln.endswith("(LENGTH)")),
+                         f"{var}={bad} (LENGTH)")
+        assert not [m for m in run(t).moves if m.kind != "dwell"]
+
+
+def test_table_rows_are_selected_by_number_and_each_is_checked(tmp_path):
+    from hnc_cam.cli import main
+    from hnc_cam.nc import run
+    table = tmp_path / "t.csv"
+    table.write_text("length,collar\n58,33\n62.5,35.5\n")
+    out = tmp_path / "m.nc"
+    assert main(["family", str(FRESH / "pin.py"), "--macro", "--table", str(table),
+                 "--check", "1", "-o", str(out)]) == 0
+    text = out.read_text()
+    assert "#50=1 (ROW" in text and "IF [#50 EQ 2]" in text
+    ctx, fam, _ = _derive(FRESH / "pin.py", rows=[{"length": "58", "collar": "33"},
+                                                   {"length": "62.5", "collar": "35.5"}])
+    ctx.stock = next(ln for ln in text.splitlines() if ln.startswith("(STOCK")).split()[1]
+    for row, over in ((1, {"length": 58.0, "collar": 33.0}), (2, {"length": 62.5, "collar": 35.5})):
+        t = text.replace("#50=1 (ROW", f"#50={row} (ROW")
+        got = [m for m in run(t).moves if m.kind != "dwell"]
+        ref = [m for m in run(ctx.program(dict(fam.params, **over))).moves if m.kind != "dwell"]
+        assert len(got) == len(ref)
+        for a, b in zip(got, ref):
+            assert a.end[0] == pytest.approx(b.end[0], abs=0.0006)
+            assert a.end[1] == pytest.approx(b.end[1], abs=0.0006)
+    bad = text.replace("#50=1 (ROW", "#50=3 (ROW")
+    assert not [m for m in run(bad).moves if m.kind != "dwell"]
+
+
+def test_bad_input_is_one_line_exit_2_nothing_written(tmp_path, capsys):
+    from hnc_cam.cli import main
+    out = tmp_path / "m.nc"
+    # a parameter that is not a number
+    assert main(["family", str(FRESH / "pin.py"), "--macro", "--set", "d=abc",
+                 "-o", str(out)]) == 2
+    assert "d" in capsys.readouterr().err and not out.exists()
+    # a sketch() that raises inside its declared domain
+    src = (FRESH / "pin.py").read_text().replace(
+        "    s = Outline((0.0, 0.0))",
+        "    if length > 61.5:\n        raise ValueError('no drawing for long pins')\n"
+        "    s = Outline((0.0, 0.0))", 1)
+    raises = tmp_path / "raises.py"
+    raises.write_text(src)
+    assert main(["family", str(raises), "--macro", "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "sketch() raises" in err and "no drawing for long pins" in err
+    assert len([ln for ln in err.splitlines() if ln.startswith("error:")]) == 1
+    assert not out.exists()
+    # more parameters than FANUC's G65 has letters
+    many = tmp_path / "many.py"
+    extra = ", ".join(f"e{i}: float = 1.0" for i in range(17))
+    many.write_text((FRESH / "pin.py").read_text().replace(
+        "chamfer: float = 1.0):", f"chamfer: float = 1.0, {extra}):"))
+    assert main(["family", str(many), "--macro", "--dialect", "fanuc0it", "--check", "0",
+                 "-o", str(out)]) == 2
+    assert "at most 21" in capsys.readouterr().err and not out.exists()
+    # per-row options and --macro options do not mix
+    assert main(["family", str(FRESH / "pin.py"), "--check", "3", "--table", "t.csv",
+                 "--out", str(tmp_path / "d")]) == 2
+    assert main(["family", str(FRESH / "pin.py")]) == 2
+    assert not (tmp_path / "d").exists()
+
+
+def test_a_failing_check_names_the_set_exit_1_nothing_written(tmp_path, monkeypatch, capsys):
+    """A fit that holds on the derivation's samples but not on a check set is caught by the
+    check: simulated here by spoiling one fitted word."""
+    from hnc_cam.cli import main
+    from hnc_cam.plan import macro_program as mp
+    orig = mp.derive_piece
+
+    def spoiled(*a, **kw):
+        pc = orig(*a, **kw)
+        s = next(s for s in pc.slots if s.kind == "fit"
+                 and pc.blocks[s.block].words[s.word].letter == "Z")
+        s.node = ("+", s.node, ("*", ("c", 0.01), ("-", ("p", "length"), ("c", 60.0))))
+        return pc
+
+    monkeypatch.setattr(mp, "derive_piece", spoiled)
+    out = tmp_path / "m.nc"
+    assert main(["family", str(FRESH / "pin.py"), "--macro", "--check", "3",
+                 "-o", str(out)]) == 1
+    err = capsys.readouterr().err
+    assert "fails its check" in err and "length=" in err and not out.exists()

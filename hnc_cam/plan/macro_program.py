@@ -46,8 +46,9 @@ from ..errors import HncError, PartError, PlanError
 from .macro import (Check, Family, Lets, _ev, _holds, _node, _num, _params_of, _simplify,
                     _trace, features, hnc_checks, load_family, render)
 
-#: the written precision of a word (3 decimals) and what a fit may miss it by
-TOL = 0.0011
+#: what a fit may miss a written word by: the written precision (3 decimals, so half of
+#: 0.001) and the float noise of the planner's arithmetic
+TOL = 0.00055
 #: the letters whose value is part of a block's skeleton (a code, not a dimension)
 _CODES = set("GMTO")
 _WORD = re.compile(r"([A-Z])\s*([-+]?(?:\d+\.?\d*|\.\d+))")
@@ -194,16 +195,21 @@ class Ctx:
         return self.cache[key]
 
 
-def _valid(fam: Family, tr: Any, p: dict[str, float], lo: dict, hi: dict) -> bool:
+def _same_branches(tr: Any, p: dict[str, float]) -> bool:
+    return all(_holds(c if v else ("not", c), p) for c, v in tr.branches)
+
+
+def _valid(fam: Family, tr: Any, p: dict[str, float], lo: dict, hi: dict,
+           branches: bool = True) -> bool:
     return (all(lo[k] <= p[k] <= hi[k] for k in fam.free)
             and all(all(_holds(c, p) for c in ch.conds) for ch in tr.checks)
-            and all(_holds(c if v else ("not", c), p) for c, v in tr.branches))
+            and (not branches or _same_branches(tr, p)))
 
 
 def sample(fam: Family, tr: Any, lo: dict, hi: dict, n: int, seed: Any,
-           limit: int = 4000) -> list[dict[str, Any]]:
+           limit: int = 4000, branches: bool = True) -> list[dict[str, Any]]:
     """``n`` parameter sets drawn uniformly from the box ``lo``..``hi`` that pass the family's
-    checks and keep the traced branches (fewer when the box holds few valid sets)."""
+    checks (and keep the traced branches: ``branches``), fewer when the box holds few."""
     rnd = random.Random(str(seed))
     out: list[dict[str, Any]] = []
     for _ in range(limit):
@@ -211,8 +217,8 @@ def sample(fam: Family, tr: Any, lo: dict, hi: dict, n: int, seed: Any,
             break
         p = dict(fam.params)
         for k in fam.free:
-            p[k] = round(rnd.uniform(lo[k], hi[k]), 4)
-        if _valid(fam, tr, p, lo, hi):
+            p[k] = round(rnd.uniform(lo[k], hi[k]), 3)  # what a control holds
+        if _valid(fam, tr, p, lo, hi, branches):
             out.append(p)
     return out
 
@@ -312,9 +318,10 @@ def _fit_single(y, nodes: list[tuple], cols: list) -> tuple | None:
     import numpy as np
     for n, v in zip(nodes, cols):
         res = y - v
-        const = round(float((res.max() + res.min()) / 2), 4)
-        if np.max(np.abs(res - const)) <= TOL:
-            return _combine([n], (0,), [1.0], const)
+        mid = float((res.max() + res.min()) / 2)
+        for const in (round(mid, 3), round(mid, 4), round(mid, 6)):
+            if np.max(np.abs(res - const)) <= TOL:
+                return _combine([n], (0,), [1.0], const)
     return None
 
 
@@ -339,7 +346,7 @@ def _fit_word(y, mat, n_fit: int):
             pred = mat[:, list(idx)] @ np.array(coefs) if idx else np.zeros(n)
             res = y - pred
             mid = float((res.max() + res.min()) / 2)
-            for const in (round(mid, 3), round(mid, 4)):
+            for const in (round(mid, 3), round(mid, 4), round(mid, 6)):
                 if np.max(np.abs(res - const)) <= TOL:
                     return idx, coefs, const
         return None
@@ -472,7 +479,7 @@ def derive_piece(ctx: Ctx, fam: Family, lo: dict, hi: dict, nominal: dict[str, A
     text = ctx.program(nominal)
     nb = core(blocks(text))
     sk = skeleton(nb)
-    sets = sample(fam, tr, lo, hi, n_fit + n_hold, ("fit", seed))
+    sets = sample(fam, tr, lo, hi, n_fit + n_hold, ("fit", seed), branches=False)
     if len(sets) < 4:
         raise PartError(f"{fam.path}: too few valid parameter sets near "
                         f"{_pset(nominal, fam.free)} to derive a macro ({len(sets)} of the "
@@ -480,6 +487,8 @@ def derive_piece(ctx: Ctx, fam: Family, lo: dict, hi: dict, nominal: dict[str, A
     progs = []
     for p in sets:
         _sketch_ok(fam, p)
+        if not _same_branches(tr, p):
+            raise TopologyChange(p, "the sketch takes another branch")
         vb = core(blocks(ctx.program(p)))
         if skeleton(vb) != sk:
             raise TopologyChange(p, _first_difference(nb, vb))
@@ -525,7 +534,9 @@ def derive_piece(ctx: Ctx, fam: Family, lo: dict, hi: dict, nominal: dict[str, A
                  stock=ctx.stock)
 
 
-def _differs(ctx: Ctx, fam: Family, nb_sk: tuple, p: dict) -> bool:
+def _differs(ctx: Ctx, fam: Family, nb_sk: tuple, p: dict, tr: Any = None) -> bool:
+    if tr is not None and not _same_branches(tr, p):
+        return True
     try:
         return skeleton(blocks(ctx.program(p))) != nb_sk
     except PlanError:  # no program there: counted as the other side
@@ -545,8 +556,9 @@ def fix_unmachinable(ctx: Ctx, fam: Family) -> dict[str, str]:
             for frac in (1.0, 0.5, 0.25):  # the box shrinks to where the library cuts it
                 v = fam.params[k] + frac * (end - fam.params[k])
                 p = dict(fam.params, **{k: v})
-                if not _valid(fam, fam.trace, p, fam.lo, fam.hi):
+                if not _valid(fam, fam.trace, p, fam.lo, fam.hi, False):
                     break
+                _sketch_ok(fam, p)  # the family's own failure is no library limit
                 try:
                     ctx.program(p)
                     box[k] = v
@@ -588,7 +600,7 @@ def derive_pieces(ctx: Ctx, fam: Family, max_pieces: int = 6, **kw: Any) -> list
         who = None
         for k in fam.free:
             p = dict(nominal, **{k: change.p[k]})
-            if _valid(fam, tr, p, lo, hi) and _differs(ctx, fam, sk, p):
+            if _valid(fam, tr, p, lo, hi, False) and _differs(ctx, fam, sk, p, tr):
                 who = k
                 break
         if who is None:
@@ -600,11 +612,16 @@ def derive_pieces(ctx: Ctx, fam: Family, max_pieces: int = 6, **kw: Any) -> list
         a, b = nominal[who], change.p[who]
         for _ in range(14):  # the boundary to 1/16000 of the step
             m = (a + b) / 2
-            if _differs(ctx, fam, sk, dict(nominal, **{who: m})):
+            if _differs(ctx, fam, sk, dict(nominal, **{who: m}), tr):
                 b = m
             else:
                 a = m
         edge = round((a + b) / 2, 4)
+        for nd in range(4):  # the roundest value between the last same and the first changed
+            r = round((a + b) / 2, nd)
+            if min(a, b) <= r <= max(a, b):
+                edge = r
+                break
         lo1, hi1, lo2, hi2 = dict(lo), dict(hi), dict(lo), dict(hi)
         if change.p[who] > nominal[who]:
             hi1[who], lo2[who] = edge, edge
