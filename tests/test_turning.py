@@ -317,9 +317,8 @@ def test_tool_rpm_limit_caps_finishing_grooving_and_the_face_to_the_centre():
     lib = _lib({2: {"max_rpm": 2000.0}, 7: {"max_rpm": 1500.0}})
     prog = generate(_pin(), stock="14x36", tools=lib)  # no face stock: the finisher faces
     assert prog.report.passed
-    # the grooved pin is not verified here: the simulator finds 0.07 mm left in the inside
-    # corners of small grooved parts whatever the spindle speed (see the README's not-done list)
-    grooved = generate(_pin(groove=True), stock="14x36+1", tools=lib, verify=False)
+    grooved = generate(_pin(groove=True), stock="14x36+1", tools=lib)
+    assert grooved.report.passed and grooved.report.max_undercut_mm <= 0.01
     by = _moves_by_tool(prog)
     by[7] = _moves_by_tool(grooved)[7]
     limit = {2: 2000.0, 7: 1500.0}
@@ -329,6 +328,23 @@ def test_tool_rpm_limit_caps_finishing_grooving_and_the_face_to_the_centre():
     assert max(m.spindle for m in by[2]) == pytest.approx(2000.0)
     assert max(m.spindle for m in by[7]) == pytest.approx(1500.0)
     assert any(min(m.start[0], m.end[0]) <= 1e-6 for m in by[2] if m.kind == "line")
+
+
+@pytest.mark.parametrize("comp", ["cam", "control"])
+@pytest.mark.parametrize("shape,stock", [("pin", "14x36+1"), ("pin", "14x36"),
+                                         ("grooved", "30x70"), ("stud", "30x60+1")])
+def test_small_grooved_parts_leave_nothing_a_tool_reaches(shape, stock, comp):
+    """The 6 mm pin with a square groove, the 4 mm groove shape and the stud: what is left
+    is only where no tool reaches (the grooving insert's corner radius in the groove's
+    bottom corners, a nose radius in an inside corner), nothing reachable above 0.01 mm."""
+    from test_plan_shapes import grooved, stud
+    prof = {"pin": lambda: _pin(groove=True), "grooved": grooved, "stud": stud}[shape]()
+    prog = generate(prof, stock=stock, comp=comp)
+    rep = prog.report
+    assert rep.passed and rep.max_undercut_mm <= 0.01
+    # unreachable: the groove's bottom corners (the grooving insert's 0.2 mm corner radius,
+    # 0.06 mm) and the left end's corner against the bar left in the chuck (0.21 mm)
+    assert all(d.size_mm <= 0.21 for d in rep.unreachable)
 
 
 def test_machine_rpm_limit_holds_without_the_interpreter_clamp():
