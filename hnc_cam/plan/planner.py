@@ -30,7 +30,9 @@ Rules (each operation records its reason, which the program prints as a comment)
   with a negative E for a bore with undercuts) with the boring bar; finished with the same or
   a finishing boring bar.
 * **Finishing**: the ns..nf contour after roughing (tool change when the library's finishing
-  tool is another tool) at G96 surface speed; the spindle limit is the lowest of the
+  tool is another tool) at G96 surface speed; a right face that is part of the finished
+  contour (a stock not faced first) is finished from its edge toward the centre first, and
+  the roughing contour starts at its edge (:func:`_face_to_centre`, cam mode); the spindle limit is the lowest of the
   machine's max rpm (on the HNC-21T a system parameter, manual 3.3.6, stated in the header),
   the chuck's rated speed (the machine file's ``[chuck] max_rpm``) and the tool's
   ``max_rpm``; every cap below (G97, FANUC/Haas ``G50 S``, threads) uses it. G96 has no clamp word: facing passes, finishing contours and
@@ -482,13 +484,23 @@ def rpm_limit(t: Tool, machine: Machine | None) -> float:
     return min(lim, t.max_rpm) if t.max_rpm > 0 else lim
 
 
+def _cycle_blocks(op: Operation, owner: Operation) -> list[Block]:
+    """The blocks of ``owner`` from the one labelled ``op.ns`` to the one labelled ``op.nf``
+    (all of them where ``op`` has no labels): the contour ``op``'s cycle runs."""
+    blocks = owner.blocks
+    i0 = next((i for i, b in enumerate(blocks) if op.ns and b.label == op.ns), 0)
+    i1 = next((i for i, b in enumerate(blocks) if op.nf and b.label == op.nf), len(blocks) - 1)
+    return blocks[i0:i1 + 1]
+
+
 def _x_range(op: Operation, ops: Sequence[Operation]) -> tuple[float, float]:
     """The smallest and largest radius an operation's tool reaches while it runs: its start
     point and every block of its contour (its own blocks or the ns..nf contour of another
     operation it refers to), arcs over the X range they sweep."""
     blocks = op.blocks
     if not blocks and op.ns:
-        blocks = next((o.blocks for o in ops if o.blocks and o.ns == op.ns), [])
+        owner = next((o for o in ops if o.blocks and o.ns == op.ns), None)
+        blocks = _cycle_blocks(op, owner) if owner is not None else []
     x = abs(op.start[0])
     lo = hi = x
     for b in blocks:
@@ -553,9 +565,10 @@ def _split_rough(op: Operation, ops: Sequence[Operation], limit: float) -> bool:
     x_t = math.ceil((r_c - ax) * 2000.0 + 1.0 - 1e-6) / 2000.0
     if x_t <= 0:
         return False
-    x, z = abs(owner.start[0]), owner.start[1]
+    blocks = _cycle_blocks(op, owner)
+    x, z = abs(op.start[0]), op.start[1]
     ends: list[tuple[float, float, float, float]] = []  # (x0, z0, x1, z1) per block
-    for b in owner.blocks:
+    for b in blocks:
         nx = abs(b.x) if b.x is not None else x
         nz = b.z if b.z is not None else z
         ends.append((x, z, nx, nz))
@@ -563,12 +576,12 @@ def _split_rough(op: Operation, ops: Sequence[Operation], limit: float) -> bool:
     if ends[0][2] >= x_t:
         return False
     k = next((i for i in range(1, len(ends)) if ends[i][2] >= x_t - 1e-9), None)
-    if k is None or k + 1 >= len(owner.blocks):
+    if k is None or k + 1 >= len(blocks):
         return False
 
     def low(i: int) -> float:
         x0, _z0, x1, _z1 = ends[i]
-        b = owner.blocks[i]
+        b = blocks[i]
         m = min(x0, x1)
         if b.span is not None:
             m = min(m, min(abs(b.span[0]), abs(b.span[1])) if b.span[0] * b.span[1] > 0 else 0.0)
@@ -576,14 +589,14 @@ def _split_rough(op: Operation, ops: Sequence[Operation], limit: float) -> bool:
 
     def high(i: int) -> float:
         x0, _z0, x1, _z1 = ends[i]
-        b = owner.blocks[i]
+        b = blocks[i]
         return max(x0, x1, *(abs(v) for v in (b.span or ())))
 
     # monotone: nothing before the crossing reaches x_t, nothing after comes back inside
     if any(high(i) > x_t + 1e-9 for i in range(1, k)) or \
             any(low(i) < x_t - 1e-9 for i in range(k + 1, len(ends))):
         return False
-    blk = owner.blocks[k]
+    blk = blocks[k]
     x0, z0, x1, z1 = ends[k]
     tag = op.ns or owner.ns or "rough"
     ns_s, nf_s = f"{tag}_out", f"{tag}_in"
@@ -616,7 +629,7 @@ def _split_rough(op: Operation, ops: Sequence[Operation], limit: float) -> bool:
         else:
             blk.label = nf_s
         entry = []
-        at = owner.blocks[k + 1]
+        at = blocks[k + 1]
     at.before = entry + [Block("rapid", x=x_s, label=ns_s), Block("line", z=z_s)]
     top = x_s + ax
     rpm = min(limit, round(vc * 1000.0 / (2 * math.pi * top)))
@@ -822,6 +835,8 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
         prog_run, first_axis, comp = prog, "x", "right"
     blocks = ct.to_blocks(prog_run, first_axis, finisher.feed_finish, ns, nf,
                           start=(x_a, z_a))
+    if strategy == "turn" and opts.comp == "cam" and not faced and stock.kind != "offset":
+        blocks, prog_run = _face_to_centre(blocks, prog_run, finisher.feed_finish)
     if opts.comp == "cam":
         comp = "none"
     start = (x_a, z_a)
@@ -874,6 +889,37 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
                        blocks=blocks, ns=ns, nf=nf, nose_comp=comp, contour=prog_run,
                        retract=_retract(retract, blocks))
     return rough_ops, finish, groove_ops
+
+
+def _face_to_centre(blocks: list[Block], path: list[Segment],
+                    feed: float) -> tuple[list[Block], list[Segment]]:
+    """A finishing contour that starts on the axis with the right face (a stock not faced
+    first: the face is part of the finished contour) finishes that face toward the centre:
+    from its edge, fed in front of it, along it past the centre, lifted 1 mm, back over it to
+    the edge in rapid and fed down, then the rest of the contour. The contour's label
+    (a roughing cycle's ns) moves to the block back to the edge, so that the cycle's
+    contour starts at the face's edge (no passes in front of the face). Unchanged when the
+    contour does not start so (cam mode: the tip path; the blocks are ``to_blocks``')."""
+    if len(blocks) < 4:
+        return blocks, path
+    b0, b1, b2 = blocks[:3]
+    if not (b0.kind == "rapid" and b0.x is not None and b0.z is None and b0.x <= 1e-9
+            and b1.kind == "line" and b1.x is not None and abs(b1.x - b0.x) < 1e-9
+            and b1.z is not None and b2.kind == "line" and b2.z is not None
+            and abs(b2.z - b1.z) < 1e-9 and b2.x is not None and b2.x > 0.5 and not b2.label):
+        return blocks, path
+    x_c, z0, x_e = b0.x, b1.z, b2.x
+    k = next((i for i, sg in enumerate(path) if isinstance(sg, Line)
+              and abs(sg.end[0] - x_e) < 1e-6 and abs(sg.end[1] - z0) < 1e-6
+              and abs(sg.start[1] - z0) < 1e-6), None)
+    if k is None:
+        return blocks, path
+    up = z0 + 1.0
+    face = [Block("rapid", x=x_e), Block("rapid", z=up), Block("line", z=z0, feed=feed),
+            Block("line", x=x_c), Block("rapid", z=up),
+            Block("rapid", x=x_e, label=b0.label), Block("line", z=z0)]
+    geo = [Line((x_e, up), (x_e, z0)), Line((x_e, z0), (x_c, z0)), Line((x_e, up), (x_e, z0))]
+    return face + blocks[3:], geo + list(path[k + 1:])
 
 
 #: semi-finishing stock the roughing cycle leaves above the finishing allowance, radial and
