@@ -446,9 +446,32 @@ class Piece:
 
 
 class TopologyChange(Exception):
-    def __init__(self, p: dict[str, Any], diff: str):
+    """A set where the program is not the nominal's: another skeleton, another traced
+    branch, or a word that leaves the law it follows near the nominal (``law``: block, word,
+    expression)."""
+
+    def __init__(self, p: dict[str, Any], diff: str, law: tuple | None = None):
         super().__init__(diff)
-        self.p, self.diff = p, diff
+        self.p, self.diff, self.law = p, diff, law
+
+
+def _local_law(y, mat, nodes, allp, fam: Family, nominal: dict, near: int = 8):
+    """The law a word follows near the nominal (fitted on the ``near`` sets closest to it,
+    nominal first), and the sets that break it; None where nothing fits even there."""
+    import numpy as np
+    span = {k: (max(p[k] for p in allp) - min(p[k] for p in allp)) or 1.0 for k in fam.free}
+    dist = np.array([sum(((p[k] - nominal[k]) / span[k]) ** 2 for k in fam.free)
+                     for p in allp])
+    order = np.argsort(dist, kind="stable")
+    for n in range(near, 4, -1):
+        sub = order[:n]
+        r = _fit_word(y[sub], mat[sub], n)
+        if r is None:
+            continue
+        node = _combine(nodes, *r)
+        off = [i for i in order if abs(_ev(node, allp[i]) - y[i]) > TOL]
+        return node, off
+    return None
 
 
 def _movers(ctx: Ctx, fam: Family, tr: Any, nominal: dict, lo: dict, hi: dict,
@@ -525,6 +548,11 @@ def derive_piece(ctx: Ctx, fam: Family, lo: dict, hi: dict, nominal: dict[str, A
                 slots.append(Slot(bi, wi, "bound", value=v,
                                   note=f"{w.letter}{_num(v)}: THE LOWEST OF {len(y)} VARIANTS"))
                 continue
+            law = _local_law(y, mat, nodes, allp, fam, nominal)
+            if law is not None and law[1]:
+                raise TopologyChange(allp[law[1][0]], f"the word {w.letter}{w.text} (line "
+                                     f"{b.line}: {b.raw.strip()}) changes its law",
+                                     (bi, wi, law[0]))
             movers = _movers(ctx, fam, tr, nominal, lo, hi, bi, wi, nb)
             raise PlanError(f"{fam.path}: the word {w.letter}{w.text} of the family's program "
                             f"(line {b.line}: {b.raw.strip()}) fits no exact expression of the "
@@ -534,13 +562,20 @@ def derive_piece(ctx: Ctx, fam: Family, lo: dict, hi: dict, nominal: dict[str, A
                  stock=ctx.stock)
 
 
-def _differs(ctx: Ctx, fam: Family, nb_sk: tuple, p: dict, tr: Any = None) -> bool:
+def _differs(ctx: Ctx, fam: Family, nb_sk: tuple, p: dict, tr: Any = None,
+             law: tuple | None = None) -> bool:
     if tr is not None and not _same_branches(tr, p):
         return True
     try:
-        return skeleton(blocks(ctx.program(p))) != nb_sk
+        vb = core(blocks(ctx.program(p)))
     except PlanError:  # no program there: counted as the other side
         return True
+    if skeleton(vb) != nb_sk:
+        return True
+    if law is not None:
+        bi, wi, node = law
+        return abs(vb[bi].words[wi].value - _ev(node, p)) > TOL
+    return False
 
 
 def fix_unmachinable(ctx: Ctx, fam: Family) -> dict[str, str]:
@@ -578,7 +613,7 @@ def fix_unmachinable(ctx: Ctx, fam: Family) -> dict[str, str]:
     return out
 
 
-def derive_pieces(ctx: Ctx, fam: Family, max_pieces: int = 6, **kw: Any) -> list[Piece]:
+def derive_pieces(ctx: Ctx, fam: Family, max_pieces: int = 12, **kw: Any) -> list[Piece]:
     """The fewest pieces (cut along one parameter at a time) that each hold one program."""
     todo = [(dict(fam.lo), dict(fam.hi), dict(fam.params), [])]
     done: list[Piece] = []
@@ -600,7 +635,7 @@ def derive_pieces(ctx: Ctx, fam: Family, max_pieces: int = 6, **kw: Any) -> list
         who = None
         for k in fam.free:
             p = dict(nominal, **{k: change.p[k]})
-            if _valid(fam, tr, p, lo, hi, False) and _differs(ctx, fam, sk, p, tr):
+            if _valid(fam, tr, p, lo, hi, False) and _differs(ctx, fam, sk, p, tr, change.law):
                 who = k
                 break
         if who is None:
@@ -612,14 +647,14 @@ def derive_pieces(ctx: Ctx, fam: Family, max_pieces: int = 6, **kw: Any) -> list
         a, b = nominal[who], change.p[who]
         for _ in range(14):  # the boundary to 1/16000 of the step
             m = (a + b) / 2
-            if _differs(ctx, fam, sk, dict(nominal, **{who: m}), tr):
+            if _differs(ctx, fam, sk, dict(nominal, **{who: m}), tr, change.law):
                 b = m
             else:
                 a = m
         edge = round((a + b) / 2, 4)
-        for nd in range(4):  # the roundest value between the last same and the first changed
-            r = round((a + b) / 2, nd)
-            if min(a, b) <= r <= max(a, b):
+        for nd in range(7):  # the roundest value strictly between the last same set and
+            r = round((a + b) / 2, nd)  # the first changed one
+            if min(a, b) < r < max(a, b):
                 edge = r
                 break
         lo1, hi1, lo2, hi2 = dict(lo), dict(hi), dict(lo), dict(hi)
@@ -833,8 +868,10 @@ def render_program(pieces_or_one: Piece, dialect: str = "hnc21t", values: dict |
 # ------------------------------------------------------------------------------------------
 
 def _compare(a: Any, b: Any, where: str) -> str | None:
-    ma = [m for m in a.moves if m.kind != "dwell"]
-    mb = [m for m in b.moves if m.kind != "dwell"]
+    def moving(tp):  # a move of no length (a compensation corner at a tangent) moves nothing
+        return [m for m in tp.moves if m.kind != "dwell"
+                and (abs(m.end[0] - m.start[0]) > 1e-3 or abs(m.end[1] - m.start[1]) > 1e-3)]
+    ma, mb = moving(a), moving(b)
     if len(ma) != len(mb):
         return f"{where}: {len(ma)} moves where the per-variant program makes {len(mb)}"
     worst = 0.0
@@ -842,9 +879,10 @@ def _compare(a: Any, b: Any, where: str) -> str | None:
         if x.kind != y.kind:
             return f"{where}: a {x.kind} move (line {x.line}) where the per-variant program " \
                    f"makes a {y.kind} (line {y.line})"
-        worst = max(worst, abs(x.end[0] - y.end[0]) * 2, abs(x.end[1] - y.end[1]))
+        # the tool's distance in the plane (x is the radius in a toolpath)
+        worst = max(worst, math.hypot(x.end[0] - y.end[0], x.end[1] - y.end[1]))
     if worst > 0.001:
-        return f"{where}: the toolpath is {worst:.4f} mm from the per-variant program's"
+        return f"{where}: the toolpath is {worst:.5f} mm from the per-variant program's"
     return None
 
 
