@@ -602,6 +602,31 @@ def test_a_face_in_the_finished_contour_is_finished_toward_the_centre(comp):
                    if max(m.start[1], m.end[1]) > 0.1 + 1e-6)
 
 
+@pytest.mark.parametrize("part,cycles", [("stepped_shaft", 2), ("cq_pin", 2),
+                                        ("grooved_shaft", 1), ("threaded_stud", 1)])
+def test_bundled_parts_rough_at_g96_outside_the_critical_diameter(part, cycles):
+    """The G71 whose G96 would exceed the limit near the axis: two cycles (G96 outside the
+    critical diameter, G97 at the limit inside), or one G96 cycle where only the face's edge
+    is inside and the semi-finishing pass takes it; on a machine that does not clamp, no
+    move exceeds the limit and the passes outside run at the roughing surface speed."""
+    prog = generate(PARTS + f"{part}.py")
+    assert prog.report.passed
+    rough = next(op for op in prog.plan.operations if op.name == "rough")
+    assert rough.split is not None and rough.unclamped is None
+    assert bool(rough.split.nf) == (cycles == 2)
+    tp = _free_run(prog)
+    assert max(m.spindle for m in tp.moves) <= MACH.max_rpm + 1e-6
+    t1 = [m for m in tp.moves if m.op == "G71" and m.tool == rough.tool.number]
+    vc = rough.speed
+    r_c = vc * 1000 / (2 * math.pi * MACH.max_rpm)
+    outside = [m for m in t1 if m.kind == "line" and abs(m.start[0] - m.end[0]) < 1e-9
+               and abs(m.end[0]) > r_c + 0.01]
+    assert outside and all(m.spindle == pytest.approx(vc * 1000 / (2 * math.pi * abs(m.end[0])),
+                                                      rel=1e-3) for m in outside)
+    lines = {m.line for m in t1}
+    assert len(lines) == cycles
+
+
 def test_a_tool_limit_lowers_the_roughing_speed():
     lib = _lib({1: {"max_rpm": 900.0}})
     prog = generate(_flange(), stock="124x14+1", tools=lib)

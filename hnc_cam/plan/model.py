@@ -123,7 +123,8 @@ class RoughSplit:
     the operation's surface speed over the contour from the block labelled ``ns`` (an X move
     to ``x``, then a Z move to ``z``, then the rest of the contour to the operation's nf),
     then the inner cycle at G97 ``rpm`` from ``start`` over the operation's ns to the block
-    labelled ``nf`` (ending at (``x``, ``z``)). Both with the operation's words."""
+    labelled ``nf`` (ending at (``x``, ``z``)). Both with the operation's words. ``nf`` empty:
+    no inner cycle (only the face's edge is inside; the semi-finishing pass takes it)."""
     x: float
     z: float
     ns: str
