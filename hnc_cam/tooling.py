@@ -150,7 +150,7 @@ class Tool:
     max_rpm: float = 0.0  # the tool's own spindle limit (0: the machine's), rpm
     dwell_rev: float = 2.0  # spindle revolutions at the bottom of a groove plunge
     #: a parting blade's reach below the stock's surface, an inside grooving bar's beyond
-    #: the bore (radial, mm; 0 = not limited)
+    #: the bore (radial), a boring bar's along Z from the face (mm; 0 = not limited)
     max_depth: float = 0.0
     x_offset: float = 0.0  # diameter
     z_offset: float = 0.0

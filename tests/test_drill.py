@@ -362,3 +362,14 @@ def test_inside_groove_narrower_than_the_insert_is_refused(tmp_path, capsys):
     assert ("inside groove from Z-10 to Z-12 (2 mm wide, out to diameter 25) in the bore of "
             "diameter 22: no boring bar reaches it and no inside grooving tool in the library "
             "cuts it; it needs a kind = \"groove_id\" tool at most 2 mm wide") in err
+
+
+def test_bore_deeper_than_the_boring_bars_reach_is_refused(tmp_path, capsys):
+    # a 25 mm through bore 80 mm long; the bundled bar T03 reaches 64 mm (max_depth)
+    f = _part(tmp_path, "sleeve80", [(12.5, 0), (20, 0), (20, -80), (12.5, -80)], "42/20x85+1")
+    err = _refused(tmp_path, capsys, f)
+    assert ("the bore runs 80 mm deep (to Z-80); the boring bar T03 reaches 64 mm (max_depth): "
+            "it needs a boring bar reaching 80 mm") in err
+    # the same sleeve 60 mm long is bored
+    g = _part(tmp_path, "sleeve60", [(12.5, 0), (20, 0), (20, -60), (12.5, -60)], "42/20x65+1")
+    assert generate(g, verify=False).plan.operations
