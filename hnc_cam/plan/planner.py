@@ -613,6 +613,18 @@ def _split_rough(op: Operation, ops: Sequence[Operation], limit: float) -> bool:
         # under G41/G42 the two blocks of no length stand only inside a block, where the
         # control's offset vector at the split point is the block's own normal
         return False
+    x_e = x_t if z_cut is not None else x1
+    z_e = round(z_cut, 3) if z_cut is not None else z1
+    # the inside is only the face's edge: where a semi-finishing pass follows the cycle
+    # (op.blocks) and what the outer cycle leaves inside it, behind the face (Z <= 0), is
+    # within one depth of cut of the contour in X and in Z, that pass takes it: no inner
+    # cycle (it would run mostly in air in front of the faced face)
+    top = x_e + ax
+    inside = [(ends[i][2], ends[i][3]) for i in range(1, k)] + [(x_e, z_e)]
+    thin = bool(op.blocks) and -z_e <= r.depth + 1e-9 and \
+        all(top - px <= r.depth + 1e-9 for px, pz in inside if pz <= 1e-9)
+    if thin:
+        nf_s = ""
     if z_cut is not None:
         x_s, z_s = x_t, round(z_cut, 3)
         first = Block(blk.kind, x=x_s, z=z_s, r=blk.r, feed=blk.feed, label=nf_s)
@@ -624,25 +636,29 @@ def _split_rough(op: Operation, ops: Sequence[Operation], limit: float) -> bool:
         if low(k + 1) < x1 - 1e-9 or high(k) > x1 + 1e-9:
             return False
         x_s, z_s = x1, z1
-        if blk.label:
+        if thin:
+            pass
+        elif blk.label:
             nf_s = blk.label
         else:
             blk.label = nf_s
         entry = []
         at = blocks[k + 1]
     at.before = entry + [Block("rapid", x=x_s, label=ns_s), Block("line", z=z_s)]
-    top = x_s + ax
-    rpm = min(limit, round(vc * 1000.0 / (2 * math.pi * top)))
+    rpm = 0.0 if thin else min(limit, round(vc * 1000.0 / (2 * math.pi * top)))
     op.split = RoughSplit(x=x_s, z=z_s, ns=ns_s, nf=nf_s, start=(top, op.start[1]), rpm=rpm)
     if not op.blocks:
         op.spindle_changed = True  # the op ends in the inner cycle's G97
     else:
         _cap_contour(op, limit)
-        if op.blocks[0].spindle == Spindle("rpm", rpm):
+        if not thin and op.blocks[0].spindle == Spindle("rpm", rpm):
             op.blocks[0].spindle = None  # the inner cycle's G97 holds
     op.reason += (f"; G96 S{_fmt(vc)} needs more than {_fmt(limit)} rpm inside diameter "
-                  f"{_fmt(2 * r_c)}: without a G96 clamp word (HNC-21T) the cycle runs in two, "
-                  f"G96 down to diameter {_fmt(2 * top)}, then G97 S{_fmt(rpm)} inside it")
+                  f"{_fmt(2 * r_c)}: without a G96 clamp word (HNC-21T) the cycle runs "
+                  + (f"G96 down to diameter {_fmt(2 * top)} only, the semi-finishing pass "
+                     f"takes the face's edge inside it" if thin else
+                     f"in two, G96 down to diameter {_fmt(2 * top)}, then G97 S{_fmt(rpm)} "
+                     f"inside it"))
     return True
 
 
