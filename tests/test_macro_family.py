@@ -378,3 +378,30 @@ def test_a_failing_check_names_the_set_exit_1_nothing_written(tmp_path, monkeypa
                  "-o", str(out)]) == 1
     err = capsys.readouterr().err
     assert "fails its check" in err and "length=" in err and not out.exists()
+
+
+def test_fanuc_table_rows_jump_to_their_g65_call(tmp_path):
+    from hnc_cam.cli import main
+    from hnc_cam.errors import NCError
+    from hnc_cam.nc import run
+    table = tmp_path / "t.csv"
+    table.write_text("length,collar\n58,33\n62.5,35.5\n")
+    out = tmp_path / "m.nc"
+    assert main(["family", str(FRESH / "pin.py"), "--macro", "--dialect", "fanuc0it",
+                 "--table", str(table), "--check", "0", "-o", str(out)]) == 0
+    text = out.read_text()
+    assert "IF [#33 EQ 2] GOTO 2" in text and "G65 P1001 A62.5" in text
+    ctx, fam, _ = _derive(FRESH / "pin.py", "fanuc0it",
+                          rows=[{"length": "58", "collar": "33"},
+                                {"length": "62.5", "collar": "35.5"}])
+    ctx.stock = next(ln for ln in text.splitlines() if ln.startswith("(STOCK")).split()[1]
+    t = text.replace("#33=1 (ROW", "#33=2 (ROW")
+    got = [m for m in run(t, dialect="fanuc0it").moves if m.kind != "dwell"]
+    ref = [m for m in run(ctx.program(dict(fam.params, length=62.5, collar=35.5)),
+                          dialect="fanuc0it").moves if m.kind != "dwell"]
+    assert len(got) == len(ref)
+    for a, b in zip(got, ref):
+        assert a.end[0] == pytest.approx(b.end[0], abs=0.0006)
+        assert a.end[1] == pytest.approx(b.end[1], abs=0.0006)
+    with pytest.raises(NCError, match="NO SUCH TABLE ROW"):
+        run(text.replace("#33=1 (ROW", "#33=3 (ROW"), dialect="fanuc0it")

@@ -103,6 +103,7 @@ def macro_command(args: argparse.Namespace) -> int:
                             f"fails the family's checks")
         held[pieces.index(pc)].append(r)
     n_check = DEFAULT_CHECK if args.check is None else args.check
+    per_piece = -(-n_check // len(pieces))  # N sets over the whole domain, each piece its share
     texts: list[tuple[str, str]] = []
     checked = 0
     for i, pc in enumerate(pieces):
@@ -110,7 +111,7 @@ def macro_command(args: argparse.Namespace) -> int:
         prow = held[i]
         final = render_program(pc, dia, rows=prow or None, number=num)
         runs = [(f"sample {j + 1}", p, render_program(pc, dia, values=p, number=num))
-                for j, p in enumerate(sample(fam, pc.tr, pc.lo, pc.hi, n_check, ("check", i)))]
+                for j, p in enumerate(sample(fam, pc.tr, pc.lo, pc.hi, per_piece, ("check", i)))]
         runs += [(f"table row {j}", r, render_program(pc, dia, rows=prow, row=j, number=num))
                  for j, r in enumerate(prow, 1)]
         for res in check_program(ctx, pc, runs, mach, lib, opts["tol"]):

@@ -780,15 +780,18 @@ def render_program(pieces_or_one: Piece, dialect: str = "hnc21t", values: dict |
         def argtext(p):
             return " ".join(f"{letters[k]}{_num(float(p[k]))}" + ("." if "." not in _num(float(p[k])) else "")
                             for k in fam.free)
-        if rows:
-            main.append(f"(ONE CALL PER TABLE ROW: {len(rows)} ROWS)")
-            for r in rows:
-                main.append(f"G65 P{sub} {argtext(dict(vals, **r))}")
+        main += [f"({letters[k]} = {k.upper()})" for k in fam.free]
+        if rows:  # the operator selects the row by number, as in the HNC-21T form
+            main.append(f"#33={row} (ROW: THE TABLE ROW TO MAKE, 1-{len(rows)})")
+            main += [f"IF [#33 EQ {i}] GOTO {i}" for i in range(1, len(rows) + 1)]
+            main.append("#3000=1(NO SUCH TABLE ROW)")
+            for i, r in enumerate(rows, 1):
+                main += [f"N{i} G65 P{sub} {argtext(dict(vals, **r))}", "GOTO 9999"]
+            main.append("N9999 M30")
         else:
-            for k in fam.free:
-                main.append(f"({letters[k]} = {k.upper()})")
             main.append(f"G65 P{sub} {argtext(vals)}")
-        main.append("M30")
+        if not rows:
+            main.append("M30")
         check_lines = _fanuc_checks(checks, lets)
     else:
         main += [f"%{number:04d}"] + head
