@@ -373,3 +373,36 @@ def test_bore_deeper_than_the_boring_bars_reach_is_refused(tmp_path, capsys):
     # the same sleeve 60 mm long is bored
     g = _part(tmp_path, "sleeve60", [(12.5, 0), (20, 0), (20, -60), (12.5, -60)], "42/20x65+1")
     assert generate(g, verify=False).plan.operations
+
+
+def test_bore_under_the_bars_min_bore_and_no_drill_of_its_size_is_refused(tmp_path, capsys):
+    f = _part(tmp_path, "through9", [(4.5, 0), (12, 0), (12, -30), (4.5, -30)], "26x45+1")
+    err = _refused(tmp_path, capsys, f)
+    assert ("the through bore diameter 9 needs the boring bar where it is diameter 9, under the "
+            "smallest hole the boring bar T03 enters (min_bore 16); the drill T10 makes 8 mm: it "
+            "needs a boring bar with min_bore <= 8 or a drill of diameter 9") in err
+
+
+def test_through_hole_of_a_drill_size_needs_no_boring_bar(tmp_path):
+    f = _part(tmp_path, "through8", [(4, 0), (12, 0), (12, -30), (4, -30)], "26x45+1")
+    prog = generate(f)
+    assert prog.report.passed
+    assert [op.name for op in prog.plan.operations if op.tool.kind in ("drill", "bore")] == [
+        "drill"]
+
+
+@pytest.mark.parametrize("bottom,what", [
+    ("Polyline((0, -40), (0, -25 - 10 / 3 ** 0.5), (10, -25))", "a 120 deg cone"),
+    ("ThreePointArc((0, -35), (7.0711, -32.0711), (10, -25))", "a curved bottom")])
+def test_a_bottom_no_drill_point_makes_is_refused(tmp_path, capsys, bottom, what):
+    src = PART.replace("Polyline(*{pts!r}, close=True)",
+                       "Line((10, 0), (18, 0)); Line((18, 0), (18, -40)); Line((18, -40), "
+                       "(0, -40)); " + bottom + "; Line((10, -25), (10, 0))")
+    src = src.replace("Polyline, ", "Polyline, Line, ThreePointArc, ")
+    if "Arc" in bottom:
+        src = src.replace("Line((18, -40), (0, -40)); ", "Line((18, -40), (0, -40)); "
+                          "Line((0, -40), (0, -35)); ")
+    f = tmp_path / "cup.py"
+    f.write_text(src.format(stock="38x50+1"))
+    err = _refused(tmp_path, capsys, f)
+    assert f"blind bore diameter 20 to Z-25 ends in {what}" in err

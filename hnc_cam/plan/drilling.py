@@ -259,6 +259,14 @@ def plan_hole(chain: list[Segment], lib: ToolLibrary, machine: Machine, name: st
             if opener is None:
                 r_open = min(p[0] for s in bar_chain for p in (s.start, s.end)
                              if p[0] > rp + 1e-6)
+                if 2 * (r_open - STOCK) < bar.min_bore - 1e-9:
+                    raise PlanError(
+                        f"part {name}: the {feature} needs the boring bar where it is diameter "
+                        f"{_fmt(2 * r_open)}, under the smallest hole the boring bar "
+                        f"T{bar.number:02d} enters (min_bore {_fmt(bar.min_bore)}); the drill "
+                        f"T{pilot.number:02d} makes {_fmt(pilot.diameter)} mm: it needs a boring "
+                        f"bar with min_bore <= {_fmt(pilot.diameter)} or a drill of diameter "
+                        f"{_fmt(2 * r_open)}")
                 raise PlanError(
                     f"part {name}: the {feature} is diameter {_fmt(2 * r_open)} near the face, "
                     f"wider than the drill T{pilot.number:02d} ({_fmt(pilot.diameter)} mm) makes "
