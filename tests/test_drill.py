@@ -406,3 +406,19 @@ def test_a_bottom_no_drill_point_makes_is_refused(tmp_path, capsys, bottom, what
     f.write_text(src.format(stock="38x50+1"))
     err = _refused(tmp_path, capsys, f)
     assert f"blind bore diameter 20 to Z-25 ends in {what}" in err
+
+
+def test_a_relief_in_a_drilled_hole_is_grooved_without_the_boring_bar(tmp_path):
+    # a 20 mm blind hole (the 20 mm drill's size and point) with a relief Z-12..-15 to 23 mm
+    tip = 10 * COT59
+    f = _part(tmp_path, "relief20", [(10, 0), (18, 0), (18, -40), (0, -40), (0, -30 - tip),
+                                     (10, -30), (10, -15), (11.5, -15), (11.5, -12), (10, -12)],
+              "38x50+1")
+    for comp in ("cam", "control"):
+        prog = generate(f, comp=comp)
+        assert prog.report.passed, prog.report.summary()
+        kinds = [(op.name, op.tool.number) for op in prog.plan.operations
+                 if op.tool.kind in ("drill", "bore", "groove_id")]
+        assert kinds == [("drill", 14), ("groove", 15)]
+        plunge = [m for m in _moves(prog, 15) if m.kind == "line"]
+        assert [round(m.end[0], 3) for m in plunge] == [11.5]

@@ -148,34 +148,36 @@ def _cone(seg: Segment) -> float | None:
 
 
 def _split_at_radius(chain: Sequence[Segment], r: float) -> list[Segment]:
-    """The chain up to where its radius first falls to ``r`` (the segment that crosses it
-    cut there), continued :data:`RUN_ON` mm along the drilled surface after it (the bar's
-    nose then rounds the edge where the bore meets the drilled hole); empty when the chain
-    starts at ``r``."""
-    out: list[Segment] = []
-    rest: list[Segment] = []
-    for i, s in enumerate(chain):
-        if s.start[0] <= r + 1e-6:
-            rest = list(chain[i:])
-            break
-        if s.end[0] <= r + 1e-6:
-            if isinstance(s, Line):
-                t = (s.start[0] - r) / (s.start[0] - s.end[0])
-                p = (r, s.start[1] + t * (s.end[1] - s.start[1]))
-                if math.dist(p, s.start) > 1e-9:
-                    out.append(Line(s.start, p))
-                if math.dist(p, s.end) > 1e-9:
-                    rest = [Line(p, s.end)]
-                rest += list(chain[i + 1:])
-            else:
-                from .analysis import _split_at_x
-                parts = _split_at_x(s, r)
-                out.append(parts[0] if parts else s)
-                rest = ([parts[1]] if parts else []) + list(chain[i + 1:])
-            break
-        out.append(s)
-    if not out:
+    """The chain up to where it last comes down to radius ``r`` for good (from there on the
+    drill of that radius made it; the segment that comes down cut there), continued
+    :data:`RUN_ON` mm along the drilled surface after it (the bar's nose then rounds the edge
+    where the bore meets the drilled hole); empty when the whole chain lies on the drill."""
+    def low(s: Segment) -> bool:
+        return max(s.start[0], s.end[0], s.bbox()[2]) <= r + 1e-6
+    k = len(chain)
+    while k > 0 and low(chain[k - 1]):
+        k -= 1
+    if k == 0:
         return []
+    s = chain[k - 1]
+    out = list(chain[:k - 1])
+    rest = list(chain[k:])
+    if s.end[0] <= r + 1e-6 < s.start[0]:
+        if isinstance(s, Line):
+            t = (s.start[0] - r) / (s.start[0] - s.end[0])
+            p = (r, s.start[1] + t * (s.end[1] - s.start[1]))
+            if math.dist(p, s.start) > 1e-9:
+                out.append(Line(s.start, p))
+            if math.dist(p, s.end) > 1e-9:
+                rest.insert(0, Line(p, s.end))
+        else:
+            from .analysis import _split_at_x
+            parts = _split_at_x(s, r)
+            out.append(parts[0] if parts else s)
+            if parts:
+                rest.insert(0, parts[1])
+    else:
+        out.append(s)
     left = RUN_ON
     for s in rest:
         if left <= 1e-9 or not isinstance(s, Line):

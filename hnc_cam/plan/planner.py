@@ -1200,6 +1200,8 @@ def _plan_bore(chain: list[Segment], stock: Stock, lib: ToolLibrary, opts: Optio
     # grooving tool after the finishing, bridged for the bar
     from .drilling import bridge_id_grooves
     norm, id_grooves = bridge_id_grooves(norm, fits, lib, machine, name, z_a)
+    if drilled and max(-p[0] for s in norm for p in (s.start, s.end)) <= rb + 1e-6:
+        return id_grooves  # the drill made the rest: the grooves alone are left
     chain = an.mirror_chain(norm)
     items = an.pocket_items(norm)
     pockets = [it for it in items if isinstance(it, an.Pocket)]
