@@ -463,7 +463,7 @@ def _local_law(y, mat, nodes, allp, fam: Family, nominal: dict, near: int = 8):
     dist = np.array([sum(((p[k] - nominal[k]) / span[k]) ** 2 for k in fam.free)
                      for p in allp])
     order = np.argsort(dist, kind="stable")
-    for n in range(near, 4, -1):
+    for n in range(near, 5, -1):
         sub = order[:n]
         r = _fit_word(y[sub], mat[sub], n)
         if r is None:
@@ -471,6 +471,22 @@ def _local_law(y, mat, nodes, allp, fam: Family, nominal: dict, near: int = 8):
         node = _combine(nodes, *r)
         off = [i for i in order if abs(_ev(node, allp[i]) - y[i]) > TOL]
         return node, off
+    # another law passes near the nominal: the law of the most sets with the nominal among
+    # them, from small random subsets
+    rnd = random.Random(0)
+    best = None
+    others = [int(i) for i in order if i != 0]
+    for _ in range(24):
+        sub = [0] + rnd.sample(others, min(5, len(others)))
+        r = _fit_word(y[sub], mat[sub], len(sub))
+        if r is None:
+            continue
+        node = _combine(nodes, *r)
+        off = [i for i in order if abs(_ev(node, allp[i]) - y[i]) > TOL]
+        if best is None or len(off) < len(best[1]):
+            best = (node, off)
+    if best is not None and len(best[1]) <= len(allp) - 6:
+        return best
     return None
 
 
