@@ -422,3 +422,15 @@ def test_a_relief_in_a_drilled_hole_is_grooved_without_the_boring_bar(tmp_path):
         assert kinds == [("drill", 14), ("groove", 15)]
         plunge = [m for m in _moves(prog, 15) if m.kind == "line"]
         assert [round(m.end[0], 3) for m in plunge] == [11.5]
+
+
+@pytest.mark.parametrize("dialect", ["hnc21t", "fanuc0it"])
+def test_nut_inside_thread_in_single_passes(dialect):
+    prog = generate(FRESH / "nut_m24.py", dialect=dialect, thread_cycle="g82")
+    assert prog.report.passed
+    # the passes go outward from the minor diameter to the major (24), the last repeated
+    radii = [round(m.end[0], 3) for m in prog.toolpath.moves
+             if m.tool == 6 and m.kind == "thread"]
+    assert radii and max(radii) == pytest.approx(12.0)
+    firsts = sorted(set(radii))
+    assert firsts[0] > (24 - 1.0825 * 1.5) / 2 - 1e-6
