@@ -351,6 +351,13 @@ def test_bad_input_is_one_line_exit_2_nothing_written(tmp_path, capsys):
     assert main(["family", str(many), "--macro", "--dialect", "fanuc0it", "--check", "0",
                  "-o", str(out)]) == 2
     assert "at most 21" in capsys.readouterr().err and not out.exists()
+    # a table row that is not a set of the family's numbers: the table's line
+    bad = tmp_path / "bad.csv"
+    bad.write_text("length,collar\n58,33\n61,abc\n")
+    assert main(["family", str(FRESH / "pin.py"), "--macro", "--table", str(bad),
+                 "-o", str(out)]) == 2
+    assert f"{bad}:3: parameter collar='abc' is not a number" in capsys.readouterr().err
+    assert not out.exists()
     # per-row options and --macro options do not mix
     assert main(["family", str(FRESH / "pin.py"), "--check", "3", "--table", "t.csv",
                  "--out", str(tmp_path / "d")]) == 2

@@ -21,7 +21,7 @@ _GEN_KEYS = ("tools", "machine", "templates", "number_format", "block_numbers", 
              "face_cycle", "material", "allowance", "grip", "partoff", "partoff_dia")
 
 
-def _rows(path: str) -> list[dict[str, str]]:
+def _rows(path: str) -> list[tuple[int, dict[str, str]]]:
     from .command import read_table
     _header, rows = read_table(path)
     out = []
@@ -29,7 +29,7 @@ def _rows(path: str) -> list[dict[str, str]]:
         if isinstance(cells, str):
             raise PartError(f"{path}:{line}: {cells}")
         cells = {k: v for k, v in cells.items() if k not in ("program_number", "stock") and v}
-        out.append(cells)
+        out.append((line, cells))
     if not out:
         raise PartError(f"{path}: the table has no rows")
     return out
@@ -64,8 +64,18 @@ def macro_command(args: argparse.Namespace) -> int:
     dia = dialect_of(opts["dialect"], mach)
     if dia not in DIALECTS:
         raise PlanError(f"--macro writes {' and '.join(DIALECTS)} macro programs, not {dia}")
-    rows = _rows(args.table) if args.table else []
     base = parse_set(args.params or [])
+    rows = []
+    if args.table:
+        from ..cad.loader import load_module, resolve_params
+        mod = load_module(args.part)
+        for line, cells in _rows(args.table):
+            try:
+                resolve_params(mod, dict(base, **cells), args.part)
+            except PartError as e:
+                msg = str(e).split(": ", 1)[-1] if str(e).startswith(args.part) else str(e)
+                raise PartError(f"{args.table}:{line}: {msg}") from None
+            rows.append(cells)
     fam = load_family(args.part, base, rows, spread=SPREAD)
     from ..cad.loader import resolve_params
     full_rows = [dict(fam.params, **resolve_params(fam.mod, r, args.part)) for r in rows]
