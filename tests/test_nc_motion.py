@@ -152,6 +152,15 @@ def test_round_tangent_points():
     assert k[2] == ("line", (10, -20), (40, -20))
 
 
+def test_round_before_a_collinear_line_keeps_the_corner_blocks_line():
+    # nothing to round between two collinear lines: both run whole, in their own blocks' feeds
+    tp = run(prog("G92 X40 Z10", "G01 X20 Z0 F100", "Z-10 R2 F50", "Z-20 F80", "X30"))
+    assert pts(tp) == [("line", (40, 10), (20, 0)), ("line", (20, 0), (20, -10)),
+                       ("line", (20, -10), (20, -20)), ("line", (20, -20), (30, -20))]
+    assert [m.feed for m in tp.moves] == [100, 50, 80, 80]
+    assert [m.line for m in tp.moves] == [3, 4, 5, 6]
+
+
 # --- dwell, coordinates ---------------------------------------------------------------------------
 
 def test_g04_dwell_counts_time():

@@ -1129,8 +1129,12 @@ class Interp(HncMemory):
         try:
             k = _corner((ax, az), (gx, gz), (x2, z2), kind, size)
         except CornerError as ce:
-            if ce.reason == "straight":
-                return gx, gz  # collinear: nothing to round
+            if ce.reason == "straight":  # collinear: nothing to round; the block's line runs whole
+                saveF, saveop = self.F, self.op
+                self.F, self.op = F, "G01"
+                self._emit_line(False, ax, az, gx, gz, line)
+                self.F, self.op = saveF, saveop
+                return gx, gz
             raise self.alarm(f"chamfer/round {kind}{size:g}: the next line turns back on this one", line, col)
         t = k.trim
         if l1 < t - 1e-9:
