@@ -525,6 +525,14 @@ def test_summary_names_the_802_program_and_its_lcyc95_finish():
     fanuc = generate(PARTS / "stepped_shaft.py", dialect="fanuc0it", comp="control", verify=False)
     assert hnc.summary().startswith("O0001 stepped_shaft: face G01, rough G71, finish contour,")
     assert fanuc.summary().startswith("O0001 stepped_shaft: face G01, rough G71, finish G70,")
+    # the JSON plan and the report's operation table name the same cycles as the summary
+    from hnc_cam.plan.export import plan_json
+    from hnc_cam.report.data import plan_operations
+    for prog in (ctrl, cam, hnc, fanuc):
+        names = [o.split(" ", 1)[1] for o in prog.operations]
+        assert [o["cycle"] for o in plan_json(prog)["operations"]] == names
+        assert [o["cycle"] for o in plan_operations(prog.plan, prog.labels)] == names
+    assert [o["cycle"] for o in plan_json(ctrl)["operations"]][:3] == ["G1", "LCYC95", "LCYC95"]
 
 
 #: a tool library written by a user whose offsets sit in other registers than the turret

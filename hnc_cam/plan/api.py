@@ -51,7 +51,8 @@ class Program:
     @property
     def operations(self) -> list[str]:
         key = self.plan.label_key
-        return [f"{op.name} {self.labels.get(key(op), op.cycle)}" for op in self.plan.operations]
+        return [f"{op.name} {self.labels.get(key(op, self.labels), op.cycle)}"
+                for op in self.plan.operations]
 
     def summary(self) -> str:
         t = self.cycle_time_s

@@ -54,7 +54,7 @@ def plan_json(prog: Any) -> dict[str, Any]:
     labels = prog.labels or {}
     ops = []
     for i, op in enumerate(plan.operations, 1):
-        label = labels.get(plan.label_key(op))
+        label = labels.get(plan.label_key(op, labels))
         ops.append({
             "index": i,
             "name": op.name,

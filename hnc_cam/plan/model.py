@@ -441,6 +441,6 @@ class Plan:
         out = [f"{self.name}: stock {self.stock.spec}, compensation {self.comp}"]
         out += [f"  note: {n}" for n in self.notes]
         for i, op in enumerate(self.operations, 1):
-            label = (labels or {}).get(self.label_key(op))
+            label = (labels or {}).get(self.label_key(op, labels))
             out.append(f"  {i}. {op.describe(label) if label else op.note}: {op.reason}")
         return "\n".join(out)

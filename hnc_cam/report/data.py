@@ -326,7 +326,7 @@ def plan_operations(plan, labels: dict[str, str] | None = None) -> list[dict[str
     key = getattr(plan, "label_key", None)
     for op in getattr(plan, "operations", None) or ():
         unit = "m/min" if getattr(op, "speed_mode", "G96") == "G96" else "rpm"
-        cycle = (labels or {}).get(key(op), op.cycle) if key is not None else op.cycle
+        cycle = (labels or {}).get(key(op, labels), op.cycle) if key is not None else op.cycle
         out.append({"name": op.name, "cycle": cycle,
                     "tool": f"T{op.tool.number:02d}{op.tool.register:02d}",
                     "speed": f"{op.speed_mode} {op.speed:g} {unit}",
