@@ -434,3 +434,16 @@ def test_nut_inside_thread_in_single_passes(dialect):
     assert radii and max(radii) == pytest.approx(12.0)
     firsts = sorted(set(radii))
     assert firsts[0] > (24 - 1.0825 * 1.5) / 2 - 1e-6
+
+
+@pytest.mark.parametrize("dialect, labels", [
+    ("fanuc0it", ["G01", "G74"]), ("haas", ["G01", "G74"]), ("siemens802", ["G1", "G1"]),
+    ("hnc21t", ["G01", "G01"])])
+def test_summary_and_json_name_the_drilling_cycles(dialect, labels):
+    """The spot drill feeds once; the 12 mm pilot pecks (G74 where the dialect has it)."""
+    from hnc_cam.plan.export import plan_json
+    prog = generate(FRESH / "stepped_blind_bore.py", dialect=dialect, verify=False)
+    drills = [o.split(" ", 1)[1] for o in prog.operations if o.split(" ", 1)[0] in ("spot", "drill")]
+    assert drills[:2] == labels
+    assert [o["cycle"] for o in plan_json(prog)["operations"]] == [
+        o.split(" ", 1)[1] for o in prog.operations]

@@ -41,7 +41,7 @@ def test_major_diameter_follows_the_taper_and_the_minor_is_measured_from_the_sma
 
 @pytest.mark.parametrize("dialect,cycle", [("hnc21t", "g76"), ("hnc21t", "g82"),
                                            ("fanuc0it", "g76"), ("fanuc0it", "g82"),
-                                           ("haas", "g76")])
+                                           ("haas", "g76"), ("siemens802", "g76")])
 @pytest.mark.parametrize("comp", ["cam", "control"])
 def test_threading_passes_follow_the_taper_and_the_part_verifies(dialect, cycle, comp):
     prog = generate(PART, dialect=dialect, thread_cycle=cycle, comp=comp)

@@ -411,8 +411,9 @@ class Plan:
 
     def label_key(self, op: Operation, labels: Any = None) -> str:
         """The key of ``op`` in a dialect's cycle names (``labels.j2``): its role, with
-        ``_cycle``/``_passes`` for facing, ``_pockets`` for a bore with undercuts and
-        ``_roughed`` for a finishing contour a roughing cycle carries. Given the dialect's
+        ``_cycle``/``_passes`` for facing, ``_pockets`` for a bore with undercuts,
+        ``_roughed`` for a finishing contour a roughing cycle carries and ``_peck`` for a
+        pecked hole. Given the dialect's
         ``labels``, a key they name more precisely is preferred: ``finish_roughed_comp`` for
         such a finish the control compensates, carried by a stock-removal (not a
         pattern-repeat) roughing (the SINUMERIK runs it as LCYC95 finishing)."""
@@ -426,6 +427,8 @@ class Plan:
                                 and o.rough.strategy == "pattern" for o in self.operations)):
                 return "finish_roughed_comp"
             return "finish_roughed"
+        if op.kind == "drill" and op.drill is not None and op.drill.pecks:
+            return "drill_peck"
         return op.role
 
     def roughed(self, op: Operation) -> bool:
