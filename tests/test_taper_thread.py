@@ -113,3 +113,28 @@ def test_taper_thread_on_a_cylinder_is_refused_where_the_part_stands_above_it(tm
     rc = main(["generate", "parts/threaded_stud.py", "--thread", "M20x1.5@-1:-15,taper=1:16",
                "-o", str(out)])
     assert rc == 2 and not out.exists()
+
+
+def test_a_straight_thread_at_the_small_ends_root_fails_the_taper():
+    """The program's G76 without its taper (I), at the root the small end needs: the thread is
+    right at the small end and 14/16 mm too deep on the diameter at the large end, which the
+    root measured against the taper at every Z finds."""
+    import re
+    from hnc_cam.nc.interp import run
+    from hnc_cam.sim import simulate, verify
+    from hnc_cam.tooling import Stock, load_machine
+    prog = generate(PART)
+    assert prog.report.threads[0].ok
+    small_root = prog.report.threads[0].target_diameter
+    g76 = re.search(r"^(N\d+ G76 .*) X[\d.]+ (Z-?[\d.]+) I-?[\d.]+ ", prog.text, re.M)
+    assert g76
+    bad = prog.text.replace(g76.group(0), f"{g76.group(1)} X{small_root:.3f} {g76.group(2)} ")
+    mach = load_machine(None)
+    tp = run(bad, mach)
+    legs = [m for m in tp.moves if m.kind == "thread"]
+    assert max(abs(m.end[0] - m.start[0]) for m in legs) < 1e-9  # straight passes now
+    rep = verify(simulate(tp, Stock.parse(prog.plan.stock.spec), mach), prog.plan.profile)
+    (th,) = rep.threads
+    assert not th.ok and not rep.passed
+    # 1:16 over the 14 mm thread less a pitch at each end: about 0.75 mm too deep
+    assert th.achieved_diameter - th.target_diameter == pytest.approx(-14 / 16, abs=0.2)

@@ -416,6 +416,15 @@ class _Zone:
     declared: bool
     m0: float = 0.0  # Z range where the root is measured (the thread on the part)
     m1: float = 0.0
+    thread: Thread | None = None  # the declared thread (a taper thread's target follows it)
+
+    def target_at(self, z: float) -> float:
+        """The root diameter the thread must reach at ``z``: ``target`` on a straight thread,
+        the taper line less twice the thread's depth on a taper thread."""
+        t = self.thread
+        if t is None or not t.taper:
+            return self.target
+        return t.major_at(z) - 2 * t.depth
 
 
 def _zones(model: TurnedProfile, machined: Machined, threads: Sequence[Thread] | None) -> list[_Zone]:
@@ -432,7 +441,7 @@ def _zones(model: TurnedProfile, machined: Machined, threads: Sequence[Thread] |
                                t.diameter, True, m0, m1))
         else:
             zones.append(_Zone(z0, z1, t.minor_diameter / 2, t.diameter / 2, False, t.pitch,
-                               t.minor_diameter, True, m0, m1))
+                               t.minor_diameter, True, m0, m1, t))
     for s in machined.thread_spans:
         if any(z.z1 >= s.z_min - 1e-6 and z.z0 <= s.z_max + 1e-6 for z in zones):
             continue
@@ -488,6 +497,11 @@ def _achieved(material: BaseGeometry, zone: _Zone) -> float | None:
             vals.append(max(g.bounds[3] for g in pieces) if pieces else 0.0)
     if not vals:
         return None
+    if zone.thread is not None and zone.thread.taper and not zone.internal:
+        # a taper thread: the root measured against the taper at each Z; the reading is the
+        # small end's target plus the deviation farthest from the taper anywhere
+        devs = [2 * v - zone.target_at(z) for z, v in zip(zs, vals)]
+        return zone.target + max(devs, key=abs)
     return 2 * (max(vals) if zone.internal else min(vals))
 
 
