@@ -283,12 +283,18 @@ def test_bore_no_drill_fits_is_refused_naming_the_drill_needed(tmp_path, capsys)
             "point") in err
 
 
-def test_flat_bottom_is_reported_unreachable(tmp_path, capsys):
+def test_flat_bottom_is_faced_by_the_bar_as_far_as_its_head_leaves_it(tmp_path):
+    # a 20 mm bore flat at Z-20: the 20 mm drill's point stops on the bottom; the bar's head
+    # (min_bore 16) in the 20 mm bore keeps its tip 6 mm off the axis: it faces to 7 mm
     f = _part(tmp_path, "cup", [(10, 0), (18, 0), (18, -30), (0, -30), (0, -20), (10, -20)],
               "38x45+1")
-    err = _refused(tmp_path, capsys, f)
-    assert "blind bore diameter 20 to Z-20 ends in a flat bottom at Z-20" in err
-    assert "no boring bar reaches the centre" in err and "118 deg cone" in err
+    prog = generate(f, verify=False)
+    drill = next(op for op in prog.plan.operations if op.name == "drill")
+    assert drill.tool.number == 14 and drill.drill.z_end == pytest.approx(-19.999)
+    assert any("inside diameter 14 is beyond the boring bar T03's reach" in n for n in drill.notes)
+    bar = [m for m in _moves(prog, 3) if m.kind != "rapid"]
+    assert min(m.end[1] for m in bar) == pytest.approx(-20.0, abs=1e-3)
+    assert min(min(m.start[0], m.end[0]) for m in bar if m.end[1] < -15.0) >= 6.0 - 1e-6
 
 
 def test_hole_deeper_than_the_flutes_is_refused(tmp_path, capsys):

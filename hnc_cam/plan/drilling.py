@@ -12,9 +12,15 @@ Rules (each operation records its reason, which the program prints as a comment)
   largest drill at least ``min_bore`` that stays :data:`STOCK` inside the bore) drills as deep
   as it stays that far from the part, before it. A bore the pilot makes whole (its diameter
   a drill's, its bottom that drill's point) is drilled to size.
-* **Refused**, naming the feature and the tool it needs: a bottom no drill's point makes
-  (a flat bottom: no boring bar reaches the centre of a hole from solid), a bore no drill
-  fits, a hole deeper than the drill's flutes, a bore whose wider part no drill opens to the
+* **A flat bottom** is the boring bar's: the largest drill whose point stays inside the bore
+  drills with its tip :data:`FLAT_TIP` above the bottom; the bar roughs and finishes the bore
+  and faces the bottom toward the centre as far as its head lets its tip go (``min_bore``
+  less the bore's narrowest radius: the bar's back against the wall across the axis) plus
+  :data:`FACE_CLEAR`, and leaves the bottom along +Z. What the drill's point leaves nearer the
+  axis is named in a note; a bottom the bar's head leaves no room to face, or a drill under
+  the bar's ``min_bore``, is refused.
+* **Refused**, naming the feature and the tool it needs: another bottom no drill's point
+  makes (a cone of another angle, a curved bottom), a bore no drill fits, a hole deeper than the drill's flutes, a bore whose wider part no drill opens to the
   boring bar's ``min_bore``.
 * **Centre drilling**: the library's spot drill (``kind = "center_drill"``) spots the face
   first, its cone to :data:`SPOT_SHARE` of the first drill's diameter, where that cone lies
@@ -61,6 +67,11 @@ SPOT_SHARE = 0.9
 RUN_ON = 1.0
 #: drill point angles that are the same, deg
 ANGLE_TOL = 0.5
+#: a flat-bottomed bore's drill stops its tip this far above the bottom, mm
+FLAT_TIP = 0.001
+#: the boring bar faces a flat bottom to this far outside the least radius its head leaves
+#: its tip (so the roughing cycle's start, the clearance inside it, stays within reach), mm
+FACE_CLEAR = 1.0
 
 
 def _fmt(v: float) -> str:
@@ -211,6 +222,10 @@ def plan_hole(chain: list[Segment], lib: ToolLibrary, machine: Machine, name: st
         raise PlanError(f"part {name}: the {feature} from solid bar needs a drill (kind = "
                         f"\"drill\") in the tool library, e.g. diameter {_fmt(_drill_size(r_min))}; "
                         f"there is none (or give a tube stock)")
+    flat = blind and isinstance(chain[-1], Line) and abs(chain[-1].start[1] - z_bottom) <= 1e-9 \
+        and chain[-1].start[0] > 1e-6
+    if flat:
+        return _flat_hole(chain, drills, bars, lib, machine, name, feature, z_face, z_a, style)
     if blind:
         ang = _cone(chain[-1])
         if ang is None or not any(abs(ang - t.point_angle) <= ANGLE_TOL for t in drills):
@@ -317,6 +332,79 @@ def plan_hole(chain: list[Segment], lib: ToolLibrary, machine: Machine, name: st
         ops.append(_drill_op(t, zt, t.diameter, z_face, z_a, machine, rpm_limit(t, machine),
                              style, what))
     return Hole(ops=ops, bar_chain=bar_chain or None, radius=hole_r)
+
+
+def _flat_hole(chain: list[Segment], drills: Sequence[Tool], bars: Sequence[Tool],
+               lib: ToolLibrary, machine: Machine, name: str, feature: str, z_face: float,
+               z_a: float, style: str) -> Hole:
+    """A blind bore with a flat bottom: the largest drill whose point stays inside the bore,
+    its tip :data:`FLAT_TIP` above the bottom on the axis; the boring bar roughs and
+    finishes the bore and faces the bottom toward the centre down to the radius its head
+    leaves it (``min_bore`` less the bore's narrowest radius: the bar's back against the wall
+    across the axis) plus :data:`FACE_CLEAR`; what the drill's point leaves inside that
+    radius is beyond the bar's reach and left (a note names it)."""
+    from .planner import rpm_limit
+    z_b = chain[-1].start[1]
+    r_b = chain[-1].start[0]
+    tip = math.ceil((z_b + FLAT_TIP) * 1000 - 1e-6) / 1000
+    pilot = next((t for t in drills if _fits(chain, t.diameter, t.point_angle, tip, -math.inf,
+                                             0.0)), None)
+    if pilot is None:
+        small = drills[-1]
+        raise PlanError(f"part {name}: no drill in the library fits the {feature}: the smallest, "
+                        f"T{small.number:02d} ({_fmt(small.diameter)} mm), is wider than the "
+                        f"bore or its point reaches below the flat bottom at Z{_fmt(z_b)}")
+    if not bars:
+        raise PlanError(f"part {name}: the {feature} ends in a flat bottom at Z{_fmt(z_b)}: the "
+                        f"bottom is faced by a boring bar (kind bore, uses 'rough'); the library "
+                        f"has none")
+    fits = [t for t in bars if t.min_bore <= pilot.diameter + 1e-9]
+    if not fits:
+        bar = min(bars, key=lambda t: t.min_bore)
+        raise PlanError(f"part {name}: the {feature} ends in a flat bottom at Z{_fmt(z_b)} that "
+                        f"the boring bar faces; the largest drill whose point stays above it, "
+                        f"T{pilot.number:02d} ({_fmt(pilot.diameter)} mm), makes a hole under the "
+                        f"boring bar T{bar.number:02d}'s min_bore {_fmt(bar.min_bore)}: it needs a "
+                        f"boring bar with min_bore <= {_fmt(pilot.diameter)}")
+    bar = min(fits, key=lambda t: t.min_bore)
+    r_narrow = min(min(s.start[0], s.end[0]) for s in chain[:-1]) if len(chain) > 1 else r_b
+    r_reach = max(0.0, bar.min_bore - r_narrow)
+    r_end = r_reach + FACE_CLEAR if r_reach > 0 else 0.0
+    if r_end >= r_b - 1e-6:
+        raise PlanError(f"part {name}: the {feature} ends in a flat bottom at Z{_fmt(z_b)} "
+                        f"(diameter {_fmt(2 * r_b)}) that the boring bar T{bar.number:02d} "
+                        f"(min_bore {_fmt(bar.min_bore)}) cannot face: its head leaves it no room "
+                        f"in the bore; it needs a boring bar with min_bore <= "
+                        f"{_fmt(r_b + r_narrow - FACE_CLEAR)}")
+    bar_chain = list(chain[:-1]) + [Line((r_b, z_b), (r_end, z_b))]
+    ops: list[Operation] = []
+    if z_face - tip > pilot.flute_length + 1e-9:
+        raise PlanError(f"part {name}: the {feature} needs T{pilot.number:02d} {pilot.name} to "
+                        f"drill {_fmt(z_face - tip)} mm deep (to Z{_fmt(tip)}); its flutes reach "
+                        f"{_fmt(pilot.flute_length)} mm: it needs a {_fmt(pilot.diameter)} mm "
+                        f"drill with flute_length >= {_fmt(z_face - tip)}")
+    spots = [t for t in lib.tools if t.kind == "center_drill"]
+    if spots:
+        s = spots[0]
+        ds = min(s.diameter, SPOT_SHARE * pilot.diameter)
+        zs = math.ceil((z_face - ds / 2 / math.tan(math.radians(s.point_angle) / 2)) * 1000
+                       - 1e-6) / 1000
+        if zs >= tip - 1e-9 and s.point_angle <= pilot.point_angle + 1e-9:
+            ops.append(_drill_op(s, zs, ds, z_face, z_a, machine, rpm_limit(s, machine), style,
+                                 f"spot the hole's centre for T{pilot.number:02d}, its "
+                                 f"{_fmt(s.point_angle)} deg cone to diameter {_fmt(ds)}"))
+    op = _drill_op(pilot, tip, pilot.diameter, z_face, z_a, machine, rpm_limit(pilot, machine),
+                   style, f"drill the {feature} for the boring bar, the largest drill whose "
+                          f"point stays above the flat bottom at Z{_fmt(z_b)}")
+    if r_end > 0:
+        left = min(r_end, pilot.diameter / 2) / math.tan(math.radians(pilot.point_angle) / 2)
+        op.notes.append(f"the flat bottom at Z{_fmt(z_b)} inside diameter {_fmt(2 * r_end)} is "
+                        f"beyond the boring bar T{bar.number:02d}'s reach (its head, min_bore "
+                        f"{_fmt(bar.min_bore)}, against the bore of diameter {_fmt(2 * r_narrow)}"
+                        f"): the drill's point is left there, up to {_fmt(left + FLAT_TIP)} mm "
+                        f"above the bottom")
+    ops.append(op)
+    return Hole(ops=ops, bar_chain=bar_chain, radius=r_end if r_end > 0 else 0.0)
 
 
 def _drill_size(r: float) -> float:

@@ -1152,6 +1152,9 @@ def _plan_bore(chain: list[Segment], stock: Stock, lib: ToolLibrary, opts: Optio
     drilled)."""
     drilled = hole is not None
     rb = (x_hole if drilled else stock.bore / 2)
+    # a flat bottom faced from the drilled hole: the chain ends along it, toward the axis
+    faced = drilled and isinstance(chain[-1], Line) and chain[-1].end[0] < chain[-1].start[0] \
+        and abs(chain[-1].start[1] - chain[-1].end[1]) <= 1e-9
     entry = hole if drilled else stock.bore
     bars = [t for t in lib.tools if t.kind == "bore" and "rough" in t.uses]
     if not bars:
@@ -1237,7 +1240,9 @@ def _plan_bore(chain: list[Segment], stock: Stock, lib: ToolLibrary, opts: Optio
     rough_start = (rb, z_a)  # on the stock's hole: the first level one full depth in
     rough = Operation(
         name="bore_rough", kind="rough", tool=rough_t,
-        reason=((f"drilled hole diameter {_fmt(2 * rb)}" if drilled
+        reason=((f"drilled hole diameter {_fmt(entry)}, its flat bottom faced toward the "
+                 f"centre to diameter {_fmt(2 * rb)}" if faced
+                 else f"drilled hole diameter {_fmt(2 * rb)}" if drilled
                  else f"tube stock {stock.spec}") + f": bore roughed with {describe(rough_t)}, "
                 + ("G71 type I with a negative X allowance" if monotonic
                    else "G71 type II with a negative E (bore undercuts)")),
@@ -1252,7 +1257,10 @@ def _plan_bore(chain: list[Segment], stock: Stock, lib: ToolLibrary, opts: Optio
                 + (" (tip path of this tool, G40)" if opts.comp == "cam"
                    else f" (G41 from register {fin_t.register})")),
         start=start, speed=fin_t.vc_finish, feed=fin_t.feed_finish, blocks=blocks, ns=ns,
-        nf=nf, nose_comp=comp, contour=prog, retract=_retract([(x_a, last[1]), (x_a, z_a)], blocks))
+        nf=nf, nose_comp=comp, contour=prog,
+        # off a faced bottom straight along +Z: toward the axis is what the bar leaves there
+        retract=_retract([(last[0], z_a)] + ([(x_a, z_a)] if abs(last[0] - x_a) > 1e-9 else [])
+                         if faced else [(x_a, last[1]), (x_a, z_a)], blocks))
     return [rough, finish] + id_grooves
 
 

@@ -1,0 +1,127 @@
+"""Flat-bottomed blind bores from solid bar: the largest drill whose point stays above the
+bottom, then the boring bar roughs and finishes the bore and faces the bottom toward the
+centre as far as its head (``min_bore``) leaves it; what the drill's point leaves nearer the
+axis is named in a note; bottoms the bar cannot face at all are refused."""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+
+from hnc_cam.cli import main
+from hnc_cam.plan.api import generate
+
+ROOT = Path(__file__).resolve().parents[1]
+FRESH = ROOT / "tests" / "data" / "turning_parts"
+COT59 = 1.0 / math.tan(math.radians(59.0))
+
+PART = '''
+from build123d import BuildLine, BuildPart, BuildSketch, Plane, Polyline, Axis, make_face, revolve
+
+STOCK = "{stock}"
+
+
+def part():
+    with BuildPart() as p:
+        with BuildSketch(Plane.XZ):
+            with BuildLine():
+                Polyline(*{pts!r}, close=True)
+            make_face()
+        revolve(axis=Axis.Z)
+    return p.part
+'''
+
+
+def _part(tmp_path: Path, name: str, pts, stock: str) -> Path:
+    f = tmp_path / f"{name}.py"
+    f.write_text(PART.format(pts=[tuple(p) for p in pts], stock=stock))
+    return f
+
+
+def _feeds(prog, tool: int):
+    return [m for m in prog.toolpath.moves if m.tool == tool and m.kind != "rapid"]
+
+
+@pytest.mark.parametrize("comp", ["cam", "control"])
+def test_flat_bottom_is_drilled_and_faced_to_the_centre_and_verifies(comp):
+    prog = generate(FRESH / "flat_bore.py", comp=comp)
+    assert prog.report.passed, prog.report.summary()
+    ops = prog.plan.operations
+    names = [op.name for op in ops]
+    assert names[names.index("spot"):names.index("bore_finish") + 1] == [
+        "spot", "drill", "bore_rough", "bore_finish"]
+    # the 20 mm drill, the largest that fits the 36 mm bore, its tip 0.001 above the bottom
+    drill = next(op for op in ops if op.name == "drill")
+    assert drill.tool.number == 14 and drill.drill.z_end == pytest.approx(-24.999)
+    assert min(m.end[1] for m in prog.toolpath.moves if m.tool == 14) == pytest.approx(-24.999)
+    # the bar (its head, min_bore 16, fits across the 36 mm bore) roughs from the axis
+    rough = next(op for op in ops if op.name == "bore_rough")
+    assert rough.start[0] == pytest.approx(0.0)
+    # the finishing pass reaches the bottom's Z and faces along it from the wall to the axis
+    fin = _feeds(prog, 3)
+    face = [m for m in fin if abs(m.start[1] + 25.0) < 1e-6 and abs(m.end[1] + 25.0) < 1e-6
+            and m.end[0] < m.start[0] - 1.0]
+    assert face, "no face pass along Z-25"
+    assert max(m.start[0] for m in face) >= 18.0 - 0.5 - 1e-6
+    # the tip P of code 2 lies a nose radius (0.4) off the nose's lowest point: that is on
+    # the axis
+    assert min(m.end[0] for m in face) <= 0.4 + 1e-6
+    assert min(m.end[1] for m in _feeds(prog, 3)) == pytest.approx(-25.0, abs=1e-3)
+    # nothing left on the bottom: what no tool reaches is the nose's fillet in the bore's
+    # corner and the left end's edge, none near the axis
+    assert prog.report.max_undercut_mm <= 0.01
+    assert all(2 * u.x > 35.0 for u in prog.report.unreachable)
+
+
+def test_flat_bottom_the_bars_head_does_not_reach_the_centre_is_named(tmp_path):
+    # a 24 mm bore: the bar's head (min_bore 16) against the wall across the axis keeps its
+    # tip 16 - 12 = 4 mm off the axis; it faces to 4 + 1 mm
+    f = _part(tmp_path, "cup24", [(13, 0), (19, 0), (20, -1), (20, -40), (0, -40), (0, -25),
+                                  (12, -25), (12, -1)], "42x50+1")
+    prog = generate(f, verify=False)
+    ops = prog.plan.operations
+    drill = next(op for op in ops if op.name == "drill")
+    assert drill.tool.number == 14 and drill.drill.z_end == pytest.approx(-24.999)
+    assert any("inside diameter 10 is beyond the boring bar T03's reach" in n
+               for n in drill.notes)
+    rough = next(op for op in ops if op.name == "bore_rough")
+    assert rough.start[0] == pytest.approx(5.0)
+    # the bar's tip never goes nearer the axis than 4 mm below the drilled hole's mouth...
+    deep = [m for m in prog.toolpath.moves if m.tool == 3 and min(m.start[1], m.end[1]) < -20]
+    assert deep and min(min(m.start[0], m.end[0]) for m in deep) >= 4.0 - 1e-6
+    # ... and leaves along +Z from the bottom (not across what it leaves near the axis)
+    fin = [m for m in prog.toolpath.moves if m.tool == 3]
+    k = max(i for i, m in enumerate(fin) if abs(m.end[1] + 25.0) < 1e-3 and m.kind != "rapid")
+    nxt = fin[k + 1]
+    assert nxt.end[0] == pytest.approx(fin[k].end[0]) and nxt.end[1] > 0
+    # the face pass along the bottom from the wall in to 5 mm (the tip path's nose in cam)
+    face = [m for m in fin if abs(m.start[1] + 25.0) < 1e-6 and abs(m.end[1] + 25.0) < 1e-6
+            and m.kind != "rapid" and m.end[0] < m.start[0] - 1.0]
+    assert face and min(m.end[0] for m in face) <= 5.0 + 0.4 + 1e-6
+
+
+def _refused(tmp_path, capsys, part) -> str:
+    out = tmp_path / "out.nc"
+    rc = main(["generate", str(part), "-o", str(out)])
+    err = capsys.readouterr().err
+    assert rc == 2 and not out.exists()
+    assert len(err.strip().splitlines()) == 1, err
+    return err
+
+
+def test_flat_bottom_the_bar_cannot_face_is_refused(tmp_path, capsys):
+    # a 16 mm bore: the 16 mm drill fits, but the bar's head fills the hole
+    f = _part(tmp_path, "cup16", [(8, 0), (15, 0), (15, -30), (0, -30), (0, -20), (8, -20)],
+              "32x40+1")
+    err = _refused(tmp_path, capsys, f)
+    assert "flat bottom at Z-20 (diameter 16) that the boring bar T03 (min_bore 16) cannot " \
+           "face" in err
+
+
+def test_flat_bottom_drill_under_the_bars_min_bore_is_refused(tmp_path, capsys):
+    # a 14 mm bore: the 12 mm drill is the largest that fits; the bar needs 16
+    f = _part(tmp_path, "cup14", [(7, 0), (15, 0), (15, -30), (0, -30), (0, -20), (7, -20)],
+              "32x40+1")
+    err = _refused(tmp_path, capsys, f)
+    assert "T12 (12 mm), makes a hole under the boring bar T03's min_bore 16" in err
