@@ -125,3 +125,18 @@ def test_flat_bottom_drill_under_the_bars_min_bore_is_refused(tmp_path, capsys):
               "32x40+1")
     err = _refused(tmp_path, capsys, f)
     assert "T12 (12 mm), makes a hole under the boring bar T03's min_bore 16" in err
+
+
+# ---------------------------------------------------------------- the bar's head in the bore
+
+def test_a_step_narrower_than_the_bars_min_bore_deeper_than_the_opener_is_refused(tmp_path,
+                                                                                   capsys):
+    # 22 mm to Z-10 (the 20 mm opener lets the bar in), then 14 mm to Z-30 over an 8 mm hole
+    # ending in its point: the bar (min_bore 16) would have to bore the 14 mm step
+    tip = 4 * COT59
+    f = _part(tmp_path, "step14", [(11, 0), (18, 0), (18, -50), (0, -50), (0, -40 - tip),
+                                   (4, -40), (4, -30), (7, -30), (7, -10), (11, -10)], "38x60+1")
+    err = _refused(tmp_path, capsys, f)
+    assert "is diameter 14 from Z-10" in err
+    assert "the boring bar T03's head does not fit a bore of that diameter (min_bore 16): it " \
+           "needs a boring bar with min_bore <= 14 or a drill of diameter 14" in err

@@ -293,6 +293,21 @@ def plan_hole(chain: list[Segment], lib: ToolLibrary, machine: Machine, name: st
                     f"with min_bore <= {_fmt(pilot.diameter)} or a drill of diameter "
                     f"{_fmt(bar.min_bore)} to {_fmt(2 * (r_open - STOCK))} mm")
             hole_ops_tools.append(opener)
+        # the bar's head works in the bore where the bar cuts it: the narrowest of that must
+        # take its min_bore (an opener lets the bar in; a narrower step deeper it cannot bore)
+        cut = [(p[0], p[1]) for seg in bar_chain for p in (seg.start, seg.end) if p[0] > rp + 1e-6]
+        cut += [(seg.bbox()[0], seg.start[1]) for seg in bar_chain
+                if not isinstance(seg, Line) and seg.bbox()[0] > rp + 1e-6]
+        r_cut, z_cut = min(cut, key=lambda p: (round(p[0], 6), -p[1]))  # where it starts
+        if not any(b.min_bore <= 2 * r_cut + 1e-9 for b in bars):
+            bar = min(bars, key=lambda t: t.min_bore)
+            raise PlanError(f"part {name}: the {feature} is diameter {_fmt(2 * r_cut)} from "
+                            f"Z{_fmt(z_cut)}, wider than the drill T{pilot.number:02d} "
+                            f"({_fmt(pilot.diameter)} mm) makes it: the boring bar must cut it "
+                            f"there, and the boring bar T{bar.number:02d}'s head does not fit a "
+                            f"bore of that diameter (min_bore {_fmt(bar.min_bore)}): it needs a "
+                            f"boring bar with min_bore <= {_fmt(2 * r_cut)} or a drill of "
+                            f"diameter {_fmt(2 * r_cut)}")
     # depth: the flutes must reach the hole's bottom from the face
     for t, zt in hole_ops_tools:
         if z_face - zt > t.flute_length + 1e-9:
