@@ -64,7 +64,7 @@ def main() -> int:
                 size += len(render_program(pc, a.dialect, number=1 + i).text.encode())
                 runs = [(str(j), p, render_program(pc, a.dialect, values=p, number=1 + i))
                         for j, p in enumerate(sample(fam, pc.tr, pc.lo, pc.hi, a.check,
-                                                     ("check", i)))]
+                                                     ("check", i), extra=pc.extra))]
                 bad = [r for r in check_program(ctx, pc, runs, mach, lib, 0.01) if not r["ok"]]
                 if bad:
                     raise HncError(f"check fails for {bad[0]['params']}: {bad[0]['message']}")
@@ -74,7 +74,8 @@ def main() -> int:
             continue
         total = 0
         sets = [p for pc in pieces for p in sample(fam, pc.tr, pc.lo, pc.hi,
-                                                  a.variants // len(pieces), ("size", name))]
+                                                  a.variants // len(pieces), ("size", name),
+                                                  extra=pc.extra)]
         for p in sets:
             total += len(ctx.program(p).encode())
         total = total * a.variants // max(1, len(sets))

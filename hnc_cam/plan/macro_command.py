@@ -98,8 +98,6 @@ def macro_command(args: argparse.Namespace) -> int:
                 raise PartError(f"{args.table}: row {i} gives {k}={r[k]:g}: {k} stays at "
                                 f"{fam.params[k]:g} in the macro ({why})")
     pieces = derive_pieces(ctx, fam)
-    for pc in pieces:
-        pc.fixed = fixed
     number = args.program_number if args.program_number is not None else 1
     if not 1 <= number <= 8999:
         raise PlanError(f"--program-number {number}: the macro program needs 1-8999 (its "
@@ -121,7 +119,8 @@ def macro_command(args: argparse.Namespace) -> int:
         prow = held[i]
         final = render_program(pc, dia, rows=prow or None, number=num)
         runs = [(f"sample {j + 1}", p, render_program(pc, dia, values=p, number=num))
-                for j, p in enumerate(sample(fam, pc.tr, pc.lo, pc.hi, per_piece, ("check", i)))]
+                for j, p in enumerate(sample(fam, pc.tr, pc.lo, pc.hi, per_piece, ("check", i),
+                                             extra=pc.extra))]
         runs += [(f"table row {j}", r, render_program(pc, dia, rows=prow, row=j, number=num))
                  for j, r in enumerate(prow, 1)]
         for res in check_program(ctx, pc, runs, mach, lib, opts["tol"]):

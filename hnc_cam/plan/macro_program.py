@@ -43,8 +43,8 @@ from fractions import Fraction
 from typing import Any
 
 from ..errors import HncError, PartError, PlanError
-from .macro import (Check, Family, Lets, _ev, _holds, _node, _num, _params_of, _simplify,
-                    _trace, features, hnc_checks, load_family, render)
+from .macro import (Check, Family, Lets, _ev, _holds, _node, _num, _params_of,
+                    _trace, features, hnc_checks, render)
 
 #: what a fit may miss a written word by: the written precision (3 decimals, so half of
 #: 0.001) and the float noise of the planner's arithmetic
@@ -200,14 +200,18 @@ def _same_branches(tr: Any, p: dict[str, float]) -> bool:
 
 
 def _valid(fam: Family, tr: Any, p: dict[str, float], lo: dict, hi: dict,
-           branches: bool = True) -> bool:
+           branches: bool = True, extra: list[tuple] = ()) -> bool:
+    """``p`` is in the box, passes the family's checks and the ``extra`` conditions (a piece
+    cut along a feature) and, with ``branches``, keeps the traced branches."""
     return (all(lo[k] <= p[k] <= hi[k] for k in fam.free)
             and all(all(_holds(c, p) for c in ch.conds) for ch in tr.checks)
+            and all(_holds(c, p) for c in extra)
             and (not branches or _same_branches(tr, p)))
 
 
 def sample(fam: Family, tr: Any, lo: dict, hi: dict, n: int, seed: Any,
-           limit: int = 4000, branches: bool = True) -> list[dict[str, Any]]:
+           limit: int = 4000, branches: bool = True,
+           extra: list[tuple] = ()) -> list[dict[str, Any]]:
     """``n`` parameter sets drawn uniformly from the box ``lo``..``hi`` that pass the family's
     checks (and keep the traced branches: ``branches``), fewer when the box holds few."""
     rnd = random.Random(str(seed))
@@ -218,7 +222,7 @@ def sample(fam: Family, tr: Any, lo: dict, hi: dict, n: int, seed: Any,
         p = dict(fam.params)
         for k in fam.free:
             p[k] = round(rnd.uniform(lo[k], hi[k]), 3)  # what a control holds
-        if _valid(fam, tr, p, lo, hi, branches):
+        if _valid(fam, tr, p, lo, hi, branches, extra):
             out.append(p)
     return out
 
@@ -443,6 +447,7 @@ class Piece:
     sets: list[dict[str, Any]]  # the variants it was fitted and held to
     bounds: list[str] = field(default_factory=list)  # how this piece's range was cut
     stock: str = ""
+    extra: list[tuple] = field(default_factory=list)  # conditions of a cut along a feature
 
 
 class TopologyChange(Exception):
@@ -509,7 +514,8 @@ def _movers(ctx: Ctx, fam: Family, tr: Any, nominal: dict, lo: dict, hi: dict,
 
 
 def derive_piece(ctx: Ctx, fam: Family, lo: dict, hi: dict, nominal: dict[str, Any],
-                 n_fit: int = 10, n_hold: int = 8, seed: Any = 0) -> Piece:
+                 n_fit: int = 10, n_hold: int = 8, seed: Any = 0,
+                 extra: list[tuple] = ()) -> Piece:
     """Fit one program over the box ``lo``..``hi`` (raises :class:`TopologyChange` where a
     variant's skeleton differs)."""
     import numpy as np
@@ -518,7 +524,8 @@ def derive_piece(ctx: Ctx, fam: Family, lo: dict, hi: dict, nominal: dict[str, A
     text = ctx.program(nominal)
     nb = core(blocks(text))
     sk = skeleton(nb)
-    sets = sample(fam, tr, lo, hi, n_fit + n_hold, ("fit", seed), branches=False)
+    sets = sample(fam, tr, lo, hi, n_fit + n_hold, ("fit", seed), branches=False,
+                  extra=extra)
     if len(sets) < 4:
         raise PartError(f"{fam.path}: too few valid parameter sets near "
                         f"{_pset(nominal, fam.free)} to derive a macro ({len(sets)} of the "
@@ -629,15 +636,85 @@ def fix_unmachinable(ctx: Ctx, fam: Family) -> dict[str, str]:
     return out
 
 
+def _feature_cut(ctx: Ctx, fam: Family, tr: Any, sk: tuple, nominal: dict, change: Any,
+                 lo: dict, hi: dict, extra: list[tuple], n_probe: int = 16):
+    """A change no single parameter makes: the traced feature (a contour coordinate, a
+    parameter) whose crossing of one value separates the two programs — the boundary found
+    by bisection on the way from ``nominal`` to the changed set, the feature confirmed on
+    ``n_probe`` other sets. (condition of the nominal's side, of the other, their labels)."""
+    def at(t: float) -> dict:
+        return {k: (nominal[k] + t * (change.p[k] - nominal[k]) if k in fam.free else v)
+                for k, v in nominal.items()}
+    a, b = 0.0, 1.0
+    for _ in range(16):
+        m = (a + b) / 2
+        if _differs(ctx, fam, sk, at(m), tr, change.law):
+            b = m
+        else:
+            a = m
+    pa, pb = at(a), at(b)
+    mid = at((a + b) / 2)  # probes around the boundary: does the feature separate there?
+    near_lo = {k: max(lo[k], mid[k] - 0.5 * (hi[k] - lo[k])) for k in fam.free}
+    near_hi = {k: min(hi[k], mid[k] + 0.5 * (hi[k] - lo[k])) for k in fam.free}
+    probes = sample(fam, tr, near_lo, near_hi, n_probe, ("probe", len(extra)), branches=False,
+                    extra=extra)
+    sides = [(p, _differs(ctx, fam, sk, p, tr, change.law)) for p in probes]
+    cands = [(k, ("p", k)) for k in fam.free] + features(tr)
+    for desc, f in cands:
+        try:
+            fa, fb = _ev(f, pa), _ev(f, pb)
+            if abs(fa - fb) < 1e-9:
+                continue
+            c = (fa + fb) / 2
+            for nd in range(7):
+                r = round(c, nd)
+                if min(fa, fb) < r < max(fa, fb):
+                    c = r
+                    break
+            below = fa < c  # the nominal's side
+            same = ("<", f, ("c", c)) if below else (">=", f, ("c", c))
+            other = (">=", f, ("c", c)) if below else ("<", f, ("c", c))
+            if all(((_ev(f, p) < c) != below) == d for p, d in sides) \
+                    and _holds(same, nominal) and _holds(other, change.p):
+                name = desc if f[0] != "p" else f[1]
+                return (same, other, f"{name} {'<' if below else '>='} {_num(c)}",
+                        f"{name} {'>=' if below else '<'} {_num(c)}")
+        except (ValueError, ZeroDivisionError, OverflowError):
+            continue
+    return None
+
+
+def _central(fam: Family, lo: dict, hi: dict, extra: list[tuple], fallback: dict,
+             pick: int = 0) -> dict:
+    """The nominal of a piece cut along a feature: of 30 sets on its side, the one nearest
+    their middle (a set far from the piece's other boundaries; ``pick`` 1: the next)."""
+    sets = sample(fam, fam.trace, lo, hi, 30, ("central", len(extra)), branches=False,
+                  extra=extra)
+    if not sets:
+        return fallback
+    mean = {k: sum(p[k] for p in sets) / len(sets) for k in fam.free}
+    span = {k: (hi[k] - lo[k]) or 1.0 for k in fam.free}
+    ranked = sorted(sets, key=lambda p: sum(((p[k] - mean[k]) / span[k]) ** 2
+                                            for k in fam.free))
+    return ranked[min(pick, len(ranked) - 1)]
+
+
 def derive_pieces(ctx: Ctx, fam: Family, max_pieces: int = 12, **kw: Any) -> list[Piece]:
     """The fewest pieces (cut along one parameter at a time) that each hold one program."""
-    todo = [(dict(fam.lo), dict(fam.hi), dict(fam.params), [])]
+    todo = [(dict(fam.lo), dict(fam.hi), dict(fam.params), [], [])]
     done: list[Piece] = []
     while todo:
-        lo, hi, nominal, cuts = todo.pop(0)
+        lo, hi, nominal, cuts, extra = todo.pop(0)
         try:
-            pc = derive_piece(ctx, fam, lo, hi, nominal, **kw)
-            pc.bounds = cuts
+            try:
+                pc = derive_piece(ctx, fam, lo, hi, nominal, extra=extra, **kw)
+            except PlanError:
+                if not extra:
+                    raise
+                # a piece's nominal near a law change of its own: once more from another
+                nominal = _central(fam, lo, hi, extra, nominal, pick=1)
+                pc = derive_piece(ctx, fam, lo, hi, nominal, extra=extra, **kw)
+            pc.bounds, pc.extra = cuts, list(extra)
             done.append(pc)
             continue
         except TopologyChange as t:
@@ -651,10 +728,19 @@ def derive_pieces(ctx: Ctx, fam: Family, max_pieces: int = 12, **kw: Any) -> lis
         who = None
         for k in fam.free:
             p = dict(nominal, **{k: change.p[k]})
-            if _valid(fam, tr, p, lo, hi, False) and _differs(ctx, fam, sk, p, tr, change.law):
+            if _valid(fam, tr, p, lo, hi, False, extra) and \
+                    _differs(ctx, fam, sk, p, tr, change.law):
                 who = k
                 break
-        if who is None:
+        if who is None:  # no parameter alone: a traced feature that separates the programs
+            cut = _feature_cut(ctx, fam, tr, sk, nominal, change, lo, hi, extra)
+            if cut is not None:
+                same, other, label1, label2 = cut
+                todo.append((dict(lo), dict(hi), nominal, cuts + [label1], extra + [same]))
+                todo.append((dict(lo), dict(hi),
+                             _central(fam, lo, hi, extra + [other], change.p),
+                             cuts + [label2], extra + [other]))
+                continue
             moved = [k for k in fam.free if abs(change.p[k] - nominal[k]) > 1e-9]
             raise PlanError(f"{fam.path}: the family's program changes shape between "
                             f"{_pset(nominal, fam.free)} and {_pset(change.p, fam.free)}, and no "
@@ -682,10 +768,10 @@ def derive_pieces(ctx: Ctx, fam: Family, max_pieces: int = 12, **kw: Any) -> lis
             c1, c2 = f"{who} >= {_num(edge)}", f"{who} < {_num(edge)}"
         # the other side's own nominal: the middle of its range, else the set that changed
         mid = dict(nominal, **{who: round((lo2[who] + hi2[who]) / 2, 4)})
-        if not _valid(fam, _trace(fam.mod, mid, fam.free), mid, lo2, hi2):
+        if not _valid(fam, _trace(fam.mod, mid, fam.free), mid, lo2, hi2, True, extra):
             mid = change.p
-        todo.append((lo1, hi1, nominal, cuts + [c1]))
-        todo.append((lo2, hi2, mid, cuts + [c2]))
+        todo.append((lo1, hi1, nominal, cuts + [c1], extra))
+        todo.append((lo2, hi2, mid, cuts + [c2], extra))
     return done
 
 
@@ -723,6 +809,8 @@ def _box_checks(pc: Piece) -> list[Check]:
                          f"{k} outside {_num(pc.lo[k])}..{_num(pc.hi[k])}", [k]))
     for c, v in pc.tr.branches:
         out.append(Check([c if v else ("not", c)], "shape changes", sorted(_params_of(c))))
+    for c in pc.extra:
+        out.append(Check([c], "another program holds here", sorted(_params_of(c))))
     return out
 
 
@@ -736,7 +824,6 @@ def _fanuc_checks(checks: list[Check], lets: Lets) -> list[str]:
     ops = {"<": "LT", "<=": "LE", ">": "GT", ">=": "GE"}
     neg = {"<": "GE", "<=": "GT", ">": "LE", ">=": "LT"}
     for i, ch in enumerate(checks):
-        msg = re.sub(r"[^A-Z0-9 ,.=<>+-]", "", ch.message.upper().replace("(", "").replace(")", ""))
         names = " ".join(n.upper() for n in ch.names)[:26] or "PARAMETERS"
         for c in ch.conds:  # FANUC: one IF per failing condition, GOTO-free
             if c[0] == "not":
@@ -747,7 +834,6 @@ def _fanuc_checks(checks: list[Check], lets: Lets) -> list[str]:
             out.extend(lets.lines)
             lets.lines.clear()
             out.append(f"{line} THEN #3000={min(100 + i, 200)}({names})")
-        del msg
     return out
 
 
@@ -787,12 +873,9 @@ def render_program(pieces_or_one: Piece, dialect: str = "hnc21t", values: dict |
     fixed = [k for k, v in fam.params.items() if k not in fam.free]
     if fixed:
         head.append("(FIXED " + " ".join(f"{k.upper()}={_fmt(fam.params[k])}" for k in fixed) + ")")
-    # the subprogram first (its temporaries are numbered after the checks')
-    body_lets_start = None
     main: list[str] = []
     if fanuc:
         main += ["%", f"O{number:04d}"] + head
-        check_lines = []  # the checks live in the macro (G65 passes the arguments)
         def argtext(p):
             return " ".join(f"{letters[k]}{_num(float(p[k]))}" + ("." if "." not in _num(float(p[k])) else "")
                             for k in fam.free)
@@ -808,7 +891,7 @@ def render_program(pieces_or_one: Piece, dialect: str = "hnc21t", values: dict |
             main.append(f"G65 P{sub} {argtext(vals)}")
         if not rows:
             main.append("M30")
-        check_lines = _fanuc_checks(checks, lets)
+        check_lines = _fanuc_checks(checks, lets)  # in the macro: G65 passes the arguments
     else:
         main += [f"%{number:04d}"] + head
         if rows:
@@ -878,7 +961,6 @@ def render_program(pieces_or_one: Piece, dialect: str = "hnc21t", values: dict |
     text = "\n".join(main + sub_head + check_lines + pre + body) + "\n"
     if fanuc:
         text += "%\n"
-    del body_lets_start
     return Rendered(text, var, dialect)
 
 
@@ -946,6 +1028,6 @@ def check_program(ctx: Ctx, pc: Piece, sets: list[tuple[str, dict[str, Any], Any
 
 def piece_of(pieces: list[Piece], p: dict[str, Any]) -> Piece | None:
     for pc in pieces:
-        if _valid(pc.fam, pc.tr, p, pc.lo, pc.hi):
+        if _valid(pc.fam, pc.tr, p, pc.lo, pc.hi, True, pc.extra):
             return pc
     return None
