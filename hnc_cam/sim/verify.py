@@ -45,9 +45,11 @@ Choices (the issue leaves them open):
   verification failure.
 * **Threads**: thread zones (the model's declared threads, or the span of the program's thread
   moves) are excluded from the overcut/undercut comparison between the thread's root and its
-  nominal diameter. Instead the achieved root diameter (external: the smallest diameter of the
-  remaining material along the zone, one pitch in from each end; internal: the largest bore
-  diameter) is compared with the standard: external minor d3 = d - 1.2269 P, internal major D.
+  nominal diameter. Instead the achieved root diameter at the worst place along the zone
+  (external: the largest diameter of the remaining material; internal: the smallest bore
+  diameter), one pitch in from each end (3 pitches, about DIN 76-1's run-out, at an end where the
+  part has a wall right beyond it), is compared with the standard: external minor
+  d3 = d - 1.2269 P, internal major D; a taper thread's root against the taper at each Z.
   A zone passes when it is within ``max(2 tol, 0.05)`` mm on the diameter.
 * Distances are reported to 0.1 um; noise below ``NOISE`` (0.002 mm, a few chord errors) is not
   listed as unreachable.
@@ -417,6 +419,8 @@ class _Zone:
     m0: float = 0.0  # Z range where the root is measured (the thread on the part)
     m1: float = 0.0
     thread: Thread | None = None  # the declared thread (a taper thread's target follows it)
+    e0: float = 0.0  # what is not measured at the m0/m1 end: a pitch, or the run-out a wall
+    e1: float = 0.0  # there forces (:data:`WALL_RUNOUT` pitches)
 
     def target_at(self, z: float) -> float:
         """The root diameter the thread must reach at ``z``: ``target`` on a straight thread,
@@ -427,21 +431,44 @@ class _Zone:
         return t.major_at(z) - 2 * t.depth
 
 
+#: pitches of incomplete thread not measured at a declared thread's end where the part has a
+#: wall right beyond it (a shoulder outside, a bottom or step inside): the thread no tool can
+#: finish before the wall. DIN 76-1's normal run-out x1 is about 2.5 P; a FANUC G76's run-out,
+#: whole tenths of a lead, ends the full form up to 2.6 P before the wall
+WALL_RUNOUT = 3.0
+
+
+def _walled(model_poly: BaseGeometry, t: Thread, z: float, out: float) -> bool:
+    """Whether the part stands in the thread's run-out just beyond its end ``z`` (``out``: the
+    direction away from the thread, +1 or -1): outside, material above the minor diameter;
+    inside, material below the major diameter."""
+    zz = z + out * 0.05
+    col = model_poly.intersection(shapely.LineString([(zz, 0.0), (zz, BIG)]))
+    if col.is_empty:
+        return False
+    if t.internal:
+        return any(g.bounds[1] < t.diameter / 2 - 0.01 for g in getattr(col, "geoms", [col]))
+    return col.bounds[3] > t.minor_diameter / 2 + 0.01
+
+
 def _zones(model: TurnedProfile, machined: Machined, threads: Sequence[Thread] | None) -> list[_Zone]:
     declared = list(threads if threads is not None else model.threads)
     zones: list[_Zone] = []
+    mp = profile_polygon(model) if declared else None
     for t in declared:
         z0, z1 = sorted((t.z_start, t.z_end))
         m0, m1 = z0, z1
+        e0 = (WALL_RUNOUT if _walled(mp, t, z0, -1.0) else 1.0) * t.pitch
+        e1 = (WALL_RUNOUT if _walled(mp, t, z1, 1.0) else 1.0) * t.pitch
         for s in machined.thread_spans:  # include the program's run-in/run-out
             if s.z_max >= z0 - 1e-6 and s.z_min <= z1 + 1e-6 and s.inside == t.internal:
                 z0, z1 = min(z0, s.z_min), max(z1, s.z_max)
         if t.internal:
             zones.append(_Zone(z0, z1, t.diameter / 2, t.minor_diameter / 2, True, t.pitch,
-                               t.diameter, True, m0, m1))
+                               t.diameter, True, m0, m1, t, e0, e1))
         else:
             zones.append(_Zone(z0, z1, t.minor_diameter / 2, t.diameter / 2, False, t.pitch,
-                               t.minor_diameter, True, m0, m1, t))
+                               t.minor_diameter, True, m0, m1, t, e0, e1))
     for s in machined.thread_spans:
         if any(z.z1 >= s.z_min - 1e-6 and z.z0 <= s.z_max + 1e-6 for z in zones):
             continue
@@ -475,7 +502,7 @@ def _bore_radius(g: BaseGeometry) -> float:
 
 
 def _achieved(material: BaseGeometry, zone: _Zone) -> float | None:
-    a, b = zone.m0 + zone.pitch, zone.m1 - zone.pitch
+    a, b = zone.m0 + (zone.e0 or zone.pitch), zone.m1 - (zone.e1 or zone.pitch)
     if b <= a:
         a, b = zone.m0, zone.m1
     zs = np.linspace(a, b, max(50, int((b - a) / max(zone.pitch, 0.1) * 40)))
@@ -502,7 +529,8 @@ def _achieved(material: BaseGeometry, zone: _Zone) -> float | None:
         # small end's target plus the deviation farthest from the taper anywhere
         devs = [2 * v - zone.target_at(z) for z, v in zip(zs, vals)]
         return zone.target + max(devs, key=abs)
-    return 2 * (max(vals) if zone.internal else min(vals))
+    # the worst place: full form is needed along the whole thread, not at one Z of it
+    return 2 * (min(vals) if zone.internal else max(vals))
 
 
 # --- verify -------------------------------------------------------------------------------
