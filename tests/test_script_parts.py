@@ -166,3 +166,13 @@ def test_thread_option_adds_to_a_part_files_threads():
     assert len(lp.threads) == 1
     with pytest.raises(PartError, match="internal thread"):
         load_part(str(KNOB), threads=[parse_thread("M8x1.25@0:-10,internal")])
+
+
+def test_a_script_solid_that_is_not_turned_is_one_line_naming_the_file(tmp_path, capsys):
+    f = tmp_path / "cube.py"
+    f.write_text("from build123d import Box\npart = Box(10, 10, 10)\n")
+    out = tmp_path / "o.nc"
+    rc = main(["generate", str(f), "-o", str(out)])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert rc == 2 and not out.exists() and len(err) == 1
+    assert err[0].startswith(f"error: {f}: not a body of revolution")  # no empty "()"

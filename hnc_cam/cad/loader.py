@@ -314,7 +314,8 @@ def load_part(path: str | Path, params: dict[str, Any] | None = None,
     try:
         prof = profile(solid, name=name, **profile_kwargs)
     except ProfileError as e:
-        raise ProfileError(f"{where} ({_fmt(full)}): {_cli_hints(str(e))}") from None
+        at = f"{where} ({_fmt(full)})" if full else where
+        raise ProfileError(f"{at}: {_cli_hints(str(e))}") from None
     prof.params = dict(full)
     threads = _declared(prof, threads + given, where)
     prof.threads = list(threads)
