@@ -136,8 +136,9 @@ class Tool:
     hand: str = "R"
     holder: str = ""
     approach: float = 95.0  # holder approach angle kappa_r, deg
-    #: turn | bore | thread | groove | groove_id (an inside grooving bar) | part (a parting
-    #: blade) | drill | center_drill
+    #: turn | bore | thread | groove | groove_id (an inside grooving bar) | groove_face (an
+    #: axial grooving blade for ring grooves in a face) | part (a parting blade) | drill |
+    #: center_drill
     kind: str = "turn"
     uses: tuple[str, ...] = ("rough", "finish")
     depth: float = 1.5  # roughing depth of cut per side, mm
@@ -154,6 +155,10 @@ class Tool:
     max_depth: float = 0.0
     x_offset: float = 0.0  # diameter
     z_offset: float = 0.0
+    #: an axial grooving blade's range (its curvature): the face groove's inner diameter
+    #: at least ``min_diameter``, its outer diameter at most ``max_diameter`` (mm)
+    min_diameter: float = 0.0
+    max_diameter: float = 0.0
 
     @property
     def nose_radius(self) -> float:
@@ -599,10 +604,13 @@ TOOL_KEYS = {
     "hand": Key("str", choices=("R", "L", "N"), fold=True),
     "tip": Key("int", 0, 9),
     "approach": Key("float", 0, 180, "deg", lo_open=True),
-    "kind": Key("str", choices=("turn", "bore", "thread", "groove", "groove_id", "part",
-                                "drill", "center_drill")),
+    "kind": Key("str", choices=("turn", "bore", "thread", "groove", "groove_id", "groove_face",
+                                "part", "drill", "center_drill")),
     "uses": Key("strs", choices=("rough", "finish", "face", "profile", "thread", "thread_id",
-                                 "groove", "groove_id", "part", "drill", "center")),
+                                 "groove", "groove_id", "groove_face", "part", "drill",
+                                 "center")),
+    "min_diameter": Key("float", 0, 2000, "mm"),
+    "max_diameter": Key("float", 0, 2000, "mm", lo_open=True),
     "diameter": Key("float", 0.1, 200, "mm", lo_open=True),
     "point_angle": Key("float", 30, 179, "deg"),
     "flute_length": Key("float", 0.5, 1000, "mm"),
@@ -691,13 +699,43 @@ def load_tools(path: str | Path | None = None) -> ToolLibrary:
         w = f"{w}: tool T{num:02d}"
         reg = t.get("register", num)
         ins = _tool_insert(t, w, text, i, where)
-        tip = t.get("tip", 0 if ins.kind == "drill" else 3)
+        kind = t.get("kind")
+        face_keys = [k for k in ("min_diameter", "max_diameter") if k in t]
+        if kind != "groove_face" and face_keys:
+            n = key_line(text, "tool", face_keys[0], i)
+            raise ToolError(f"{where}{':' + str(n) if n else ''}: tool T{num:02d}: "
+                            f"{face_keys[0]} is an axial grooving blade's key (kind = "
+                            f"\"groove_face\")")
+        if kind == "groove_face":
+            if ins.kind != "groove":
+                n = key_line(text, "tool", "insert", i)
+                raise ToolError(f"{where}{':' + str(n) if n else ''}: tool T{num:02d}: a "
+                                f"groove_face blade needs a grooving insert (GROOVE<width>, e.g. "
+                                f"GROOVE3.0), not {ins.code}")
+            if "max_diameter" not in t:
+                n = key_line(text, "tool", "\0", i)
+                raise ToolError(f"{where}{':' + str(n) if n else ''}: tool T{num:02d}: a "
+                                f"groove_face blade needs max_diameter (the largest face groove "
+                                f"it cuts, mm)")
+            lo, hi = float(t.get("min_diameter", 0.0)), float(t["max_diameter"])
+            if lo >= hi:
+                n = key_line(text, "tool", "min_diameter", i)
+                raise ToolError(f"{where}{':' + str(n) if n else ''}: tool T{num:02d}: "
+                                f"min_diameter {lo:g} must be under max_diameter {hi:g}")
+            if hi - lo < 2 * ins.width:
+                n = key_line(text, "tool", "max_diameter", i)
+                raise ToolError(f"{where}{':' + str(n) if n else ''}: tool T{num:02d}: the "
+                                f"range {lo:g}-{hi:g} is narrower than the blade ({ins.width:g} "
+                                f"mm wide) across a diameter")
+        # an axial grooving blade points along -Z, its controlled point the middle of its end
+        tip = t.get("tip", 0 if ins.kind == "drill" else 7 if kind == "groove_face" else 3)
         holder = str(t.get("holder", ""))
         approach = t.get("approach")
         if approach is None:
             approach = HOLDER_APPROACH.get(holder[2:3].upper(), 95.0) if len(holder) >= 3 else 95.0
         uses = t.get("uses", ["drill"] if t.get("kind") == "drill" else ["center"]
-                     if t.get("kind") == "center_drill" else ["rough", "finish"])
+                     if t.get("kind") == "center_drill" else ["groove_face"]
+                     if t.get("kind") == "groove_face" else ["rough", "finish"])
         if isinstance(uses, str):
             uses = [uses]
         tools.append(Tool(
@@ -709,7 +747,9 @@ def load_tools(path: str | Path | None = None) -> ToolLibrary:
             vc_rough=_num(t, "vc_rough", 180.0, w), vc_finish=_num(t, "vc_finish", 220.0, w),
             rpm=_num(t, "rpm", 0.0, w), min_bore=_num(t, "min_bore", 0.0, w),
             max_rpm=_num(t, "max_rpm", 0.0, w), dwell_rev=_num(t, "dwell_rev", 2.0, w),
-            max_depth=_num(t, "max_depth", 0.0, w), x_offset=_num(t, "x", 0.0, w), z_offset=_num(t, "z", 0.0, w)))
+            max_depth=_num(t, "max_depth", 0.0, w), x_offset=_num(t, "x", 0.0, w), z_offset=_num(t, "z", 0.0, w),
+            min_diameter=_num(t, "min_diameter", 0.0, w),
+            max_diameter=_num(t, "max_diameter", 0.0, w)))
     return ToolLibrary(tuple(tools), where)
 
 

@@ -24,7 +24,9 @@ How an outline is built from an offset register (:class:`hnc_cam.tooling.Registe
   inside one. Flanks of 6 mm; the back is non-cutting.
 * **Grooving inserts**: a square-ended blade of the insert's width with the nose radius at both
   corners, pointing -X (outside) or +X (inside, tip codes 1, 2, 6); tip codes 3/2 reference the
-  corner at -Z, 4/1 the corner at +Z, 5-9 the middle. Its top is non-cutting.
+  corner at -Z, 4/1 the corner at +Z, 5, 8, 9 the middle. Its top is non-cutting. Tip code 7
+  (the corner pointing at the chuck) is an axial grooving blade for face grooves: pointing -Z,
+  its width across X, the controlled point the middle of its end.
 * **Drills** (insert kind ``drill``): on the axis, pointing -Z, the controlled point at the
   point's tip: a cone of the point angle to the drill's diameter, then a rectangle of that
   diameter along +Z for the flute length. The back and the sides (the margins) are non-cutting:
@@ -240,6 +242,19 @@ def _tool_shape_cached(key) -> ToolShape:
         non_cut = [(pts[1], pts[2]), (pts[2], pts[3]), (pts[3], pts[4])]
         centre = np.zeros(2)
         desc = f"drill {ins.width:g} mm, point {ins.angle:g} deg"
+    elif kind == "groove" and code == 7:
+        # an axial (face) grooving blade: pointing -Z, its width across X, the controlled
+        # point the middle of its end; built about the nose centre a radius above P
+        w = max(ins.width, 2 * r + 1e-6)
+        h = max(ins.edge_length, 5.0)
+        c = w / 2 - r
+        ring = ([np.array([h, w / 2])]
+                + _arc_points(np.array([0.0, c]), r, 0.5 * math.pi, math.pi)
+                + _arc_points(np.array([0.0, -c]), r, math.pi, 1.5 * math.pi)
+                + [np.array([h, -w / 2])])
+        pts = np.array(ring)
+        non_cut = [(np.array([h, w / 2]), np.array([h, -w / 2]))]
+        desc = f"face groove {w:g} mm, r {r:g}"
     elif kind == "groove":
         w = max(ins.width, 2 * r + 1e-6)
         h = max(ins.edge_length, 5.0)
