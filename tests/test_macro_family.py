@@ -394,6 +394,35 @@ def test_a_failing_check_names_the_set_exit_1_nothing_written(tmp_path, monkeypa
     assert "fails its check" in err and "length=" in err and not out.exists()
 
 
+def test_a_table_row_the_family_refuses_names_its_line(tmp_path, capsys):
+    from hnc_cam.cli import main
+    table = tmp_path / "t.csv"
+    table.write_text("length,d,collar\n60,24,34\n60,40,34\n")
+    out = tmp_path / "m.nc"
+    assert main(["family", str(FRESH / "pin.py"), "--macro", "--table", str(table),
+                 "-o", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert not out.exists() and len(err) == 1
+    assert err[0].startswith(f"error: {table}:3: the family refuses this row")
+    assert "d=40" in err[0]
+
+
+def test_a_chuck_slower_than_the_machine_fails_the_check(tmp_path, capsys):
+    """The macro leaves the spindle limit near the axis to the control's G96 clamp, the
+    machine's 3000 rpm; with a chuck rated 1500 rpm the check finds a move above it."""
+    from hnc_cam.cli import main
+    text = (PARTS.parent / "hnc_cam" / "data" / "machine.toml").read_text()
+    assert "[chuck]" in text
+    mach = tmp_path / "m.toml"
+    mach.write_text(text.replace("[chuck]", "[chuck]\nmax_rpm = 1500.0", 1))
+    out = tmp_path / "m.nc"
+    assert main(["family", str(FRESH / "pin.py"), "--macro", "--check", "2", "--machine",
+                 str(mach), "-o", str(out)]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert not out.exists() and len(err) == 1
+    assert "limit of 1500 rpm" in err[0] and "length=" in err[0]
+
+
 def test_fanuc_table_rows_jump_to_their_g65_call(tmp_path):
     from hnc_cam.cli import main
     from hnc_cam.errors import NCError

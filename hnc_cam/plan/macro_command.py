@@ -66,6 +66,7 @@ def macro_command(args: argparse.Namespace) -> int:
         raise PlanError(f"--macro writes {' and '.join(DIALECTS)} macro programs, not {dia}")
     base = parse_set(args.params or [])
     rows = []
+    lines: list[int] = []
     if args.table:
         from ..cad.loader import load_module, resolve_params
         mod = load_module(args.part)
@@ -76,9 +77,17 @@ def macro_command(args: argparse.Namespace) -> int:
                 msg = str(e).split(": ", 1)[-1] if str(e).startswith(args.part) else str(e)
                 raise PartError(f"{args.table}:{line}: {msg}") from None
             rows.append(cells)
+            lines.append(line)
     fam = load_family(args.part, base, rows, spread=SPREAD)
     from ..cad.loader import resolve_params
+    from .macro import _holds
     full_rows = [dict(fam.params, **resolve_params(fam.mod, r, args.part)) for r in rows]
+    for line, r in zip(lines, full_rows):  # a row the family itself refuses: before deriving
+        for ch in fam.trace.checks:
+            if not all(_holds(c, r) for c in ch.conds):
+                raise PartError(f"{args.table}:{line}: the family refuses this row "
+                                f"({', '.join(f'{k}={r[k]:g}' for k in ch.names)}): "
+                                f"{ch.message}")
     gen = {k: opts[k] for k in _GEN_KEYS}
     gen.update(comp="control", verify=False, dialect=dia)
     if args.stock:
@@ -155,8 +164,9 @@ def macro_command(args: argparse.Namespace) -> int:
         sys.stdout.flush()
     fitted = sum(s.kind == "fit" for pc in pieces for s in pc.slots)
     print(f"{args.part}: {len(pieces)} macro program(s) for {len(fam.free)} parameter(s) "
-          f"({', '.join(fam.free)}), {fitted} fitted word(s), stock {stock}; checked "
-          f"{checked} parameter set(s): pass"
+          f"({', '.join(fam.free)}), {fitted} fitted word(s), stock {stock}; "
+          + (f"checked {checked} parameter set(s): pass" if checked else
+             "not checked through the interpreter (--check 0)")
           + ("" if len(pieces) == 1 else
              "; pieces: " + "; ".join(", ".join(pc.bounds) for pc in pieces)), file=sys.stderr)
     for k, why in fixed.items():

@@ -864,7 +864,7 @@ def render_program(pieces_or_one: Piece, dialect: str = "hnc21t", values: dict |
     head = [f"(MACRO PROGRAM OF THE FAMILY {Path(fam.path).stem})",
             f"(STOCK {pc.stock} - ONE STOCK FOR THE WHOLE DOMAIN, THE LARGEST VARIANT'S)",
             "(COMPENSATION CONTROL: PART PROFILE WITH G41/G42)",
-            "(PROVEN FOR " + " ".join(f"{k.upper()} {_num(pc.lo[k])}..{_num(pc.hi[k])}"
+            "(DOMAIN " + " ".join(f"{k.upper()} {_num(pc.lo[k])}..{_num(pc.hi[k])}"
                                       for k in fam.free) + ")"]
     if pc.bounds:
         head.append("(THIS PIECE OF THE DOMAIN: " + ", ".join(b.upper() for b in pc.bounds) + ")")
@@ -987,6 +987,23 @@ def _compare(a: Any, b: Any, where: str) -> str | None:
     return None
 
 
+def _over_limit(tp: Any, machine: Any, tools: Any) -> str | None:
+    """A move whose spindle exceeds its tool's limit (:func:`planner.rpm_limit`: the lowest of
+    the machine's, the chuck's and the tool's): the macro leaves the limit near the axis to the
+    control's G96 clamp, which knows only the machine's."""
+    from .planner import rpm_limit
+    for m in tp.moves:
+        t = tools.by_number(m.tool) if m.tool else None
+        if t is None:
+            continue
+        lim = rpm_limit(t, machine)
+        if m.spindle > lim + 1.0:
+            return (f"toolpath: the spindle turns at {m.spindle:.0f} rpm (line {m.line}), above "
+                    f"T{m.tool:02d}'s limit of {lim:.0f} rpm (the control clamps G96 at the "
+                    f"machine's {machine.max_rpm:.0f} only)")
+    return None
+
+
 def check_program(ctx: Ctx, pc: Piece, sets: list[tuple[str, dict[str, Any], Any]],
                   machine: Any, tools: Any, tol: float) -> list[dict[str, Any]]:
     """Run each (label, parameter set, rendered program) through the interpreter, simulate
@@ -1008,7 +1025,7 @@ def check_program(ctx: Ctx, pc: Piece, sets: list[tuple[str, dict[str, Any], Any
             continue
         ref = run(ctx.program(p), machine=machine, file="<variant>", start="reference",
                   dialect=ctx.dialect)
-        diff = _compare(tp, ref, "toolpath")
+        diff = _compare(tp, ref, "toolpath") or _over_limit(tp, machine, tools)
         if diff:
             res["message"] = diff
             out.append(res)
