@@ -371,4 +371,4 @@ def test_operations_are_named_by_the_dialects_cycles():
     assert "G92" not in hnc.plan.explain(hnc.labels) and "G82" not in fanuc.plan.explain(fanuc.labels)
     zones = generate(undercut(), "40x70", dialect="haas", verify=False)
     assert "rough_zone G71-II" in zones.operations and "finish contour" in zones.operations
-    assert "(T05 REST ROUGH Z-17.4..-37.3 G71-II D1 F0.2)" in zones.text
+    assert "(T05 REST ROUGH Z-17.4..-37.4 G71-II D1 F0.2)" in zones.text

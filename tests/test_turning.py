@@ -143,6 +143,51 @@ def test_allowance_option_is_what_the_roughing_leaves():
             assert 2 * top - 30.0 == pytest.approx(x_all, abs=0.01)
 
 
+def _roughed(prog):
+    """The simulated material after the roughing tools (the moves before the finishing
+    contour's comment line)."""
+    from dataclasses import replace
+    from hnc_cam.sim import simulate
+    lines = prog.text.splitlines()
+    at = next(i for i, ln in enumerate(lines, 1) if "FINISH OD" in ln)
+    moves = prog.toolpath.moves
+    first = next(i for i, m in enumerate(moves) if m.line > at)
+    return simulate(replace(prog.toolpath, moves=moves[:first]), prog.plan.stock,
+                    model=prog.plan.profile).material
+
+
+@pytest.mark.parametrize("comp", ["cam", "control"])
+@pytest.mark.parametrize("allowance", [None, "0.8,0.2"])
+@pytest.mark.parametrize("part,shoulder,diameters", [
+    # the collar's shoulder behind the thread relief (Z-24, radius 6.9..12); the thread's
+    # diameter, the relief's floor, the collar
+    ("stud_relief", (-24.0, (9.0, 10.0, 11.0, 11.5)), ((-10.0, 16.0), (-23.0, 13.8),
+                                                       (-30.0, 24.0), (-38.0, 24.0))),
+    # the shoulder the DIN 509 undercut runs into (Z-30, radius 15.3..19, its fillet from
+    # 14.7 to 15.3); the journal, the undercut's floor, the collar
+    ("din509_shaft", (-30.0, (15.5, 16.0, 17.0, 18.0, 18.5)),
+     ((-10.0, 30.0), (-28.5, 29.4), (-40.0, 40.0), (-55.0, 40.0))),
+])
+def test_the_finisher_sees_the_allowance_on_parts_with_undercuts(part, shoulder, diameters,
+                                                                 allowance, comp):
+    """After the roughing tools (the envelope's cycle and semi-finishing pass, the rest
+    roughing of the undercut) the material left, measured on the simulation, is the X
+    allowance on every diameter (in and out of the undercut) and the Z allowance on the
+    shoulder behind it: not the X allowance there, and nothing cut into the shoulder."""
+    import shapely
+    prog = generate(FRESH + part + ".py", comp=comp, allowance=allowance, verify=False)
+    assert [op.name for op in prog.plan.operations].count("rough_zone") == 1
+    ax, az = (0.4, 0.1) if allowance is None else (0.8, 0.2)
+    mat = _roughed(prog)
+    z_sh, radii = shoulder
+    for x in radii:
+        cut = mat.intersection(shapely.LineString([(-200.0, x), (10.0, x)]))
+        assert cut.bounds[2] - z_sh == pytest.approx(az, abs=0.002), x
+    for z, d in diameters:
+        cut = mat.intersection(shapely.LineString([(z, 0.0), (z, 100.0)]))
+        assert 2 * cut.bounds[3] - d == pytest.approx(ax, abs=0.002), z
+
+
 def test_operator_comments_are_short_and_explain_has_the_reasons(capsys):
     from hnc_cam.cli import main
     rc = main(["generate", PARTS + "threaded_stud.py", "--explain", "--no-verify"])
@@ -286,6 +331,37 @@ def test_library_without_a_tool_for_a_zone_is_refused_naming_the_zone(tmp_path, 
     assert rc == 2 and not out.exists() and len(err) == 1
     assert "undercut from Z-25 to Z-40 down to diameter 22" in err[0]
     assert "trailing edge clears" in err[0]
+
+
+@pytest.mark.parametrize("foot,wall", [((6, -12), 90), ((6, -15.276), 70)])
+def test_a_wall_facing_the_chuck_no_trailing_edge_clears_asks_for_a_second_setup(
+        tmp_path, capsys, foot, wall):
+    """A shank behind a flange: its wall facing the chuck at 90 deg is steeper than any
+    turning tool cutting toward the chuck clears (its trailing edge is under 90 deg): the
+    refusal names the place and asks for a second setup or a tool cutting toward +Z, not
+    for a tool that cannot exist; a 70 deg wall still names the clearance needed."""
+    from hnc_cam.cli import main
+    part = tmp_path / "flange.py"
+    part.write_text(Path(FRESH + "stud_relief.py").read_text()
+                    .replace("THREADS = [Thread(z_start=0.0, z_end=-20.0, diameter=16.0, "
+                             "pitch=1.5)]", "THREADS = []")
+                    .replace("(8, -1), (8, -20), (6.9, -21.906), (6.9, -24), (12, -24),\n"
+                             "           (12, -40), (0, -40)",
+                             f"(8, -1), (8, -10), (15, -10), (15, -12), {foot}, (6, -40), "
+                             f"(0, -40)")
+                    .replace('"26x50+1"', '"32x45+1"'))
+    out = tmp_path / "o.nc"
+    rc = main(["generate", str(part), "-o", str(out)])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert rc == 2 and not out.exists() and len(err) == 1
+    assert "undercut from Z-12 to Z-40 down to diameter 12" in err[0]
+    assert f"descending at up to {wall} deg" in err[0]
+    if wall >= 88:
+        assert "second setup" in err[0] and "toward +Z" in err[0]
+        assert "clears 92 deg" not in err[0]
+    else:
+        assert f"trailing edge clears {wall + 2} deg" in err[0]
+        assert "second setup" not in err[0]
 
 
 # ---------------------------------------------------------------- spindle limit, groove dwell
@@ -581,25 +657,38 @@ def test_roughing_keeps_g96_unless_the_cycle_reaches_the_critical_diameter(shape
 
 
 @pytest.mark.parametrize("comp", ["cam", "control"])
-def test_a_face_in_the_finished_contour_is_finished_toward_the_centre(comp):
+@pytest.mark.parametrize("dialect", ["hnc21t", "fanuc0it", "haas", "siemens802"])
+@pytest.mark.parametrize("shape", [D60, D60_JOURNAL], ids=["d60", "journal"])
+def test_a_face_in_the_finished_contour_is_finished_toward_the_centre(shape, comp, dialect):
     """A bar not faced first (no face stock): the finisher takes the right face, from its
-    edge toward the centre (cam: past it by the nose; control: the contour as it is, out
-    from the centre under G42), and the roughing cycle makes no passes in front of the
-    face (its contour starts at the face's edge)."""
-    prog = generate(TurnedProfile(D60, name="d60"), stock="80x45", comp=comp)
+    edge toward the centre until its nose is past the axis (the tip path in both modes),
+    the finishing contour runs at most 1 mm of the face outward (control: the control rolls
+    the nose around the edge), and the roughing cycle makes no passes in front of the face
+    (its contour starts at the face's edge)."""
+    prog = generate(TurnedProfile(shape, name="d60"), stock="80x45", comp=comp,
+                    dialect=dialect)
     assert prog.report.passed
-    fin = [m for m in prog.toolpath.moves if m.tool == 2 and m.kind == "line"]
-    face = [m for m in fin if abs(m.start[1]) < 1e-6 and abs(m.end[1]) < 1e-6
-            and abs(m.end[0] - m.start[0]) > 5]
-    assert face
-    if comp == "cam":
-        assert len(face) == 1 and face[0].end[0] < face[0].start[0]  # toward the centre
-        assert face[0].end[0] <= 0.0 and face[0].start[0] >= 27.0
-        # no pass in front of the face inside its edge: the cycle's moves there stay out at
-        # the edge's diameter (its last pass comes down to the face along it)
-        g71 = [m for m in prog.toolpath.moves if m.op == "G71" and m.kind != "rapid"]
-        assert all(min(m.start[0], m.end[0]) >= 27.0 for m in g71
-                   if max(m.start[1], m.end[1]) > 0.1 + 1e-6)
+    fin = prog.plan.operations[-1].tool
+    assert fin.number == 2
+    x_e = shape[0].end[0]
+    moves = [m for m in prog.toolpath.moves if m.kind != "rapid"]
+    along = [m for m in moves if m.tool == 2 and abs(m.start[1]) < 1e-6
+             and abs(m.end[1]) < 1e-6 and abs(m.end[0] - m.start[0]) > 1e-6]
+    inward = [m for m in along if m.end[0] < m.start[0]]
+    assert len(inward) == 1
+    # from the edge (the tip where the nose's centre is over it) to past the axis
+    assert inward[0].start[0] == pytest.approx(x_e - fin.nose_radius, abs=1e-3)
+    assert inward[0].end[0] <= -fin.nose_radius + 1e-6
+    assert all(m.end[0] - m.start[0] <= 1.0 + 1e-6 for m in along if m not in inward)
+    # the face is cut after the roughing and before the finisher runs the contour
+    i_face = moves.index(inward[0])
+    assert all(m.tool == 1 for m in moves[:i_face] if m.tool != 2)
+    assert all(m.tool == 2 for m in moves[i_face:] if m.tool in (1, 2)) and \
+        any(m.tool == 2 and m.end[1] < -30 for m in moves[i_face:])
+    # no pass in front of the face inside its edge: the roughing moves there stay out at
+    # the edge's diameter (less the last millimetre the control-mode contour comes down on)
+    assert all(min(m.start[0], m.end[0]) >= x_e - 1.0 - 1e-6 for m in moves
+               if m.tool == 1 and max(m.start[1], m.end[1]) > 0.1 + 1e-6)
 
 
 @pytest.mark.parametrize("part,cycles", [("stepped_shaft", 2), ("cq_pin", 2),

@@ -32,7 +32,7 @@ Rules (each operation records its reason, which the program prints as a comment)
 * **Finishing**: the ns..nf contour after roughing (tool change when the library's finishing
   tool is another tool) at G96 surface speed; a right face that is part of the finished
   contour (a stock not faced first) is finished from its edge toward the centre first, and
-  the roughing contour starts at its edge (:func:`_face_to_centre`, cam mode); the spindle limit is the lowest of the
+  the roughing contour starts at its edge (:func:`_face_to_centre`); the spindle limit is the lowest of the
   machine's max rpm (on the HNC-21T a system parameter, manual 3.3.6, stated in the header),
   the chuck's rated speed (the machine file's ``[chuck] max_rpm``) and the tool's
   ``max_rpm``; every cap below (G97, FANUC/Haas ``G50 S``, threads) uses it. G96 has no clamp word: facing passes, finishing contours and
@@ -245,14 +245,14 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
     elif bore_chain:
         bore_ops = _plan_bore(bore_chain, stock, tools, opts, name, z_a, machine=machine)
 
-    rough_od, finish_od = od_ops
+    rough_od, finish_od = od_ops  # finish_od: the finisher's operations (a face, the contour)
     ops.extend(rough_od)
-    if finish_od.tool.number == rough_od[-1].tool.number:
-        ops.append(finish_od)
+    if finish_od[-1].tool.number == rough_od[-1].tool.number:
+        ops.extend(finish_od)
         ops.extend(bore_ops)
     else:
         ops.extend(bore_ops)
-        ops.append(finish_od)
+        ops.extend(finish_od)
     ops.extend(grooves)
 
     # ---------------- threads ----------------
@@ -266,7 +266,7 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
 
     for op in ops:
         op.max_rpm = rpm_limit(op.tool, machine)
-        if op.blocks and op.name in ("finish", "bore_finish", "profile") and op.css:
+        if op.blocks and op.name in ("finish", "bore_finish", "profile", "face") and op.css:
             _cap_contour(op, rpm_limit(op.tool, machine))
         if op.kind == "rough" and op.css and not _split_rough(op, ops, op.max_rpm):
             _cap_rough(op, ops, op.max_rpm)
@@ -695,6 +695,10 @@ def _cap_contour(op: Operation, limit: float) -> None:
 # OD
 # ------------------------------------------------------------------------------------------
 
+#: the wall (its descent + 2 deg clearance) no turning tool cutting toward the chuck reaches
+WALL_NO_TRAILING_EDGE = 90.0
+
+
 def _pocket_text(p: an.Pocket, bore: bool = False) -> str:
     kind = "bore undercut" if bore else "undercut"
     return (f"{kind} from Z{_fmt(p.z_right)} to Z{_fmt(p.z_left)} down to diameter "
@@ -704,7 +708,7 @@ def _pocket_text(p: an.Pocket, bore: bool = False) -> str:
 def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibrary,
              opts: Options, name: str, x_a: float, z_a: float, r_stock: float,
              length: float, faced: bool = False, machine: Machine | None = None,
-             partoff: bool = False) -> tuple[list[Operation], Operation, list[Operation]]:
+             partoff: bool = False) -> tuple[list[Operation], list[Operation], list[Operation]]:
     profilers = [t for t in lib.tools if t.kind == "turn" and
                  ("profile" in t.uses or "finish" in t.uses)]
     end_ops: list[Operation] = []
@@ -759,6 +763,14 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
         sq = an.square_groove(p)
         if sq is None:
             need = p.max_descent + 2.0
+            if need >= WALL_NO_TRAILING_EDGE:
+                # a trailing edge clears 180 deg less the holder's approach (90 deg or more
+                # for a square shoulder) less the insert's angle: always under 90 deg
+                raise PlanError(f"part {name}: {_pocket_text(p)}: its wall facing the chuck "
+                                f"descends at {p.max_descent:.0f} deg, steeper than the trailing "
+                                f"edge of any turning tool cutting toward the chuck clears (a 35 "
+                                f"deg VNMG in a 93 deg holder: 50 deg); it needs a second setup "
+                                f"(the part turned around) or a tool cutting toward +Z")
             raise PlanError(f"part {name}: {_pocket_text(p)}: no tool in the library can reach "
                             f"it; it needs a turning tool whose trailing edge clears {need:.0f} deg "
                             f"(e.g. a 35 deg VNMG in a 93 deg holder reaches 50 deg)"
@@ -851,8 +863,10 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
         prog_run, first_axis, comp = prog, "x", "right"
     blocks = ct.to_blocks(prog_run, first_axis, finisher.feed_finish, ns, nf,
                           start=(x_a, z_a))
-    if strategy == "turn" and opts.comp == "cam" and not faced and stock.kind != "offset":
-        blocks, prog_run = _face_to_centre(blocks, prog_run, finisher.feed_finish)
+    face_op = None
+    if strategy == "turn" and not faced and stock.kind != "offset":
+        blocks, prog_run, face_op = _face_to_centre(blocks, prog_run, contour, finisher, x_a,
+                                                      z_a, opts.comp)
     if opts.comp == "cam":
         comp = "none"
     start = (x_a, z_a)
@@ -890,7 +904,7 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
                 raise PlanError(f"part {name}: {_pocket_text(p)}: no roughing tool in the library "
                                 f"reaches it; it needs a turning tool whose trailing edge clears "
                                 f"{p.max_descent + 2:.0f} deg")
-            rough_ops.append(_zone_op(p, tools[0], opts, r_stock, f"z{i + 1}", name))
+            rough_ops.append(_zone_op(p, tools[0], opts, r_stock, f"z{i + 1}", name, od))
     last = prog_run[-1].end
     if strategy == "face":
         retract = [(x_a, z_a)]
@@ -904,38 +918,75 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
                        start=start, speed=finisher.vc_finish, feed=finisher.feed_finish,
                        blocks=blocks, ns=ns, nf=nf, nose_comp=comp, contour=prog_run,
                        retract=_retract(retract, blocks))
-    return rough_ops, finish, groove_ops
+    return rough_ops, ([face_op] if face_op is not None else []) + [finish], groove_ops
 
 
-def _face_to_centre(blocks: list[Block], path: list[Segment],
-                    feed: float) -> tuple[list[Block], list[Segment]]:
+def _face_to_centre(blocks: list[Block], path: list[Segment], contour: Sequence[Segment],
+                    finisher: Tool, x_a: float, z_a: float, comp: str
+                    ) -> tuple[list[Block], list[Segment], Operation | None]:
     """A finishing contour that starts on the axis with the right face (a stock not faced
-    first: the face is part of the finished contour) finishes that face toward the centre:
-    from its edge, fed in front of it, along it past the centre, lifted 1 mm, back over it to
-    the edge in rapid and fed down, then the rest of the contour. The contour's label
-    (a roughing cycle's ns) moves to the block back to the edge, so that the cycle's
-    contour starts at the face's edge (no passes in front of the face). Unchanged when the
-    contour does not start so (cam mode: the tip path; the blocks are ``to_blocks``')."""
-    if len(blocks) < 4:
-        return blocks, path
+    first: the face is part of the finished contour): the face is finished toward the
+    centre by an operation of its own before the contour, with the finisher, when its
+    trailing edge can lead a cut along -X (:func:`back_reach`). That operation is the tip
+    path in both compensation modes (G40: a face is a line along X, the imaginary tip's
+    Z is the face's): fed down 1 mm in front of the face's edge, along the face until the
+    nose's centre is past the axis, lifted 1 mm. The contour then starts at the face's
+    edge: its first block (the roughing cycle's ns) goes there along X, the next feeds down
+    to the face, so that the cycle makes no passes in front of the face. Under G42
+    (``comp`` control) it comes down 1 mm inside the edge and runs that last millimetre of
+    the face outward, so that the control rolls the nose around the edge into the next
+    element as it does on the part's contour. ``blocks``/``path``: the contour as
+    ``to_blocks`` wrote it (cam: the tip path; control: the part); ``contour``: the part's
+    outside chain. Unchanged (and no operation) when it does not start so."""
+    if len(blocks) < 4 or not contour or back_reach(finisher) <= 1.0:
+        return blocks, path, None
+    s0 = contour[0]
+    if not (isinstance(s0, Line) and abs(s0.start[0]) < 1e-9
+            and abs(s0.end[1] - s0.start[1]) < 1e-9 and s0.end[0] > 0.5):
+        return blocks, path, None
     b0, b1, b2 = blocks[:3]
     if not (b0.kind == "rapid" and b0.x is not None and b0.z is None and b0.x <= 1e-9
             and b1.kind == "line" and b1.x is not None and abs(b1.x - b0.x) < 1e-9
             and b1.z is not None and b2.kind == "line" and b2.z is not None
             and abs(b2.z - b1.z) < 1e-9 and b2.x is not None and b2.x > 0.5 and not b2.label):
-        return blocks, path
-    x_c, z0, x_e = b0.x, b1.z, b2.x
+        return blocks, path, None
+    z0, x_e = b1.z, b2.x
     k = next((i for i, sg in enumerate(path) if isinstance(sg, Line)
               and abs(sg.end[0] - x_e) < 1e-6 and abs(sg.end[1] - z0) < 1e-6
               and abs(sg.start[1] - z0) < 1e-6), None)
     if k is None:
-        return blocks, path
-    up = z0 + 1.0
-    face = [Block("rapid", x=x_e), Block("rapid", z=up), Block("line", z=z0, feed=feed),
-            Block("line", x=x_c), Block("rapid", z=up),
-            Block("rapid", x=x_e, label=b0.label), Block("line", z=z0)]
-    geo = [Line((x_e, up), (x_e, z0)), Line((x_e, z0), (x_c, z0)), Line((x_e, up), (x_e, z0))]
-    return face + blocks[3:], geo + list(path[k + 1:])
+        return blocks, path, None
+    feed = finisher.feed_finish
+    x_in = x_e - min(1.0, x_e / 2) if comp == "control" else x_e
+    run = [Block("rapid", x=x_in, label=b0.label), Block("line", z=z0, feed=feed)]
+    geo = [Line((x_in, z_a), (x_in, z0))]
+    if x_in < x_e:
+        run.append(Block("line", x=x_e))
+        geo.append(Line((x_in, z0), (x_e, z0)))
+    run += blocks[3:]
+    geo += list(path[k + 1:])
+    # the face op: the nose's centre 1 mm above the face at its edge, down onto it, along it
+    # to 0.1 mm past the axis, up again; the program carries the imaginary tip
+    from ..geometry.tip import tip_vector
+    r = finisher.nose_radius
+    vx, vz = tip_vector(finisher.tip, r)
+    x_f, z_f = s0.end[0] + vx, s0.start[1] + r + vz
+    x_c = -0.1 + vx
+    up = z_f + 1.0
+    fblocks = [Block("rapid", z=up), Block("line", z=z_f, feed=feed), Block("line", x=x_c),
+               Block("rapid", z=up)]
+    fgeo = [Line((x_f, up), (x_f, z_f)), Line((x_f, z_f), (x_c, z_f))]
+    face = Operation(name="face", kind="finish", tool=finisher,
+                     reason=(f"the right face is part of the finished contour (a stock not "
+                             f"faced first): finished from its edge at diameter "
+                             f"{_fmt(2 * s0.end[0])} toward the centre with "
+                             f"{describe(finisher)} (tip path, G40), before the contour"),
+                     start=(x_f, z_a), speed=finisher.vc_finish, feed=feed, blocks=fblocks,
+                     passes=[s0.start[1]], contour=fgeo, retract=[],
+                     # in front of the stock first (an operation before may end inside an
+                     # undercut), then along X to the face's edge
+                     approach=[(x_a, z_a), (x_f, None)])
+    return run, geo, face
 
 
 #: semi-finishing stock the roughing cycle leaves above the finishing allowance, radial and
@@ -943,6 +994,22 @@ def _face_to_centre(blocks: list[Block], path: list[Segment],
 #: leaves the finishing allowance normal to the part everywhere
 SEMI_X = 0.3
 SEMI_Z = 0.1
+
+
+def _allowance_path(chain: Sequence[Segment], t: Tool, opts: Options) -> list[Segment]:
+    """The tip path of ``t`` that leaves the finishing allowance on ``chain``: X
+    (``opts.allowance_x``, radial) on diameters, Z (``opts.allowance_z``) on faces and
+    shoulders. The nose rolls at the smaller of the two normal to the part (an exact offset:
+    undercut walls facing the chuck keep it too), then the path moves out along X by what
+    the X allowance exceeds it, which a face slides along and a diameter gains in full (a
+    taper or an arc gets its share by its normal's X part). A Z allowance larger than the X
+    one is left as the X one: moved along Z, a wall facing the chuck would be cut into."""
+    ax, az = opts.allowance_x, opts.allowance_z
+    a0 = min(ax, az)
+    path = ct.allowance_path(chain, t.nose_radius, t.tip, a0)
+    if ax - a0 > 1e-9:
+        path = [s.translated(ax - a0, 0.0) for s in path]
+    return path
 
 
 def _by_rigidity(tools: list[Tool]) -> list[Tool]:
@@ -957,7 +1024,7 @@ def _semi_op(name: str, t: Tool, chain: list[Segment], opts: Options,
     ns..nf: the cycle leaves the finishing allowance plus (SEMI_X, SEMI_Z), the ns..nf blocks
     that follow it take that off, leaving the finishing allowance normal to the part."""
     base = ct.with_leads(chain, z_a, x_a, past_centre=2 * t.nose_radius + 0.1, overrun=overrun)
-    path = ct.allowance_path(base, t.nose_radius, t.tip, opts.allowance_x)
+    path = _allowance_path(base, t, opts)
     ns, nf = f"{tag}_ns", f"{tag}_nf"
     blocks = ct.to_blocks(path, "x", t.feed_rough, ns, nf, start=start)
     last = path[-1].end
@@ -970,7 +1037,7 @@ def _semi_op(name: str, t: Tool, chain: list[Segment], opts: Options,
 
 
 def _zone_op(p: an.Pocket, t: Tool, opts: Options, r_stock: float, tag: str,
-             name: str) -> Operation:
+             name: str, part: Sequence[Segment] = ()) -> Operation:
     """Rest-roughing of one undercut zone by a tool that reaches it: G71 type II over the
     zone alone, from the material the envelope's semi-finishing pass left (its level plus
     the finishing allowance), then the zone's semi-finishing pass."""
@@ -980,13 +1047,18 @@ def _zone_op(p: an.Pocket, t: Tool, opts: Options, r_stock: float, tag: str,
     chain = [Line((p.level, z_in), p.entry)] + list(p.segments)
     if p.exit is None:
         chain.append(Line(p.segments[-1].end, exit_))
-    # the rising wall past the exit, so that the offset reaches the level plus the allowance
+    # the rising wall past the exit, so that the offset reaches the level plus the allowance:
+    # the part's own contour where the exit lies on it (a fillet cut at the level turns on
+    # into a shoulder: its tangent there would run into the shoulder), else the tangent
     up = chain[-1]
     tx, tz = up.tangent_at_end()
-    if tx > 0.05:
+    after = _contour_after(part, up.end, p.level + a + t.nose_radius + 0.5)
+    if after:
+        chain += after
+    elif tx > 0.05:
         k = (a + t.nose_radius + 0.5) / tx
         chain.append(Line(up.end, (up.end[0] + k * tx, up.end[1] + k * tz)))
-    path = ct.allowance_path(chain, t.nose_radius, t.tip, a)
+    path = _allowance_path(chain, t, opts)
     top = p.level + a
     path = _clip_above(path, top)
     x_start = top + opts.retract + 0.5
@@ -1006,6 +1078,31 @@ def _zone_op(p: an.Pocket, t: Tool, opts: Options, r_stock: float, tag: str,
                      rough=cut, ns=ns, nf=nf, blocks=blocks, contour=path,
                      retract=_retract([(x_start, min(last[1] + 0.8, start[1])),
                                        (x_start, start[1])], blocks))
+
+
+def _contour_after(part: Sequence[Segment], pt: Point, x_out: float) -> list[Segment]:
+    """The segments of the chain ``part`` from the point ``pt`` on it onward, up to where
+    they first reach radius ``x_out`` (cut there); empty where ``pt`` is not on ``part``
+    or the chain never gets out so far."""
+    out: list[Segment | None] = []  # None: the start found
+    for s in part:
+        if not out:
+            if math.dist(s.end, pt) < 1e-7:
+                out.append(None)  # pt is this segment's end: start with the next one
+                continue
+            parts = an._split_at_x(s, pt[0]) if min(s.start[0], s.end[0]) < pt[0] - 1e-9 < \
+                max(s.start[0], s.end[0]) or isinstance(s, Arc) else None
+            rest = next((q for q in (parts or ()) if math.dist(q.start, pt) < 1e-7), None)
+            if rest is None:
+                continue
+            out.append(None)
+            s = rest
+        if s.bbox()[2] >= x_out - 1e-9:
+            parts = an._split_at_x(s, x_out)
+            out.append(parts[0] if parts and math.dist(parts[0].start, s.start) < 1e-9 else s)
+            return [q for q in out if q is not None]
+        out.append(s)
+    return []
 
 
 def _clip_above(path: list[Segment], top: float) -> list[Segment]:
