@@ -206,6 +206,7 @@ class Register:
     insert: Insert | None = None  # for the simulator's tool outline, when known
     approach: float = 95.0
     kind: str = "turn"
+    min_bore: float = 0.0  # an inside tool's smallest bore (its bar's head across the bore)
 
     @property
     def x_total_radius(self) -> float:
@@ -217,6 +218,11 @@ class Register:
 
 
 SHARP = Register(number=0)
+
+#: the running clearance a boring bar's head keeps from the bore's far wall, mm: the planner
+#: faces a flat bottom no nearer the axis than its head allows with it, and verification
+#: counts a bar's reach with it (its head ``min_bore`` + this across the bore)
+BAR_CLEARANCE = 1.0
 
 #: what an M code of the machine's PLC does, as the interpreter models it: spindle direction
 #: (before the block's motion) and stop (after it), coolant on (before) / off (after), tool
@@ -580,7 +586,8 @@ class ToolLibrary:
         for t in self.tools:
             out[t.register] = Register(number=t.register, x=t.x_offset, z=t.z_offset,
                                        radius=t.nose_radius, tip=t.tip, insert=t.insert,
-                                       approach=t.approach, kind=t.kind)
+                                       approach=t.approach, kind=t.kind,
+                                       min_bore=t.min_bore)
         return out
 
     def by_number(self, number: int) -> Tool | None:

@@ -140,3 +140,17 @@ def test_a_step_narrower_than_the_bars_min_bore_deeper_than_the_opener_is_refuse
     assert "is diameter 14 from Z-10" in err
     assert "the boring bar T03's head does not fit a bore of that diameter (min_bore 16): it " \
            "needs a boring bar with min_bore <= 14 or a drill of diameter 14" in err
+
+
+@pytest.mark.parametrize("comp", ["cam", "control"])
+def test_flat_bottom_out_of_the_bars_reach_verifies_with_its_centre_unreachable(tmp_path, comp):
+    """The 24 mm cup: what the drill's point leaves inside the bar's reach (its head of
+    min_bore 16 plus its running clearance across the bore keeps its tip off the axis) is
+    listed as unreachable, and the program verifies."""
+    f = _part(tmp_path, "cup24", [(13, 0), (19, 0), (20, -1), (20, -40), (0, -40), (0, -25),
+                                  (12, -25), (12, -1)], "42x50+1")
+    rep = generate(f, comp=comp).report
+    assert rep.passed and rep.max_undercut_mm <= 0.01
+    centre = [u for u in rep.unreachable if u.x < 2.0 and abs(u.z + 25.0) < 1.0]
+    # the 118 deg point of the 20 mm drill stands 0.3 mm proud near the axis
+    assert len(centre) == 1 and 0.25 < centre[0].size_mm < 0.35

@@ -44,7 +44,7 @@ from typing import Sequence
 from ..errors import PlanError
 from ..geometry import Line, Segment
 from ..geometry.intersect import vertical_hits
-from ..tooling import Machine, Tool, ToolLibrary
+from ..tooling import BAR_CLEARANCE, Machine, Tool, ToolLibrary
 from .model import DrillCut, Operation
 from .tools import describe
 
@@ -71,7 +71,7 @@ ANGLE_TOL = 0.5
 FLAT_TIP = 0.001
 #: the boring bar faces a flat bottom to this far outside the least radius its head leaves
 #: its tip (so the roughing cycle's start, the clearance inside it, stays within reach), mm
-FACE_CLEAR = 1.0
+FACE_CLEAR = BAR_CLEARANCE
 
 
 def _fmt(v: float) -> str:

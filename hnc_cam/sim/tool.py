@@ -74,6 +74,9 @@ class ToolShape:
     description: str = ""
     centre: tuple[float, float] = (0.0, 0.0)  # nose centre (z, x) relative to the controlled point
     key: tuple = field(default=(), compare=True)
+    #: an inside tool's bar head across X from its controlled point (its ``min_bore``: in a
+    #: bore of that diameter the head's back touches the far wall); 0 where not known
+    head: float = 0.0
 
     @property
     def width(self) -> float:

@@ -56,6 +56,7 @@ Choices (the issue leaves them open):
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from typing import Any, Sequence
@@ -72,6 +73,7 @@ from ..geometry.tip import tip_direction
 from .measure import distances
 from .region import clean, diff, inter, polygons, profile_polygon, union as union_of
 from .simulate import Issue, Machined
+from ..tooling import BAR_CLEARANCE
 from .tool import ToolShape, sweep_hulls, tool_shape
 
 NOISE = 0.002
@@ -347,9 +349,18 @@ def tool_body(shape: ToolShape, length: float) -> np.ndarray:
     the insert across that direction (a real shank is at least that wide). For a boring bar
     that makes the bar as tall as the insert: an inside tool reaches nothing behind a mouth
     narrower than where its tip is (a recess or a chamfer facing the chuck inside the bore),
-    as the planner assumes when it leaves such a feature for another operation."""
+    as the planner assumes when it leaves such a feature for another operation. An inside
+    tool whose ``head`` is known (its ``min_bore``) has a body that deep across X from its
+    controlled point toward the axis and beyond: in a narrow bore the head's back meets the
+    far wall before the tip reaches the centre, so a flat bottom near the axis is out of its
+    reach."""
     dz, dx = holder_direction(shape.tip)
-    pts = np.vstack([shape.outline, shape.outline + np.array([dz * length, dx * length])])
+    out = shape.outline
+    if shape.head > 0 and (dz, dx) == (1.0, 0.0):
+        sx, _sz = tip_direction(shape.tip)
+        back = -shape.head if sx > 0 else shape.head
+        out = np.vstack([out, np.column_stack([out[:, 0], np.full(len(out), back)])])
+    pts = np.vstack([out, out + np.array([dz * length, dx * length])])
     hull = shapely.convex_hull(shapely.multipoints(pts))
     c = shapely.get_coordinates(shapely.normalize(hull).exterior)[:-1]
     z, x = c[:, 0], c[:, 1]
@@ -646,7 +657,15 @@ def _cutting_shapes(m: Machined) -> list[ToolShape]:
         for r in dict.fromkeys(c["register"][cut].tolist()):
             if (r, None) not in keys and not _is_blade(m, r):
                 keys.append((r, None))
-    shapes = [m.shapes[k] for k in keys if k in m.shapes]
+    shapes = []
+    for k in keys:
+        if k not in m.shapes:
+            continue
+        s = m.shapes[k]
+        head = m.machine.register(k[0]).min_bore if m.machine is not None else 0.0
+        if head > 0 and holder_direction(s.tip) == (1.0, 0.0):  # a bar's head: see tool_body
+            s = dataclasses.replace(s, head=head + BAR_CLEARANCE)
+        shapes.append(s)
     if not shapes and m.machine is not None:
         shapes = [tool_shape(m.machine.register(0))]
     return shapes
