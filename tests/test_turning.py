@@ -691,6 +691,27 @@ def test_a_face_in_the_finished_contour_is_finished_toward_the_centre(shape, com
                if m.tool == 1 and max(m.start[1], m.end[1]) > 0.1 + 1e-6)
 
 
+@pytest.mark.parametrize("dialect", ["hnc21t", "fanuc0it", "haas"])
+@pytest.mark.parametrize("stock", ["42x45+1", "42x45"])
+def test_a_g71_split_at_an_arcs_end_numbers_only_the_blocks_cycles_refer_to(stock, dialect):
+    """An 18.7 mm journal: the G71's split falls on the end of the corner arc (the tip path
+    reaches the critical radius there), so that arc is the inner cycle's nf on the HNC-21T.
+    FANUC and Haas keep one cycle under G50: in ``--block-numbers pq`` no block carries a
+    number that no P or Q refers to."""
+    import re
+    prof = TurnedProfile(chain((0, 0), (9.35, 0), (9.35, -10), (20, -10), (20, -40), (0, -40)),
+                         name="journal")
+    prog = generate(prof, stock=stock, dialect=dialect, block_numbers="pq")
+    assert prog.report.passed
+    (rough,) = [op for op in prog.plan.operations if op.split is not None]
+    owner = prog.plan.contour_owner(rough)
+    # the split is at a block's end: that block carries the inner cycle's nf
+    assert any(b.label == rough.split.nf and b.kind in ("cw", "ccw") for b in owner.blocks)
+    numbered = {int(n) for n in re.findall(r"^N(\d+)", prog.text, re.M)}
+    refs = {int(n) for n in re.findall(r"\b[PQ](\d+)\b", prog.text)}
+    assert numbered == refs and len(refs) == (4 if dialect == "hnc21t" else 2)
+
+
 @pytest.mark.parametrize("part,cycles", [("stepped_shaft", 2), ("cq_pin", 2),
                                         ("grooved_shaft", 1), ("threaded_stud", 1)])
 def test_bundled_parts_rough_at_g96_outside_the_critical_diameter(part, cycles):
