@@ -246,8 +246,12 @@ def test_fresh_part_with_groove_thread_and_round(tmp_path, comp):
     assert prog.report.passed, prog.report.summary()
     assert prog.report.max_overcut_mm <= 0.01
     assert not prog.toolpath.warnings
-    assert prog.operations == ["face G1", "rough LCYC95", "finish contour", "profile contour",
+    # the control-compensated finish runs the contour subprogram under LCYC95 finishing
+    finish = "finish LCYC95" if comp == "control" else "finish contour"
+    assert prog.operations == ["face G1", "rough LCYC95", finish, "profile contour",
                                "groove LCYC93", "thread LCYC97"]
+    if comp == "control":
+        assert "R105=5" in prog.text  # LCYC95's finishing type, longitudinal outside
     plan = prog.plan
     groove = [op for op in plan.operations if op.kind == "groove"][0]
     (g,) = cycle_calls(prog.text, "LCYC93")
