@@ -800,3 +800,15 @@ def test_bad_chuck_table_is_one_line_naming_file_and_line(tmp_path, capsys, body
     err = capsys.readouterr().err.strip().splitlines()
     assert rc == 2 and not out.exists() and len(err) == 1
     assert f"lathe.toml:{line}" in err[0] and what in err[0]
+
+
+@pytest.mark.parametrize("d1", [18.7003, 18.7008, 18.701])
+def test_g71_split_next_to_an_arcs_end_writes_no_arc_of_no_length(d1):
+    """stepped_shaft's domed face ends at diameter d1; where the split radius (X18.7) falls
+    within a few micrometres of the arc's end, the piece beyond it would round to an arc of
+    no length (a full circle to the control): the cycle is cut at the arc's end instead."""
+    for comp in ("cam", "control"):
+        prog = generate(str(Path(__file__).resolve().parents[1] / "parts" / "stepped_shaft.py"),
+                        params={"d1": str(d1)}, comp=comp)
+        # it generated (the arc of no length was an interpreter alarm) and verifies
+        assert prog.report.passed and prog.report.max_overcut_mm <= 0.01

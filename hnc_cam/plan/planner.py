@@ -609,6 +609,11 @@ def _split_rough(op: Operation, ops: Sequence[Operation], limit: float) -> bool:
             arc = Arc.from_radius((x0, z0), (x1, z1), blk.r, blk.kind == "cw")
             hits = horizontal_hits([arc], x_t)
             z_cut = hits[0][1] if len(hits) == 1 else None
+        # both pieces must be more than the written resolution long (a piece of an arc that
+        # rounds to no length is a full circle to the control)
+        if z_cut is not None and min(math.hypot(x_t - x0, z_cut - z0),
+                                     math.hypot(x1 - x_t, z1 - z_cut)) < 0.002:
+            z_cut = None
     if z_cut is None and owner.nose_comp != "none":
         # under G41/G42 the two blocks of no length stand only inside a block, where the
         # control's offset vector at the split point is the block's own normal
