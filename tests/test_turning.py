@@ -812,3 +812,22 @@ def test_g71_split_next_to_an_arcs_end_writes_no_arc_of_no_length(d1):
                         params={"d1": str(d1)}, comp=comp)
         # it generated (the arc of no length was an interpreter alarm) and verifies
         assert prog.report.passed and prog.report.max_overcut_mm <= 0.01
+
+
+@pytest.mark.parametrize("dialect, cycle", [("hnc21t", "g76"), ("hnc21t", "g82"),
+                                            ("fanuc0it", "g76")])
+def test_thread_ending_just_before_a_shoulder_runs_out_clear_of_it(dialect, cycle):
+    """M20x1.5 to Z-14, a 2 mm plain length, then a 30 mm collar: no run-on past the end
+    clears the insert's flanks, so the collar is the wall the run-out ends in front of (the
+    flank cut 1.3 mm into the collar when the thread ran to its end at full depth)."""
+    from hnc_cam.geometry import Thread
+    prof = TurnedProfile(chain((0, 0), (9.2, 0), (10, -0.8), (10, -16), (15, -16), (15, -40),
+                               (0, -40)), threads=[Thread(0.0, -14.0, 20.0, 1.5)],
+                         name="stud_collar2")
+    prog = generate(prof, stock="34x45+1", dialect=dialect, thread_cycle=cycle)
+    assert prog.report.passed and prog.report.max_overcut_mm <= 0.01
+    th = [m for m in prog.toolpath.moves if m.kind == "thread"]
+    full = [m for m in th if abs(2 * m.end[0] - 18.16) < 1e-3 and abs(2 * m.start[0] - 18.16) < 1e-3]
+    end = min(min(m.start[1], m.end[1]) for m in full)
+    assert -14.0 < end < -14.0 + 3 * 1.5  # full form ends before the thread's end, within the run-out
+    assert min(min(m.start[1], m.end[1]) for m in th) > -16.0  # never reaches the collar

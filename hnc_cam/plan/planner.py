@@ -1487,21 +1487,26 @@ def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stoc
 
     z_end = z_lo
     z_wall = wall_after(z_lo)
+    # past the end, the insert's flanks (6 mm long, as the simulator draws them) must clear
+    # everything the thread ends in front of
+    reach = need + 6.0 * math.sin(math.radians(th.angle / 2))
+    ran_on = False
     for frac in (1.0, 0.75, 0.5, 0.25):
         ze = z_lo - frac * lead
         if ze < part_left + 1e-9 and stock.kind == "offset":
             continue
-        # past the end, the insert's flanks (6 mm long, as the simulator draws them) must
-        # clear everything the thread ends in front of
-        reach = need + 6.0 * math.sin(math.radians(th.angle / 2))
         if wall_after(ze, reach) is None:
-            z_end, z_wall = ze, None
+            z_end, z_wall, ran_on = ze, None, True
             break
+    if not ran_on and z_wall is None:
+        # no run-on clears the flanks: a shoulder a little beyond the end (a short plain
+        # length before it) is in the flanks' way as a wall at the end would be
+        z_wall = wall_after(z_lo, reach)
     run_r = run_e = 0.0
     half = math.radians(th.angle / 2)
     at_wall = _radius_at(chain, z_wall + 0.05, th.internal) if z_wall is not None else None
-    if z_wall is not None and z_end - z_wall < need - 1e-9 and at_wall is not None \
-            and sgn * (at_wall - r_crest - dr(z_wall)) >= -0.02:
+    if z_wall is not None and (z_end - z_wall < need - 1e-9 or not ran_on) \
+            and at_wall is not None and sgn * (at_wall - r_crest - dr(z_wall)) >= -0.02:
         # no relief (a shoulder outside, a shoulder or the bore going on at the minor
         # diameter inside): the cycle's run-out (R toward the wall, E out to the crest, G76
         # and G82) pulls the insert out over one lead; it ends where the leading flank, at
