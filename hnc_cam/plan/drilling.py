@@ -46,7 +46,7 @@ from ..geometry import Line, Segment
 from ..geometry.intersect import vertical_hits
 from ..tooling import BAR_CLEARANCE, Machine, Tool, ToolLibrary
 from .model import DrillCut, Operation
-from .tools import describe
+from .tools import describe, groove_plunges
 
 #: a hole deeper than this many diameters is peck-drilled
 PECK_RATIO = 3.0
@@ -552,17 +552,8 @@ def _groove_id_op(t: Tool, z_l: float, z_r: float, r_b: float, r_l: float, x_in:
     pass (as the outside grooves, mirrored)."""
     from .model import GrooveCut, GrooveFinish
     w = t.insert.width
-    wide = z_r - z_l - w > 1e-6
-    fa = finish if wide and z_r - z_l - w > 2 * finish + 1e-6 else 0.0
-    first, last = z_r - w - fa, z_l + fa
-    step = max(0.1 * w, w - 2 * t.nose_radius - 0.05)
-    n = max(1, math.ceil((first - last) / step - 1e-9) + 1) if first - last > 1e-9 else 1
-    pos = [first - (first - last) * i / (n - 1) for i in range(n)] if n > 1 else [last]
-    rpm = t.vc_finish * 1000.0 / (2 * math.pi * max(r_b, 1e-3))
-    capped = rpm > max_rpm
-    rpm = min(max_rpm, rpm)
-    dwell = round(t.dwell_rev * 60.0 / rpm, 2)
-    cut = GrooveCut(x_bottom=r_b - fa, x_clear=r_l - ID_CLEAR, dwell=max(dwell, 0.05))
+    pos, fa, rpm, capped, dwell = groove_plunges(t, z_l, z_r, r_b, finish, max_rpm)
+    cut = GrooveCut(x_bottom=r_b - fa, x_clear=r_l - ID_CLEAR, dwell=dwell)
     if fa > 0:
         cut.finish = GrooveFinish(z_right=z_r - w, z_left=z_l, x_bottom=r_b)
     op = Operation(

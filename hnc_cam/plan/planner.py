@@ -74,6 +74,7 @@ from . import contour as ct
 from .model import (Block, FaceCut, GrooveCut, GrooveFinish, Operation, Plan, RoughCut,
                     RoughSplit, Spindle, ThreadCut)
 from .tools import (PARTIAL_PROFILE_PITCH, back_reach, can_square_shoulder, cuts_pitch, describe,
+                    groove_plunges,
                     thread_pitch_range, thread_tools, turning_tools)
 
 
@@ -1217,19 +1218,8 @@ def _groove_op(t: Tool, z_l: float, z_r: float, x_b: float, level: float,
     walls and the bottom, then finished in one pass: down the right wall, along the bottom,
     up the left wall."""
     w = t.insert.width
-    wide = z_r - z_l - w > 1e-6
-    fa = GROOVE_FINISH if wide and z_r - z_l - w > 2 * GROOVE_FINISH + 1e-6 else 0.0
-    first, last = z_r - w - fa, z_l + fa
-    step = max(0.1 * w, w - 2 * t.nose_radius - 0.05)
-    n = max(1, math.ceil((first - last) / step - 1e-9) + 1) if first - last > 1e-9 else 1
-    pos = [first - (first - last) * i / (n - 1) for i in range(n)] if n > 1 else [last]
-    # the HNC-21T's G96 has no clamp word: where the bottom needs more than the spindle
-    # limit, the whole groove runs G97 at the limit
-    rpm = t.vc_finish * 1000.0 / (2 * math.pi * max(x_b, 1e-3))
-    capped = rpm > max_rpm
-    rpm = min(max_rpm, rpm)
-    dwell = round(t.dwell_rev * 60.0 / rpm, 2)
-    cut = GrooveCut(x_bottom=x_b + fa, x_clear=level + 0.6, dwell=max(dwell, 0.05))
+    pos, fa, rpm, capped, dwell = groove_plunges(t, z_l, z_r, x_b, GROOVE_FINISH, max_rpm)
+    cut = GrooveCut(x_bottom=x_b + fa, x_clear=level + 0.6, dwell=dwell)
     if fa > 0:
         cut.finish = GrooveFinish(z_right=z_r - w, z_left=z_l, x_bottom=x_b)
     return Operation(

@@ -90,6 +90,32 @@ def thread_tools(lib: ToolLibrary, internal: bool) -> list[Tool]:
     return out
 
 
+def groove_plunges(t: Tool, z_l: float, z_r: float, r_bottom: float, finish: float,
+                   max_rpm: float) -> tuple[list[float], float, float, bool, float]:
+    """How a grooving insert of width ``w`` cuts a square groove Z ``z_r``..``z_l`` whose
+    bottom is at radius ``r_bottom``, outside or inside: the plunges' Z (the insert's corner
+    at -Z, from the right wall leftward, overlapping by its corner radii), the finishing
+    stock each plunge leaves on the walls and the bottom (``finish`` where the groove is
+    wider than the insert by more than twice it, else 0: one finishing pass then follows),
+    the spindle speed at the bottom (the insert's finishing surface speed, at most
+    ``max_rpm``: the HNC-21T's G96 has no clamp word, so a capped groove runs G97 there),
+    whether it is capped, and the dwell at the bottom (the tool's ``dwell_rev`` revolutions,
+    at least 0.05 s)."""
+    import math
+    w = t.insert.width
+    wide = z_r - z_l - w > 1e-6
+    fa = finish if wide and z_r - z_l - w > 2 * finish + 1e-6 else 0.0
+    first, last = z_r - w - fa, z_l + fa
+    step = max(0.1 * w, w - 2 * t.nose_radius - 0.05)
+    n = max(1, math.ceil((first - last) / step - 1e-9) + 1) if first - last > 1e-9 else 1
+    pos = [first - (first - last) * i / (n - 1) for i in range(n)] if n > 1 else [last]
+    rpm = t.vc_finish * 1000.0 / (2 * math.pi * max(r_bottom, 1e-3))
+    capped = rpm > max_rpm
+    rpm = min(max_rpm, rpm)
+    dwell = max(round(t.dwell_rev * 60.0 / rpm, 2), 0.05)
+    return pos, fa, rpm, capped, dwell
+
+
 def describe(tool: Tool) -> str:
     return (f"T{tool.number:02d} {tool.name} {tool.insert.code} R{tool.nose_radius:g} "
             f"tip {tool.tip}")
