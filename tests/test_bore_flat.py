@@ -4,39 +4,12 @@ centre as far as its head (``min_bore``) leaves it; what the drill's point leave
 axis is named in a note; bottoms the bar cannot face at all are refused."""
 from __future__ import annotations
 
-import math
-from pathlib import Path
-
 import pytest
 
 from hnc_cam.cli import main
 from hnc_cam.plan.api import generate
 
-ROOT = Path(__file__).resolve().parents[1]
-FRESH = ROOT / "tests" / "data" / "turning_parts"
-COT59 = 1.0 / math.tan(math.radians(59.0))
-
-PART = '''
-from build123d import BuildLine, BuildPart, BuildSketch, Plane, Polyline, Axis, make_face, revolve
-
-STOCK = "{stock}"
-
-
-def part():
-    with BuildPart() as p:
-        with BuildSketch(Plane.XZ):
-            with BuildLine():
-                Polyline(*{pts!r}, close=True)
-            make_face()
-        revolve(axis=Axis.Z)
-    return p.part
-'''
-
-
-def _part(tmp_path: Path, name: str, pts, stock: str) -> Path:
-    f = tmp_path / f"{name}.py"
-    f.write_text(PART.format(pts=[tuple(p) for p in pts], stock=stock))
-    return f
+from test_drill import COT59, FRESH, _part  # a user's part file, written as there
 
 
 def _feeds(prog, tool: int):
