@@ -335,6 +335,8 @@ class Operation:
         (``generate --explain``)."""
         t = f"T{self.tool.number:02d}"
         f = f"F{_n(self.feed)}"
+        if self.name == "face" and self.kind == "finish":  # the finisher's pass to the centre
+            return f"{t} FINISH FACE {f}"
         if self.name == "face":
             return f"{t} FACE {cycle} {len(self.passes)}X F{_n(self.feed)}"
         if self.name in ("rough", "bore_rough"):
