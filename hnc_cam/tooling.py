@@ -643,6 +643,14 @@ def _tool_insert(t: Mapping[str, Any], w: str, text: str, index: int, where: str
     when both are given."""
     kind = t.get("kind")
     drill_keys = [k for k in ("diameter", "point_angle", "flute_length") if k in t]
+
+    def parse(code: str, radius: Any = None, key: str = "insert") -> Insert:
+        try:
+            return Insert.parse(code, radius)
+        except ToolError as e:  # the code's own error, placed at its key
+            n = key_line(text, "tool", key, index)
+            raise ToolError(f"{where}{':' + str(n) if n else ''}: tool[{index}]: {e}") from None
+
     if kind not in DRILL_KINDS:
         if drill_keys:
             n = key_line(text, "tool", drill_keys[0], index)
@@ -652,13 +660,13 @@ def _tool_insert(t: Mapping[str, Any], w: str, text: str, index: int, where: str
         if "insert" not in t:
             n = key_line(text, "tool", "\0", index)
             raise ToolError(f"{where}{':' + str(n) if n else ''}: tool[{index}]: insert missing")
-        ins = Insert.parse(str(t["insert"]), t.get("radius"))
+        ins = parse(str(t["insert"]), t.get("radius"))
         if ins.kind == "drill":
             raise ToolError(f"{w}: insert {ins.code} is a drill: give kind = \"drill\" or "
                             f"\"center_drill\"")
         return ins
     if "insert" in t:
-        ins = Insert.parse(str(t["insert"]))
+        ins = parse(str(t["insert"]))
         if ins.kind != "drill":
             raise ToolError(f"{w}: a {kind} needs a drill code (DRILL<d>-<angle>L<flute>, e.g. "
                             f"DRILL10-118L60) or diameter = ..., not insert {ins.code}")
@@ -668,8 +676,8 @@ def _tool_insert(t: Mapping[str, Any], w: str, text: str, index: int, where: str
                         f"diameter (mm) or a drill code in insert")
     else:
         d = float(t["diameter"])
-        ins = Insert.parse(f"DRILL{d:g}-{float(t.get('point_angle', 118.0)):g}"
-                           f"L{float(t.get('flute_length', 5.0 * d)):g}")
+        ins = parse(f"DRILL{d:g}-{float(t.get('point_angle', 118.0)):g}"
+                    f"L{float(t.get('flute_length', 5.0 * d)):g}", key="diameter")
     for key, have in (("diameter", ins.width), ("point_angle", ins.angle),
                       ("flute_length", ins.edge_length)):
         if key in t and abs(float(t[key]) - have) > 1e-9:

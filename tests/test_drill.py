@@ -75,6 +75,9 @@ def test_drill_codes_and_keys():
     ('number = 20\nkind = "drill"\ninsert = "DRILL8"\ndiameter = 9.0\n',
      r"tools.toml:\d+: tool T20: diameter 9 disagrees with insert DRILL8 \(8\)"),
     ('number = 20\ninsert = "DRILL8"\n', r"tools.toml:\d+: tool T20: insert DRILL8 is a drill"),
+    ('number = 20\nkind = "drill"\ninsert = "DRILL0-118L50"\n',
+     r"tools.toml:\d+: tool\[\d+\]: insert 'DRILL0-118L50': a drill needs a diameter above 0"),
+    ('number = 20\ninsert = "XXXX"\n', r"tools.toml:\d+: tool\[\d+\]: insert 'XXXX': not an ISO"),
 ])
 def test_drill_entries_that_are_wrong_name_file_and_line(tmp_path, entry, needle):
     f = tmp_path / "tools.toml"
