@@ -176,3 +176,20 @@ def test_a_script_solid_that_is_not_turned_is_one_line_naming_the_file(tmp_path,
     err = capsys.readouterr().err.strip().splitlines()
     assert rc == 2 and not out.exists() and len(err) == 1
     assert err[0].startswith(f"error: {f}: not a body of revolution")  # no empty "()"
+
+
+def test_default_stock_is_a_bar_unless_a_through_bore_takes_a_tube():
+    from hnc_cam.plan.api import default_stock_for
+    from hnc_cam.tooling import Stock
+    solid = TurnedProfile(chain((0, 0), (12, 0), (12, -30), (0, -30)), name="pin")
+    small = TurnedProfile(chain((9, 0), (18, 0), (18, -20), (9, -20)),
+                          bore=chain((9, 0), (9, -20)), name="nut")  # 18 mm bore: drilled
+    large = TurnedProfile(chain((20, 0), (30, 0), (30, -40), (20, -40)),
+                          bore=chain((20, 0), (20, -40)), name="bush")  # 40 mm bore: a tube
+    blind = TurnedProfile(chain((0, 0), (30, 0), (30, -40), (0, -40)),
+                          bore=chain((20, 0), (20, -20), (0, -20)), name="cup")
+    assert default_stock_for(solid) == "28x47+2"  # the bar size over 24 + 2; 30 + 2 + 15 long
+    assert Stock.parse(default_stock_for(small)).kind == "bar"
+    assert Stock.parse(default_stock_for(blind)).kind == "bar"
+    tube = Stock.parse(default_stock_for(large))
+    assert tube.kind == "tube" and tube.bore == pytest.approx(37.0)

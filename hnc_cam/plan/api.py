@@ -210,13 +210,19 @@ def _verify(prof: TurnedProfile, plan: Plan, stock: Stock, toolpath, machine: Ma
     return verify(machined, prof, tol=tol)
 
 
+#: the smallest tube bore a part without a stock is given (a smaller bore is drilled from bar)
+MIN_TUBE_BORE = 20.0
+
+
 def default_stock_for(prof: TurnedProfile) -> str:
     """The stock of a part that names none: the smallest standard bar 2 mm (diameter) over
-    the part (a tube 3 mm under its smallest bore where it has one), 2 mm of face stock and
-    15 mm beyond the left end for the chuck (:func:`hnc_cam.cad.sketch.bar_stock`)."""
+    the part, 2 mm of face stock and 15 mm beyond the left end for the chuck
+    (:func:`hnc_cam.cad.sketch.bar_stock`); a part with a through bore large enough for a
+    tube 3 mm under it of at least :data:`MIN_TUBE_BORE` gets that tube."""
     from ..cad.sketch import bar_stock, tube_stock
     bore = prof.min_bore_radius
-    if bore is not None and bore > 0:
+    through = bool(prof.bore) and min(s.bbox()[1] for s in prof.bore) <= prof.z_min + 1e-6
+    if bore is not None and through and 2 * bore - 3.0 >= MIN_TUBE_BORE:
         return tube_stock(prof.max_diameter, 2 * bore, prof.length)
     return bar_stock(prof.max_diameter, prof.length)
 
