@@ -456,3 +456,13 @@ def test_summary_and_json_name_the_drilling_cycles(dialect, labels):
     assert drills[:2] == labels
     assert [o["cycle"] for o in plan_json(prog)["operations"]] == [
         o.split(" ", 1)[1] for o in prog.operations]
+
+
+@pytest.mark.parametrize("dialect, how", [("siemens802", "plain blocks"), ("fanuc0it", "G74")])
+def test_macro_drill_style_elsewhere_says_how_the_program_pecks(dialect, how):
+    prog = generate(FRESH / "stepped_blind_bore.py", dialect=dialect, drill_style="macro",
+                    verify=False)
+    assert any(f"pecks with {how}" in w for w in prog.warnings)
+    assert "WHILE" not in prog.text
+    hnc = generate(FRESH / "stepped_blind_bore.py", drill_style="macro", verify=False)
+    assert not any("drill-style" in w for w in hnc.warnings) and "WHILE" in hnc.text

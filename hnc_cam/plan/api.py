@@ -305,6 +305,12 @@ def generate(part: Any, stock: str | Stock | None = None, *, params: Mapping[str
     prog = Program(text=text, plan=plan, toolpath=tp, dialect=dia,
                    labels=cycle_labels(dia, templates))
     prog.warnings.extend(plan.warnings)
+    if drill_style == "macro" and dia != "hnc21t" and any(
+            op.kind == "drill" and op.drill is not None and op.drill.pecks
+            for op in plan.operations):
+        how = "G74" if dia in ("fanuc0it", "haas") else "plain blocks"
+        prog.warnings.append(f"--drill-style macro is the HNC-21T's WHILE-loop subprogram: the "
+                             f"{dia} program pecks with {how}")
     if tp is None:
         prog.warnings.append("the interpreter is not available: program not run")
         return prog
