@@ -51,6 +51,11 @@ def _norm_name(name: str) -> str:
     return ".".join(p.strip().strip('"').strip("'") for p in name.split("."))
 
 
+def place(where: str, line: int | None) -> str:
+    """``where:line`` of an error in a file, or ``where`` when the line is not known."""
+    return f"{where}:{line}" if line else where
+
+
 def key_line(text: str | None, table: str, key: str, index: int | None = None) -> int | None:
     """1-based line of ``key = ...`` inside the section ``[table]`` (or the ``index``-th
     ``[[table]]``; ``table = ""`` is the top level, where a key may also be a section's
@@ -169,7 +174,7 @@ def check_table(tbl: Any, schema: Mapping[str, Key], where: str, *, text: str | 
     pre = f"{label}: " if label else ""
     if not isinstance(tbl, Mapping):
         n = key_line(text, table, "\0", index) if table else None
-        raise error(f"{where}{':' + str(n) if n else ''}: {pre}[{table}] must be a table")
+        raise error(f"{place(where, n)}: {pre}[{table}] must be a table")
     for name, v in tbl.items():
         k = schema.get(name)
         if k is None:
@@ -184,7 +189,7 @@ def check_table(tbl: Any, schema: Mapping[str, Key], where: str, *, text: str | 
     for name, k in schema.items():
         if k.required and name not in tbl:
             n = key_line(text, table, "\0", index)
-            raise error(f"{where}{':' + str(n) if n else ''}: {pre}{name} missing")
+            raise error(f"{place(where, n)}: {pre}{name} missing")
 
 
 def read_toml(path: str, error: Callable[[str], Exception] = HncError,

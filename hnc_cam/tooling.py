@@ -23,7 +23,7 @@ from pathlib import Path
 from typing import Any, Mapping, Optional
 
 from .errors import StockError, ToolError
-from .schema import Key, check_table, key_line, parse_toml, read_toml
+from .schema import Key, check_table, key_line, parse_toml, place, read_toml
 
 # --------------------------------------------------------------------------------------------
 # ISO 1832 turning inserts
@@ -427,7 +427,7 @@ def _check_machine_file(data: Mapping[str, Any], where: str, text: str) -> None:
         for k in mc:
             if not re.fullmatch(r"[Mm]\d{1,2}", str(k)):
                 n = key_line(text, "m_codes", str(k))
-                raise ToolError(f"{where}{':' + str(n) if n else ''}: m_codes: '{k}' is not an M code "
+                raise ToolError(f"{place(where, n)}: m_codes: '{k}' is not an M code "
                                 f"(write M08 = \"coolant_on\")")
         check_table(mc, {str(k): Key("str", choices=M_MEANINGS) for k in mc}, where, text=text,
                     table="m_codes", error=ToolError)
@@ -445,7 +445,7 @@ def _parameters(tbl: Any, where: str, text: str) -> dict[str, Any]:
     for k, v in (tbl or {}).items():
         if not isinstance(v, (bool, int, float)):
             n = key_line(text, "parameters", str(k))
-            raise ToolError(f"{where}{':' + str(n) if n else ''}: parameters.{k} must be a number "
+            raise ToolError(f"{place(where, n)}: parameters.{k} must be a number "
                             f"or true/false, got {v!r}")
         out[str(k)] = v
     return out
@@ -498,11 +498,11 @@ def _chuck(ch: Mapping[str, Any], base: Machine, where: str, text: str | None) -
     grip = float(ch.get("grip", base.grip))
     if lo >= hi:
         n = key_line(text, "chuck", "clamp_min")
-        raise ToolError(f"{where}{':' + str(n) if n else ''}: [chuck] clamp_min {lo:g} mm is not "
+        raise ToolError(f"{place(where, n)}: [chuck] clamp_min {lo:g} mm is not "
                         f"below clamp_max {hi:g} mm")
     if grip > jl:
         n = key_line(text, "chuck", "grip")
-        raise ToolError(f"{where}{':' + str(n) if n else ''}: [chuck] grip {grip:g} mm is longer "
+        raise ToolError(f"{place(where, n)}: [chuck] grip {grip:g} mm is longer "
                         f"than the jaws (jaw_length {jl:g} mm)")
     return dict(chuck_clamp=(lo, hi), jaw_length=jl,
                 jaw_height=float(ch.get("jaw_height", base.jaw_height)), grip=grip)
@@ -649,17 +649,17 @@ def _tool_insert(t: Mapping[str, Any], w: str, text: str, index: int, where: str
             return Insert.parse(code, radius)
         except ToolError as e:  # the code's own error, placed at its key
             n = key_line(text, "tool", key, index)
-            raise ToolError(f"{where}{':' + str(n) if n else ''}: tool[{index}]: {e}") from None
+            raise ToolError(f"{place(where, n)}: tool[{index}]: {e}") from None
 
     if kind not in DRILL_KINDS:
         if drill_keys:
             n = key_line(text, "tool", drill_keys[0], index)
-            raise ToolError(f"{where}{':' + str(n) if n else ''}: tool T{t['number']:02d}: "
+            raise ToolError(f"{place(where, n)}: tool T{t['number']:02d}: "
                             f"{drill_keys[0]} is a drill's key (kind = \"drill\" or "
                             f"\"center_drill\")")
         if "insert" not in t:
             n = key_line(text, "tool", "\0", index)
-            raise ToolError(f"{where}{':' + str(n) if n else ''}: tool[{index}]: insert missing")
+            raise ToolError(f"{place(where, n)}: tool[{index}]: insert missing")
         ins = parse(str(t["insert"]), t.get("radius"))
         if ins.kind == "drill":
             raise ToolError(f"{w}: insert {ins.code} is a drill: give kind = \"drill\" or "
@@ -672,7 +672,7 @@ def _tool_insert(t: Mapping[str, Any], w: str, text: str, index: int, where: str
                             f"DRILL10-118L60) or diameter = ..., not insert {ins.code}")
     elif "diameter" not in t:
         n = key_line(text, "tool", "\0", index)
-        raise ToolError(f"{where}{':' + str(n) if n else ''}: tool[{index}]: a {kind} needs "
+        raise ToolError(f"{place(where, n)}: tool[{index}]: a {kind} needs "
                         f"diameter (mm) or a drill code in insert")
     else:
         d = float(t["diameter"])
@@ -682,7 +682,7 @@ def _tool_insert(t: Mapping[str, Any], w: str, text: str, index: int, where: str
                       ("flute_length", ins.edge_length)):
         if key in t and abs(float(t[key]) - have) > 1e-9:
             n = key_line(text, "tool", key, index)
-            raise ToolError(f"{where}{':' + str(n) if n else ''}: tool T{t['number']:02d}: "
+            raise ToolError(f"{place(where, n)}: tool T{t['number']:02d}: "
                             f"{key} {float(t[key]):g} disagrees with insert {ins.code} ({have:g})")
     return ins
 
@@ -695,7 +695,7 @@ def load_tools(path: str | Path | None = None) -> ToolLibrary:
     unknown = [k for k in data if k != "tool"]
     if unknown:
         n = key_line(text, "", unknown[0]) or key_line(text, unknown[0], "\0")
-        raise ToolError(f"{where}{':' + str(n) if n else ''}: unknown table or key "
+        raise ToolError(f"{place(where, n)}: unknown table or key "
                         f"'{unknown[0]}' (a tool library holds [[tool]] entries)")
     entries = data.get("tool")
     if not isinstance(entries, list) or not entries:
@@ -718,28 +718,28 @@ def load_tools(path: str | Path | None = None) -> ToolLibrary:
         face_keys = [k for k in ("min_diameter", "max_diameter") if k in t]
         if kind != "groove_face" and face_keys:
             n = key_line(text, "tool", face_keys[0], i)
-            raise ToolError(f"{where}{':' + str(n) if n else ''}: tool T{num:02d}: "
+            raise ToolError(f"{place(where, n)}: tool T{num:02d}: "
                             f"{face_keys[0]} is an axial grooving blade's key (kind = "
                             f"\"groove_face\")")
         if kind == "groove_face":
             if ins.kind != "groove":
                 n = key_line(text, "tool", "insert", i)
-                raise ToolError(f"{where}{':' + str(n) if n else ''}: tool T{num:02d}: a "
+                raise ToolError(f"{place(where, n)}: tool T{num:02d}: a "
                                 f"groove_face blade needs a grooving insert (GROOVE<width>, e.g. "
                                 f"GROOVE3.0), not {ins.code}")
             if "max_diameter" not in t:
                 n = key_line(text, "tool", "\0", i)
-                raise ToolError(f"{where}{':' + str(n) if n else ''}: tool T{num:02d}: a "
+                raise ToolError(f"{place(where, n)}: tool T{num:02d}: a "
                                 f"groove_face blade needs max_diameter (the largest face groove "
                                 f"it cuts, mm)")
             lo, hi = float(t.get("min_diameter", 0.0)), float(t["max_diameter"])
             if lo >= hi:
                 n = key_line(text, "tool", "min_diameter", i)
-                raise ToolError(f"{where}{':' + str(n) if n else ''}: tool T{num:02d}: "
+                raise ToolError(f"{place(where, n)}: tool T{num:02d}: "
                                 f"min_diameter {lo:g} must be under max_diameter {hi:g}")
             if hi - lo < 2 * ins.width:
                 n = key_line(text, "tool", "max_diameter", i)
-                raise ToolError(f"{where}{':' + str(n) if n else ''}: tool T{num:02d}: the "
+                raise ToolError(f"{place(where, n)}: tool T{num:02d}: the "
                                 f"range {lo:g}-{hi:g} is narrower than the blade ({ins.width:g} "
                                 f"mm wide) across a diameter")
         # an axial grooving blade points along -Z, its controlled point the middle of its end
