@@ -60,10 +60,8 @@ class Program:
         title = get_dialect(self.dialect).program_title
         head = (title(self.plan.program_number, self.plan.name) if title is not None
                 else f"O{self.plan.program_number:04d} {self.plan.name}")
-        ops = [f"{op.name} {self.labels.get(self.plan.label_key(op, self.labels), op.cycle)}"
-               for op in self.plan.operations]
         s = (f"{head}: "
-             f"{', '.join(ops)}; {self.text.count(chr(10))} lines; "
+             f"{', '.join(self.operations)}; {self.text.count(chr(10))} lines; "
              f"cycle time {fmt_cycle_time(t)}")
         if self.report is not None:
             s += "; verified: " + _report_line(self.report)
