@@ -17,7 +17,7 @@ from typing import Sequence
 
 from ..errors import PlanError
 from ..geometry import Arc, Line, Point, Segment, point_at_angle
-from ..geometry.intersect import horizontal_hits
+from ..geometry.intersect import horizontal_hits, vertical_hits
 
 TOL = 1e-6
 #: tangent samples per arc for angle extremes (the exact extremes at the ends and at the
@@ -170,6 +170,15 @@ def _split_at_x(s: Segment, x: float) -> tuple[Segment, Segment] | None:
     if best is None:
         return None
     return Arc(s.start, best, s.center, s.cw), Arc(best, s.end, s.center, s.cw)
+
+
+def radius_at(chain: Sequence[Segment], z: float, inner: bool = False) -> float | None:
+    """The chain's radius at ``z``: the largest where several elements meet that Z (a face),
+    the smallest with ``inner``; None where the chain does not reach ``z``."""
+    hits = [x for _i, x in vertical_hits(chain, z)]
+    if not hits:
+        return None
+    return min(hits) if inner else max(hits)
 
 
 def pockets(chain: Sequence[Segment]) -> tuple[list[Segment], list[Pocket]]:

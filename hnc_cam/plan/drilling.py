@@ -43,9 +43,9 @@ from typing import Sequence
 
 from ..errors import PlanError
 from ..geometry import Line, Segment
-from ..geometry.intersect import vertical_hits
 from ..tooling import BAR_CLEARANCE, Machine, Tool, ToolLibrary
-from .model import DrillCut, Operation
+from .analysis import _split_at_x, radius_at
+from .model import DrillCut, Operation, _n as _fmt
 from .tools import describe, groove_plunges
 
 #: a hole deeper than this many diameters is peck-drilled
@@ -74,10 +74,6 @@ FLAT_TIP = 0.001
 FACE_CLEAR = BAR_CLEARANCE
 
 
-def _fmt(v: float) -> str:
-    return f"{v:.3f}".rstrip("0").rstrip(".")
-
-
 @dataclass
 class Hole:
     """What drilling leaves: the operations (in order), the bore chain left for the boring
@@ -91,12 +87,6 @@ class Hole:
     def entry(self) -> float:
         """The widest hole drilled (diameter): the boring bar enters it."""
         return max(op.drill.diameter for op in self.ops if op.tool.kind == "drill")
-
-
-def _radius(chain: Sequence[Segment], z: float) -> float | None:
-    """The bore's radius at ``z`` (the largest where a face lies at ``z``), None outside it."""
-    hits = [x for _i, x in vertical_hits(chain, z)]
-    return max(hits) if hits else None
 
 
 def _fits(chain: Sequence[Segment], d: float, angle: float, z_tip: float, z_stop: float,
@@ -123,7 +113,7 @@ def _fits(chain: Sequence[Segment], d: float, angle: float, z_tip: float, z_stop
             zz = z - dz
             if zz >= 0.0 or zz <= z_stop:
                 continue
-            rb = _radius(chain, zz)
+            rb = radius_at(chain, zz)
             if rb is None or rb < r + margin - 1e-6:
                 return False
     # the body: from the point's full diameter to the face
@@ -134,7 +124,7 @@ def _fits(chain: Sequence[Segment], d: float, angle: float, z_tip: float, z_stop
         for i in range(k + 1):
             zz = lo + (0.0 - lo) * i / k
             zz = min(zz, -1e-6)
-            rb = _radius(chain, zz)
+            rb = radius_at(chain, zz)
             if rb is None or rb < rd + margin - 1e-6:
                 return False
         # every corner of the bore between the samples
@@ -142,7 +132,7 @@ def _fits(chain: Sequence[Segment], d: float, angle: float, z_tip: float, z_stop
             for p in (s.start, s.end):
                 if lo <= p[1] < 0.0 and p[0] < rd + margin - 1e-6 and p[1] > z_stop:
                     # a point of the bore inside the drill's body (a step face's inner end)
-                    r_here = _radius(chain, p[1] + 1e-4)
+                    r_here = radius_at(chain, p[1] + 1e-4)
                     if r_here is None or r_here < rd + margin - 1e-6:
                         return False
     return True
@@ -174,19 +164,10 @@ def _split_at_radius(chain: Sequence[Segment], r: float) -> list[Segment]:
     out = list(chain[:k - 1])
     rest = list(chain[k:])
     if s.end[0] <= r + 1e-6 < s.start[0]:
-        if isinstance(s, Line):
-            t = (s.start[0] - r) / (s.start[0] - s.end[0])
-            p = (r, s.start[1] + t * (s.end[1] - s.start[1]))
-            if math.dist(p, s.start) > 1e-9:
-                out.append(Line(s.start, p))
-            if math.dist(p, s.end) > 1e-9:
-                rest.insert(0, Line(p, s.end))
-        else:
-            from .analysis import _split_at_x
-            parts = _split_at_x(s, r)
-            out.append(parts[0] if parts else s)
-            if parts:
-                rest.insert(0, parts[1])
+        parts = _split_at_x(s, r)
+        out.append(parts[0] if parts else s)
+        if parts:
+            rest.insert(0, parts[1])
     else:
         out.append(s)
     left = RUN_ON

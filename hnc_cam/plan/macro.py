@@ -285,7 +285,7 @@ def _trace(mod: Any, params: dict[str, Any], free: list[str] | None = None) -> _
     tr = _Trace()
     syms = {k: (Sym(v, ("p", k), tr) if free is None or k in free else v)
             for k, v in params.items()}
-    fmt = (lambda v: f"{float(v):.3f}".rstrip("0").rstrip("."))
+    from .model import _n as fmt
 
     def require(cond, message):
         conds = tr.take()

@@ -67,7 +67,7 @@ from typing import Any, Sequence
 
 from ..errors import PlanError
 from ..geometry import Arc, Line, Point, Segment, Thread, TurnedProfile
-from ..geometry.intersect import horizontal_hits, vertical_hits
+from ..geometry.intersect import horizontal_hits
 from ..tooling import Machine, Stock, Tool, ToolLibrary
 from . import analysis as an
 from . import contour as ct
@@ -1367,13 +1367,6 @@ def _pitch_text(t: Tool) -> str:
     return f"pitch {_fmt(r[0])}" if r[0] == r[1] else f"pitch {_fmt(r[0])}-{_fmt(r[1])}"
 
 
-def _radius_at(chain: Sequence[Segment], z: float, inner: bool) -> float | None:
-    hits = [x for _i, x in vertical_hits(chain, z)]
-    if not hits:
-        return None
-    return min(hits) if inner else max(hits)
-
-
 def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stock: Stock,
                  lib: ToolLibrary, machine: Machine, opts: Options, r_stock: float,
                  params: dict[str, Any] | None = None) -> Operation:
@@ -1420,7 +1413,7 @@ def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stoc
     for i in range(n + 1):
         # inside the ends by 0.1 um: a shoulder wall at the thread's end is not above it
         z = min(max(z_hi - (z_hi - z_lo) * i / n, z_lo + 1e-4), z_hi - 1e-4)
-        r = _radius_at(chain, z, th.internal)
+        r = an.radius_at(chain, z, th.internal)
         if r is not None and sgn * (r - r_crest - dr(z)) > 0.01:
             raise PlanError(f"{label}: the part is at diameter {_fmt(2 * r)} at Z{_fmt(z)}, "
                             f"beyond the thread's diameter {_fmt(2 * (r_crest + dr(z)))}")
@@ -1431,7 +1424,7 @@ def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stoc
     full = 0.0
     for i in range(m):
         z = z_hi - (z_hi - z_lo) * (i + 0.5) / m
-        r = _radius_at(chain, z, th.internal)
+        r = an.radius_at(chain, z, th.internal)
         if r is not None and sgn * (r - r_crest - dr(z)) >= -0.02:
             full += (z_hi - z_lo) / m
     if full < 2 * lead - 1e-6:
@@ -1460,7 +1453,7 @@ def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stoc
                 if stock.kind != "offset" and z > z_stop:
                     return part_left
                 return None
-            r = _radius_at(chain, z, th.internal)
+            r = an.radius_at(chain, z, th.internal)
             # the insert's leading flank rises from the root at the thread end at the
             # profile's half angle; within half a pitch of the end the flank may cut the
             # run-out (the thread's own run-out zone); the part must stay below the flank
@@ -1494,7 +1487,7 @@ def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stoc
         z_wall = wall_after(z_lo, reach)
     run_r = run_e = 0.0
     half = math.radians(th.angle / 2)
-    at_wall = _radius_at(chain, z_wall + 0.05, th.internal) if z_wall is not None else None
+    at_wall = an.radius_at(chain, z_wall + 0.05, th.internal) if z_wall is not None else None
     if z_wall is not None and (z_end - z_wall < need - 1e-9 or not ran_on) \
             and at_wall is not None and sgn * (at_wall - r_crest - dr(z_wall)) >= -0.02:
         # no relief (a shoulder outside, a shoulder or the bore going on at the minor
@@ -1502,7 +1495,7 @@ def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stoc
         # and G82) pulls the insert out over one lead; it ends where the leading flank, at
         # the crest, clears the shoulder (as far as the simulator draws the flank, 6 mm) by
         # 0.2 mm
-        r_sh = [r for r in (_radius_at(chain, z_wall - d, th.internal) for d in (0.05, 0.5, 2.0))
+        r_sh = [r for r in (an.radius_at(chain, z_wall - d, th.internal) for d in (0.05, 0.5, 2.0))
                 if r is not None]
         rise = max((sgn * (r - r_crest - dr(z_wall)) for r in r_sh), default=0.0)
         # (G76 shifts each pass's end by its depth along the flank, toward the wall)
