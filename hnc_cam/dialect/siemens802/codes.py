@@ -552,10 +552,12 @@ class SiemensInterp(SiemensMemory, Interp):
             return self._cut(c, Line((c[2], c[3]), (x2, z2)), line2)
         ax, az, gx, gz = c[:4]
         l1, l2 = math.hypot(gx - ax, gz - az), math.hypot(x2 - gx, z2 - gz)
+        cross = dot = None
         if l1 > 1e-9 and l2 > 1e-9:
             u1 = ((gx - ax) / l1, (gz - az) / l1)
             u2 = ((x2 - gx) / l2, (z2 - gz) / l2)
-            if abs(u1[0] * u2[1] - u1[1] * u2[0]) < 1e-12 and u1[0] * u2[0] + u1[1] * u2[1] > 0:
+            cross, dot = u1[0] * u2[1] - u1[1] * u2[0], u1[0] * u2[0] + u1[1] * u2[1]
+            if abs(cross) < 1e-12 and dot > 0:
                 word = "CHF" if c[4] == "C" else "RND"
                 self.warn(c[6], f"{word}={c[5]:g}: the elements meet tangentially (no corner): "
                                 f"nothing is cut", (word, c[6]))
@@ -563,14 +565,8 @@ class SiemensInterp(SiemensMemory, Interp):
         if c[4] == "C" and self.chf is not None:
             # CHF= is the chamfer's own length: the distance cut from the corner along each
             # line is length / (2 cos(turn / 2))
-            ax, az, gx, gz = c[:4]
-            l1 = math.hypot(gx - ax, gz - az)
-            l2 = math.hypot(x2 - gx, z2 - gz)
-            if l1 > 1e-12 and l2 > 1e-12:
-                u1 = ((gx - ax) / l1, (gz - az) / l1)
-                u2 = ((x2 - gx) / l2, (z2 - gz) / l2)
-                turn = math.atan2(abs(u1[0] * u2[1] - u1[1] * u2[0]), u1[0] * u2[0] + u1[1] * u2[1])
-                half = math.cos(turn / 2.0)
+            if cross is not None:
+                half = math.cos(math.atan2(abs(cross), dot) / 2.0)
                 if half > 1e-9:
                     c = c[:5] + (self.chf / (2.0 * half),) + c[6:]
             self.chf = None
