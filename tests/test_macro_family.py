@@ -485,3 +485,32 @@ def test_a_change_along_a_feature_cuts_the_domain_there():
         assert _holds(other, p) == grooved and _holds(same, p) != grooved, p
         seen.add(grooved)
     assert seen == {True, False}
+
+
+def test_a_stock_the_family_declares_as_a_string_is_the_macros(tmp_path):
+    """``STOCK = "40x60+2"`` (not a function of the parameters) is the stock for the whole
+    domain: the per-variant programs are made from it, and so is the macro."""
+    from hnc_cam.cli import main
+    fam = tmp_path / "spacer.py"
+    fam.write_text('''"""A spacer family. Parameters (mm): length, d, step, l1."""
+from hnc_cam.cad.sketch import Outline, revolve
+
+STOCK = "40x60+2"
+
+
+def sketch(length=30.0, d=32.0, step=24.0, l1=12.0):
+    s = Outline((0.0, 0.0))
+    s.line_to(step / 2, 0.0, chamfer=0.8)
+    s.line_to(step / 2, -l1)
+    s.line_to(d / 2, -l1, chamfer=0.5)
+    s.line_to(d / 2, -length)
+    s.line_to(0.0, -length)
+    return s.segments()
+
+
+def part(length=30.0, d=32.0, step=24.0, l1=12.0):
+    return revolve(sketch(length, d, step, l1))
+''')
+    out = tmp_path / "m.nc"
+    assert main(["family", str(fam), "--macro", "--check", "2", "-o", str(out)]) == 0
+    assert "(STOCK 40x60+2 " in out.read_text()

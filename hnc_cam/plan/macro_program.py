@@ -246,7 +246,7 @@ def family_stock(fam: Family, lo: dict, hi: dict, sets: list[dict[str, Any]]) ->
     cands = [dict(fam.params, **hi)] + sets
     for p in cands:
         try:
-            spec = fn(**p) if callable(fn) else None
+            spec = fn(**p) if callable(fn) else fn
             if spec is None:
                 from .api import _load_part, default_stock_for
                 spec = default_stock_for(_load_part(fam.path, {k: _fmt(v) for k, v in
