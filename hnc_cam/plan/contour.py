@@ -134,8 +134,9 @@ def tip_path(contour: Sequence[Segment], radius: float, tip: int, bore: bool) ->
     res = compensate(list(contour), radius, tip, side)
     bad = [d for d in res.unreachable if d.kind != "end"]
     if bad:
-        raise PlanError(f"the finishing tool (nose radius {radius:g}) cannot make "
-                        + "; ".join(d.message for d in bad))
+        raise PlanError(f"the finishing tool's nose (radius {radius:g}) cannot follow the "
+                        "part: " + "; ".join(d.message for d in bad)
+                        + " (a tool with a smaller nose radius would, or a wider feature)")
     return list(res.segments)
 
 

@@ -858,6 +858,8 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
         prog = ct.tip_path(base, finisher.nose_radius, finisher.tip, bore=False)
         delta = rougher.nose_radius - finisher.nose_radius
     else:
+        # the control's G42 alarms where the nose cannot follow the contour: refused here
+        ct.tip_path(base, finisher.nose_radius, finisher.tip, bore=False)
         prog = base
         delta = rougher.nose_radius
     # the finishing contour is the roughing cycle's ns..nf unless the roughing runs its own
@@ -1321,6 +1323,7 @@ def _plan_bore(chain: list[Segment], stock: Stock, lib: ToolLibrary, opts: Optio
         delta = rough_t.nose_radius - fin_t.nose_radius
         comp = "none"
     else:
+        ct.tip_path(base, fin_t.nose_radius, fin_t.tip, bore=True)  # as the control's G41 alarms
         prog = base
         delta = rough_t.nose_radius
         comp = "left"
