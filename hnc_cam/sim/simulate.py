@@ -93,6 +93,10 @@ BATCH = 256
 #: a batch whose bounds do not add up is halved down to this many moves, which are then
 #: taken out move by move within one zone of material
 MOVE_BATCH = 48
+#: a pass (from a feed move after a rapid to the next such move) of at most this many moves is
+#: taken move by move: one overlay per move within the pass's zone costs less than the band
+#: accounting of :func:`_batch_by_bands` for so few moves, and the result is the same
+SHORT_PASS = 32
 #: tool outlines of at most this many vertices are taken out a batch at a time with the
 #: exact overlap areas of :mod:`hnc_cam.sim.area`; larger ones one overlay per move
 PAIR_VERTS = 400
@@ -480,6 +484,13 @@ class _Run:
         self.piece_min = self.piece_max = self.piece_shape = np.zeros(0, dtype=np.int64)
         self.outlines: list[np.ndarray] = []
 
+    def pass_length(self, k: int) -> int:
+        """The number of moves of the pass that move k is in: from the pass's start (a feed
+        move after a rapid, or the run's start) to the next pass's start (or the run's end)."""
+        ps = self.pass_starts
+        i = int(np.searchsorted(ps, k, "right"))
+        return (int(ps[i]) if i < len(ps) else len(self.moves)) - (int(ps[i - 1]) if i else 0)
+
     def path(self, k: int) -> np.ndarray:
         m = self.moves[k]
         return np.zeros((0, 2)) if m.kind == "dwell" else _Sweeper.path_points(m)
@@ -802,7 +813,10 @@ def _batch_by_bands(material, edges_of, run: "_Run", c0, b0, b1, idx, geoms, rem
     area`` mm^2), all of these are equal: every bound is the move's exact removal and the
     material minus the envelopes is the material minus the sweeps. Returns the material after
     the batch (``material`` itself when the batch removed nothing), or None when the bounds
-    do not add up (the batch is then taken move by move)."""
+    do not add up (the batch is then taken move by move), and for a batch of a short pass
+    (:data:`SHORT_PASS`), which costs less move by move."""
+    if run.pass_length(b0) <= SHORT_PASS:
+        return None
     try:
         with np.errstate(all="ignore"):
             if edges_of[0] is not material:
