@@ -184,6 +184,8 @@ def verify_command(args: argparse.Namespace) -> int:
     if not (isinstance(args.tol, float) and math.isfinite(args.tol) and args.tol > 0):
         raise HncError(f"--tol {args.tol}: the tolerance must be a positive number of mm")
     _from_header(args, True)
+    if getattr(args, "program2", None):
+        return _verify_setups(args)
     machine = _machine(args)
     stock = _stock(args.stock)
     loaded = _model(args.model, args.params, args)
@@ -202,4 +204,55 @@ def verify_command(args: argparse.Namespace) -> int:
     if getattr(args, "report", None) or getattr(args, "junit", None):
         from .report import verify_outputs
         verify_outputs(args, m, rep, loaded)
+    return 0 if rep.passed else 1
+
+
+def _verify_setups(args: argparse.Namespace) -> int:
+    """``verify P1 P2 --model PART``: a part made in two setups (``generate --setups 2``).
+    P1 runs from the stock (its header's, or ``--stock``) held by ``--grip`` (or its header's
+    GRIP); P2 from what P1 left, turned around, held by the jaws its own header's GRIP names;
+    the final material is compared with the whole part turned around."""
+    from .plan.setups import verify_setups
+    from .tooling import with_grip
+    if getattr(args, "plot", None) or getattr(args, "report", None) or \
+            getattr(args, "junit", None):
+        raise HncError("--plot, --report and --junit are written for one program; verify "
+                       "P1 P2 prints and writes --json")
+    machine1 = _machine(args)
+    stock = _stock(args.stock)
+    h2 = header_fields(args.program2)
+    try:
+        grip2 = float(h2.get("GRIP", "nan"))
+    except ValueError:
+        grip2 = math.nan
+    if not (math.isfinite(grip2) and grip2 > 0):
+        raise StockError(f"{args.program2}: the second setup's program carries no (GRIP mm) "
+                         f"line: the jaws holding the turned-around part are not known")
+    from dataclasses import replace
+    from .tooling import load_machine, load_tools
+    tools = load_tools(args.tools) if getattr(args, "tools", None) else None
+    base = load_machine(getattr(args, "machine", None), tools)
+    machine2 = with_grip(base, grip2)
+    loaded = _model(args.model, args.params, args)
+    dialect = getattr(args, "dialect", None)
+    tp1 = _toolpath(args.program, machine1, dialect)
+    tp2 = _toolpath(args.program2, replace(machine2), dialect)
+    for tp in (tp1, tp2):
+        for w in tp.warnings:
+            print(f"{tp.file}:{w.line}: warning: {w.message}", file=sys.stderr)
+    m1, m2, rep = verify_setups(tp1, tp2, stock, machine1, machine2, loaded.profile,
+                                tol=args.tol, strict=args.strict, threads=loaded.threads)
+    out = sys.stderr if args.json == "-" else sys.stdout
+    print(f"{tp1.file} then {tp2.file} (turned around) against {args.model}:", file=out)
+    for i in m1.issues:
+        print(f"setup 1: {i}", file=out)
+    print(f"setup 1: cycle time {m1.cycle_time_s:.1f} s, air cut "
+          f"{100 * m1.air_cut_fraction:.1f} % of feed time", file=out)
+    print(rep.summary(), file=out)
+    if args.json:
+        data = rep.to_json()
+        data["setups"] = [{"cycle_time_s": round(m.cycle_time_s, 3),
+                           "air_cut_fraction": round(m.air_cut_fraction, 4),
+                           "collisions": [i.to_json() for i in m.issues]} for m in (m1, m2)]
+        _write_json(args.json, data)
     return 0 if rep.passed else 1

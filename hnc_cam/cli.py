@@ -184,6 +184,9 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("verify", help="simulate a program and compare the result with the model")
     p.add_argument("program")
+    p.add_argument("program2", nargs="?", metavar="PROGRAM2", help="the second setup's "
+                   "program (generate --setups 2): run from what the first left, turned "
+                   "around, and the whole part verified")
     p.add_argument("--model", required=True, metavar="PART")
     _add_set(p)
     _add_profile_options(p)
@@ -207,7 +210,15 @@ def build_parser() -> argparse.ArgumentParser:
     _add_set(p)
     _add_gen_options(p)
     _add_profile_options(p)
-    p.add_argument("-o", "--output", metavar="OUT", help="program file (default: stdout)")
+    p.add_argument("-o", "--output", metavar="OUT", help="program file (default: stdout); "
+                   "with --setups 2 a folder DIR/ for both programs")
+    p.add_argument("--setups", type=int, choices=[1, 2], default=1, metavar="N",
+                   help="2: a part whose left end needs more than the part-off (a bore "
+                   "chamfer or a step facing the chuck) in two programs, the second with the "
+                   "part turned around and gripped on a finished diameter (-o DIR/)")
+    p.add_argument("--grip2", type=_grip, metavar="MM", help="with --setups 2: mm of the "
+                   "finished diameter the soft jaws hold in the second setup (default: "
+                   "--grip)")
     p.add_argument("--json", metavar="OUT", help="write the plan as JSON (each operation's "
                    "cycle, tool, spindle and cap, feed, reason, zone; the verification "
                    "figures); - = stdout")

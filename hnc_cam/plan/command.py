@@ -81,6 +81,8 @@ def _generate_command(args: argparse.Namespace) -> int:
     if kw:  # --axis/--zero/--envelope/--fit-tol: profile here, then plan the loaded part
         part = load_part(args.part, params, **kw)
         params = {}
+    if getattr(args, "setups", 1) == 2:
+        return _generate_setups(args, part, params)
     from ..report import failure_report
     with failure_report(args):  # --report: the page of a program refused by verification
         prog = generate(part, args.stock, params=params, program_number=args.program_number,
@@ -105,6 +107,41 @@ def _generate_command(args: argparse.Namespace) -> int:
     print(prog.summary(), file=sys.stderr)
     for w in prog.warnings:
         print(f"warning: {w}", file=sys.stderr)
+    return 0
+
+
+def _generate_setups(args: argparse.Namespace, part: Any, params: dict) -> int:
+    """``generate --setups 2 -o DIR/``: the two programs of a part turned around for its left
+    end (:mod:`hnc_cam.plan.setups`), written as ``DIR/O<n>.nc`` and ``DIR/O<n+1>.nc``, both
+    or neither."""
+    from .export import is_folder_target
+    from .setups import generate_setups, write_folder
+    if not args.output or not is_folder_target(args.output):
+        raise PlanError("--setups 2 writes two programs: give -o DIR/ (a folder)")
+    for opt in ("json", "report"):
+        if getattr(args, opt, None):
+            raise PlanError(f"--{opt} is not written for --setups 2 (two programs); verify them "
+                            f"with hnc-cam verify P1 P2 --model PART")
+    opts = _options(args)
+    opts.pop("grip", None)
+    dia = opts.get("dialect")
+    if dia == "siemens802":
+        raise PlanError("--setups 2 is not written for the SINUMERIK 802 yet (hnc21t, "
+                        "fanuc0it, haas)")
+    res = generate_setups(part, args.stock, params=params, program_number=args.program_number,
+                          file=args.output, grip=getattr(args, "grip", None),
+                          grip2=getattr(args, "grip2", None), **opts)
+    n = res.first.plan.program_number
+    write_folder(args.output, [(f"O{n:04d}.nc", res.first.text),
+                               (f"O{n + 1:04d}.nc", res.second.text)])
+    if getattr(args, "explain", False):
+        print(res.first.plan.explain(res.first.labels), file=sys.stderr)
+        print(res.second.plan.explain(res.second.labels), file=sys.stderr)
+    for prog in res.programs:
+        print(prog.summary(), file=sys.stderr)
+    for prog in res.programs:
+        for w in prog.warnings:
+            print(f"warning: {w}", file=sys.stderr)
     return 0
 
 

@@ -776,7 +776,9 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
                                 f"descends at {p.max_descent:.0f} deg, steeper than the trailing "
                                 f"edge of any turning tool cutting toward the chuck clears (a 35 "
                                 f"deg VNMG in a 93 deg holder: 50 deg); it needs a second setup "
-                                f"(the part turned around) or a tool cutting toward +Z")
+                                f"(the part turned around) or a tool cutting toward +Z"
+                                + (": generate --setups 2 -o DIR/ --grip2 MM" if p.exit is None
+                                   else ""))
             raise PlanError(f"part {name}: {_pocket_text(p)}: no tool in the library can reach "
                             f"it; it needs a turning tool whose trailing edge clears {need:.0f} deg "
                             f"(e.g. a 35 deg VNMG in a 93 deg holder reaches 50 deg)"
@@ -1278,7 +1280,8 @@ def _plan_bore(chain: list[Segment], stock: Stock, lib: ToolLibrary, opts: Optio
     norm = an.mirror_chain(chain)
     notes: list[str] = []
     # a bore widening at the very end (the chamfer of the bore's left edge) faces the chuck:
-    # no boring bar reaches it from the right; it is left for the second operation
+    # no boring bar reaches it from the right; the part needs a second setup (--setups 2,
+    # :mod:`hnc_cam.plan.setups`)
     k = len(norm)
     while k > 1 and norm[k - 1].end[0] < norm[k - 1].start[0] - 1e-9:
         k -= 1
@@ -1287,12 +1290,11 @@ def _plan_bore(chain: list[Segment], stock: Stock, lib: ToolLibrary, opts: Optio
         tp = an._pocket(list(tail), tail[0].start[0], tail[0].start, None)
         if not any(back_reach(t) >= tp.max_descent - 1e-9 for t in fits):
             z0, z1 = tail[0].start[1], tail[-1].end[1]
-            notes.append(f"bore chamfer from Z{_fmt(z0)} to Z{_fmt(z1)} (diameter "
-                         f"{_fmt(-2 * tail[0].start[0])} to {_fmt(-2 * tail[-1].end[0])}) faces the "
-                         f"chuck: no boring bar reaches it from the right; left for the second "
-                         f"operation")
-            norm = norm[:k] + [Line(tail[0].start, (tail[0].start[0], z1))]
-            chain = an.mirror_chain(norm)
+            raise PlanError(f"part {name}: the bore's chamfer from Z{_fmt(z0)} to Z{_fmt(z1)} "
+                            f"(diameter {_fmt(-2 * tail[0].start[0])} to "
+                            f"{_fmt(-2 * tail[-1].end[0])}) faces the chuck: no boring bar "
+                            f"reaches it from the right; it needs a second setup with the part "
+                            f"turned around: generate --setups 2 -o DIR/ --grip2 MM")
     # square grooves no boring bar reaches (reliefs, ring grooves): plunged with the inside
     # grooving tool after the finishing, bridged for the bar
     from .drilling import bridge_id_grooves
