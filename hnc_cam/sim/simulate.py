@@ -179,6 +179,20 @@ class Machined:
     notes: list[Issue] = field(default_factory=list)
     #: the chuck's jaws in (z, x) (None: not modelled, the machine gives no grip)
     jaws: BaseGeometry | None = None
+    #: per move, read once by :func:`simulate`: ``kind`` (int8, index in MOVE_KINDS),
+    #: ``register`` (int32), ``duration`` (s); None: read from the toolpath when needed
+    per_move: dict[str, np.ndarray] | None = field(default=None, repr=False, compare=False)
+    #: the registers that name no insert but cut threads, with their thread angle
+    thread_regs: dict[int, float] = field(default_factory=dict, repr=False, compare=False)
+
+    def move_columns(self, c0: int, c1: int) -> dict[str, np.ndarray]:
+        """``kind``, ``register`` and ``duration`` of the moves c0 <= k < c1 (of at most
+        :data:`CHUNK` moves when read from the toolpath)."""
+        pm = self.per_move
+        if pm is not None and len(pm["kind"]) == len(self.toolpath.moves):
+            return {k: v[c0:c1] for k, v in pm.items()}
+        c = columns(self.toolpath.moves[c0:c1])
+        return {"kind": c["kind"], "register": c["register"], "duration": c["duration"]}
 
     @property
     def collisions(self) -> list[Issue]:
@@ -187,10 +201,10 @@ class Machined:
     @property
     def cycle_time_s(self) -> float:
         """:attr:`Toolpath.cycle_time_s`, read a block of moves at a time."""
-        moves = self.toolpath.moves
+        n = len(self.toolpath.moves)
         t = 0.0
-        for c0 in range(0, len(moves), CHUNK):
-            t = sum(columns(moves[c0:c0 + CHUNK])["duration"].tolist(), t)
+        for c0 in range(0, n, CHUNK):
+            t = sum(self.move_columns(c0, min(c0 + CHUNK, n))["duration"].tolist(), t)
         return t
 
     @property
@@ -204,10 +218,10 @@ class Machined:
 
     def _feed_times(self) -> tuple[float, float]:
         """(feed time, air-cut time) in seconds, a block of moves at a time."""
-        moves = self.toolpath.moves
+        n = len(self.toolpath.moves)
         ft = at = 0.0
-        for c0 in range(0, len(moves), CHUNK):
-            c = columns(moves[c0:c0 + CHUNK])
+        for c0 in range(0, n, CHUNK):
+            c = self.move_columns(c0, min(c0 + CHUNK, n))
             k = c["kind"]
             feed = (k == _LINE) | (k == _ARC) | (k == _THREAD)
             d = c["duration"]
@@ -290,11 +304,16 @@ def _resolve_machine(machine: Machine | None, tools: ToolLibrary | None) -> Mach
 class _Sweeper:
     """Builds the swept region of each move (cached tool shapes)."""
 
-    def __init__(self, machine: Machine, moves: Iterable[Move] = ()):
+    def __init__(self, machine: Machine, moves: Iterable[Move] = (),
+                 thread_regs: dict[int, float] | None = None):
         self.machine = machine
         self.shapes: dict[tuple[int, float | None], ToolShape] = {}
-        # a register that names no insert but cuts threads is a threading tool for all its moves
+        # a register that names no insert but cuts threads is a threading tool for all its
+        # moves (``thread_regs``: as found before for these moves)
         self.thread_regs: dict[int, float] = {}
+        if thread_regs is not None:
+            self.thread_regs = dict(thread_regs)
+            moves = ()
         moves = moves if isinstance(moves, (list, tuple)) else list(moves)
         for c0 in range(0, len(moves), CHUNK):
             cm = moves[c0:c0 + CHUNK]
@@ -441,6 +460,7 @@ class _Sweeper:
         else:
             qp, qo = np.zeros(0, dtype=object), np.zeros(0, dtype=np.int64)
         run = _Run(moves, sweeps, qp, qo)
+        run.columns = {"kind": kind, "register": cols["register"], "duration": cols["duration"]}
         run.last = prev
         run.band_ok = band_ok
         run.checked = checked
@@ -471,6 +491,7 @@ class _Run:
                  quad_owner: np.ndarray):
         self.moves, self.sweeps, self.quads, self.quad_owner = moves, sweeps, quads, quad_owner
         self.last: tuple = (None, None)
+        self.columns: dict[str, np.ndarray] = {}
         self.band_ok = np.zeros(len(moves), dtype=bool)
         self.checked = np.ones(len(moves), dtype=bool)
         self.threads_stopped = np.zeros(0, dtype=np.int64)
@@ -687,6 +708,8 @@ def _simulate(toolpath, stock, machine, tools, model, batch, snapshots, on_snaps
     notes: list[Issue] = []
     sweeper = _Sweeper(machine, moves)
     fallen: list[BaseGeometry] = []
+    per_move = {"kind": np.zeros(n, dtype=np.int8), "register": np.zeros(n, dtype=np.int32),
+                "duration": np.zeros(n)}
 
     edges_of: list = [None, None]  # (material, its edges): recomputed when the material changes
     prev: tuple = (None, None)
@@ -697,6 +720,8 @@ def _simulate(toolpath, stock, machine, tools, model, batch, snapshots, on_snaps
             cm = moves[c0:c0 + CHUNK]
             run = sweeper.run(cm, bands=True, prev=prev)
             prev = run.last
+            for key, col in per_move.items():
+                col[c0:c0 + len(cm)] = run.columns[key]
             for k in run.threads_stopped.tolist():
                 m = cm[k]
                 issues.append(Issue(m.line, toolpath.block(m.line),
@@ -762,8 +787,9 @@ def _simulate(toolpath, stock, machine, tools, model, batch, snapshots, on_snaps
     issues.sort(key=lambda i: i.line)
     return Machined(material=material, stock=start_region, toolpath=toolpath, issues=issues,
                     removed_area=removed_area, sweep_bounds=boxes, shapes=dict(sweeper.shapes),
-                    thread_spans=_thread_spans(moves, machine), fallen=fallen, machine=machine,
-                    notes=notes, jaws=jaws)
+                    thread_spans=_thread_spans(moves, machine, per_move["kind"]), fallen=fallen,
+                    machine=machine, notes=notes, jaws=jaws, per_move=per_move,
+                    thread_regs=dict(sweeper.thread_regs))
 
 
 def _jaw_hits(jaws: BaseGeometry, sweeps: np.ndarray, idx: np.ndarray, cm: list[Move],
@@ -1098,14 +1124,19 @@ def _non_cutting_hit(shape: ToolShape, path: np.ndarray, rem: BaseGeometry) -> B
     return None
 
 
-def _thread_spans(moves: Iterable[Move], machine: Machine) -> list[ThreadSpan]:
-    """Z/X extent of each run of thread moves with the same register and lead."""
+def _thread_spans(moves: Iterable[Move], machine: Machine,
+                  kind: np.ndarray | None = None) -> list[ThreadSpan]:
+    """Z/X extent of each run of thread moves with the same register and lead (``kind``: the
+    moves' kinds if known)."""
     spans: list[ThreadSpan] = []
     moves = moves if isinstance(moves, (list, tuple)) else list(moves)
-    threads = []
-    for c0 in range(0, len(moves), CHUNK):
-        cm = moves[c0:c0 + CHUNK]
-        threads += [cm[k] for k in np.flatnonzero(columns(cm)["kind"] == _THREAD).tolist()]
+    if kind is not None and len(kind) == len(moves):
+        threads = [moves[k] for k in np.flatnonzero(kind == _THREAD).tolist()]
+    else:
+        threads = []
+        for c0 in range(0, len(moves), CHUNK):
+            cm = moves[c0:c0 + CHUNK]
+            threads += [cm[k] for k in np.flatnonzero(columns(cm)["kind"] == _THREAD).tolist()]
     for m in threads:
         reg = machine.register(m.register)
         inside = reg.tip in (1, 2, 6)

@@ -552,7 +552,8 @@ def blame(machined: Machined, at: Deviation, removed: bool) -> None:
     from .simulate import _Sweeper
     if machined.machine is None:
         return
-    sweeper = _Sweeper(machined.machine, machined.toolpath.moves)
+    sweeper = _Sweeper(machined.machine, machined.toolpath.moves,
+                       machined.thread_regs if machined.per_move is not None else None)
     p = shapely.Point(at.z, at.x)
     moves = machined.toolpath.moves
     bb = machined.sweep_bounds
@@ -626,19 +627,19 @@ def _is_blade(m: Machined, reg: int) -> bool:
 def _blade_reach(m: Machined) -> tuple[list[ToolShape], BaseGeometry]:
     """The blades' outlines and where they went (the union of their moves' swept
     boxes): a blade reaches leftover there only."""
-    from ..nc.toolpath import columns
     from .simulate import CHUNK
-    moves = m.toolpath.moves
+    n = len(m.toolpath.moves)
     regs: set[int] = set()
     boxes = []
-    for c0 in range(0, len(moves), CHUNK):
-        c = columns(moves[c0:c0 + CHUNK])
-        for k, r in enumerate(c["register"].tolist()):
-            if _is_blade(m, r):
-                regs.add(r)
-                b = m.sweep_bounds[c0 + k]
-                if np.isfinite(b).all():
-                    boxes.append(box(*b))
+    for c0 in range(0, n, CHUNK):
+        c = m.move_columns(c0, min(c0 + CHUNK, n))
+        reg = c["register"]
+        blades = [r for r in np.unique(reg).tolist() if _is_blade(m, r)]
+        regs.update(blades)
+        for k in np.flatnonzero(np.isin(reg, blades)).tolist():
+            b = m.sweep_bounds[c0 + k]
+            if np.isfinite(b).all():
+                boxes.append(box(*b))
     shapes = [s for (r, t), s in m.shapes.items() if r in regs and t is None]
     return shapes, (union_of(boxes) if boxes else Polygon())
 
@@ -646,12 +647,12 @@ def _blade_reach(m: Machined) -> tuple[list[ToolShape], BaseGeometry]:
 def _cutting_shapes(m: Machined) -> list[ToolShape]:
     """The outlines of the tools whose line and arc moves cut (blades left out: see
     :func:`_blade_reach`)."""
-    from ..nc.toolpath import MOVE_KINDS, columns
+    from ..nc.toolpath import MOVE_KINDS
     from .simulate import CHUNK
     keys = []
-    moves = m.toolpath.moves
-    for c0 in range(0, len(moves), CHUNK):  # registers of the line and arc moves that cut
-        c = columns(moves[c0:c0 + CHUNK])
+    n = len(m.toolpath.moves)
+    for c0 in range(0, n, CHUNK):  # registers of the line and arc moves that cut
+        c = m.move_columns(c0, min(c0 + CHUNK, n))
         cut = (((c["kind"] == MOVE_KINDS.index("line")) | (c["kind"] == MOVE_KINDS.index("arc")))
                & (m.removed_area[c0:c0 + len(c["kind"])] > 0))
         for r in dict.fromkeys(c["register"][cut].tolist()):
