@@ -233,12 +233,33 @@ def test_pin_journal_positions_after_setup2():
     assert s.report.passed
 
 
-@pytest.mark.parametrize("dialect", ["fanuc0it", "haas"])
-def test_bush_two_setups_in_other_dialects(tmp_path, capsys, dialect):
+@pytest.mark.parametrize("dialect,names", [
+    ("fanuc0it", ("O0001.nc", "O0002.nc")), ("haas", ("O0001.nc", "O0002.nc")),
+    ("siemens802", ("BUSH_CHAMFERS.MPF", "BUSH_CHAMFERS_2.MPF"))])
+def test_bush_two_setups_in_other_dialects(tmp_path, capsys, dialect, names):
     d = tmp_path / dialect
     rc, _o, err = _run(capsys, ["generate", BUSH, "--grip", "20", "--setups", "2", "--grip2",
                                 "15", "--dialect", dialect, "-o", f"{d}/"])
     assert rc == 0, err
-    rc, out, _e = _run(capsys, ["verify", d / "O0001.nc", d / "O0002.nc", "--model", BUSH,
+    rc, out, _e = _run(capsys, ["verify", d / names[0], d / names[1], "--model", BUSH,
                                 "--dialect", dialect])
     assert rc == 0, out
+
+
+def test_jaws_reaching_the_zone_are_refused(tmp_path, capsys):
+    """A grip of 24 mm on the bush's 40 mm diameter (25 mm of it outside the zone) puts the
+    jaws' front face at Z-5, within the clearance (2 mm + the largest nose + 0.3) of the
+    zone setup 2 machines from Z-4."""
+    rc, _o, err = _run(capsys, ["generate", BUSH, "--grip", "20", "--setups", "2",
+                                "--grip2", "24", "-o", f"{tmp_path}/out/"])
+    lines = err.strip().splitlines()
+    assert rc == 2 and len(lines) == 1 and lines[0].startswith("error:")
+    assert "reach Z-5, less than 3.1 mm from the zone it machines (from Z-4)" in lines[0]
+    assert "--grip2 of at most 21.9" in lines[0]
+    assert not (tmp_path / "out").exists() or not any((tmp_path / "out").iterdir())
+
+
+def test_a_part_without_a_second_setup_feature_is_refused_with_setups_2(tmp_path, capsys):
+    rc, _o, err = _run(capsys, ["generate", FRESH / "pin_partoff.py", "--grip", "20",
+                                "--setups", "2", "-o", f"{tmp_path}/out/"])
+    assert rc == 2 and "nothing on the part needs a second setup" in err

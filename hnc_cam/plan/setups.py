@@ -487,6 +487,8 @@ def generate_setups(part: Any, stock: Any = None, *, params: Any = None, tools: 
                           f"{_fmt(g.offset)} mm from its end); Z0 on the left end's face "
                           f"after facing to length {_fmt(length)}; the stock is what setup 1 "
                           f"left")
+    if dia == "siemens802":  # its program and subprogram files are named after the part
+        plan2.name = f"{name}_2"
     text2 = render(plan2, dialect=dia, templates=templates, number_format=number_format,
                    block_numbers=block_numbers)
     tp2 = api._interpret(text2, mach2, file, dia)
