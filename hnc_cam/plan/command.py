@@ -112,8 +112,8 @@ def _generate_command(args: argparse.Namespace) -> int:
 
 def _generate_setups(args: argparse.Namespace, part: Any, params: dict) -> int:
     """``generate --setups 2 -o DIR/``: the two programs of a part turned around for its left
-    end (:mod:`hnc_cam.plan.setups`), written as ``DIR/O<n>.nc`` and ``DIR/O<n+1>.nc``, both
-    or neither."""
+    end (:mod:`hnc_cam.plan.setups`), written as ``DIR/O<n>.nc`` and ``DIR/O<n+1>.nc`` (the
+    802: ``NAME.MPF``, ``NAME_2.MPF`` and their subprogram files), all or none."""
     from .export import is_folder_target
     from .setups import generate_setups, write_folder
     if not args.output or not is_folder_target(args.output):
@@ -124,16 +124,16 @@ def _generate_setups(args: argparse.Namespace, part: Any, params: dict) -> int:
                             f"with hnc-cam verify P1 P2 --model PART")
     opts = _options(args)
     opts.pop("grip", None)
-    dia = opts.get("dialect")
-    if dia == "siemens802":
-        raise PlanError("--setups 2 is not written for the SINUMERIK 802 yet (hnc21t, "
-                        "fanuc0it, haas)")
     res = generate_setups(part, args.stock, params=params, program_number=args.program_number,
                           file=args.output, grip=getattr(args, "grip", None),
                           grip2=getattr(args, "grip2", None), **opts)
     n = res.first.plan.program_number
-    write_folder(args.output, [(f"O{n:04d}.nc", res.first.text),
-                               (f"O{n + 1:04d}.nc", res.second.text)])
+    if res.first.dialect == "siemens802":  # NAME.MPF, NAME_2.MPF and their subprograms
+        from .export import split_programs
+        files = split_programs(res.first.text) + split_programs(res.second.text)
+    else:
+        files = [(f"O{n:04d}.nc", res.first.text), (f"O{n + 1:04d}.nc", res.second.text)]
+    write_folder(args.output, files)
     if getattr(args, "explain", False):
         print(res.first.plan.explain(res.first.labels), file=sys.stderr)
         print(res.second.plan.explain(res.second.labels), file=sys.stderr)
