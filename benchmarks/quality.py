@@ -15,7 +15,9 @@ Then the workholding parts (:data:`HELD`), each held in the chuck by its grip: p
 from the bar (the part-off in the cycle time; the bound counts the stub left in the chuck
 as removed, so their ratio is low) or, for the long thin shaft, with the stick-out warning.
 Last the parts with holes from solid bar (:data:`FROM_SOLID`): the drilling is in the cycle
-time, not in the bound (its volume counts as removed at the roughing tool's rate).
+time, not in the bound (its volume counts as removed at the roughing tool's rate). Last the
+two-setup parts (:data:`TWO_SETUPS`, ``generate --setups 2``), a row per setup (``#1``,
+``#2``): setup 2 runs from setup 1's simulated part turned around.
 
 Run: python benchmarks/quality.py [--comp cam|control] [PART ...]
 """
@@ -38,6 +40,9 @@ HELD = [(REPO / "tests" / "data" / "turning_parts" / "pin_partoff.py", 20.0),
 FROM_SOLID = [REPO / "tests" / "data" / "turning_parts" / "blind_bore.py",
               REPO / "tests" / "data" / "turning_parts" / "stepped_blind_bore.py",
               REPO / "tests" / "data" / "turning_parts" / "nut_m24.py"]
+#: two-setup parts (generate --setups 2): (part file, grip mm, grip2 mm); a row per setup
+TWO_SETUPS = [(REPO / "tests" / "data" / "turning_parts" / "bush_chamfers.py", 20.0, 15.0),
+              (REPO / "tests" / "data" / "turning_parts" / "pin_left_step.py", 20.0, 15.0)]
 
 
 def _finish_time(op, max_rpm: float) -> float:
@@ -79,6 +84,32 @@ def measure(part: Path, comp: str, grip: float | None = None) -> dict:
             "ratio": prog.cycle_time_s / bound if bound > 0 else float("nan"), "gen_s": dt}
 
 
+def measure_setups(part: Path, comp: str, grip: float, grip2: float) -> list[dict]:
+    """One row per setup of a two-setup part: setup 1 against the bridged part (its removed
+    volume from its simulation), setup 2 from setup 1's simulated part turned around."""
+    from hnc_cam.plan.api import _load_tools
+    from hnc_cam.plan.setups import generate_setups
+    from hnc_cam.plan.tools import turning_tools
+    t0 = time.perf_counter()
+    res = generate_setups(part, comp=comp, grip=grip, grip2=grip2)
+    dt = time.perf_counter() - t0
+    rough = turning_tools(_load_tools(None), "rough")[0]
+    mrr = rough.depth * rough.feed_rough * rough.vc_rough * 1000.0 / 60.0  # mm^3/s
+    rows = []
+    for i, (prog, m) in enumerate(((res.first, res.machined1), (res.second, res.machined2)), 1):
+        plan = prog.plan
+        fin = sum(_finish_time(op, plan.machine.max_rpm) for op in plan.operations
+                  if op.name in ("finish", "bore_finish") and op.contour)
+        bound = m.removed_volume_mm3 / mrr + fin
+        blocks = sum(1 for ln in prog.text.splitlines() if ln.strip() and not ln.startswith("%")
+                     and not ln.lstrip("N0123456789 ").startswith("("))
+        rows.append({"part": f"{part.stem[:12]}#{i}", "cycle": prog.cycle_time_s,
+                     "air": m.air_cut_fraction, "blocks": blocks, "tools": len(plan.tools),
+                     "bound": bound, "ratio": prog.cycle_time_s / bound if bound > 0
+                     else float("nan"), "gen_s": dt})
+    return rows
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("parts", nargs="*")
@@ -98,6 +129,15 @@ def main(argv=None) -> int:
             continue
         print(f"{r['part']:16s} {r['cycle']:8.1f} {100 * r['air']:6.1f} {r['blocks']:6d} "
               f"{r['tools']:5d} {r['bound']:8.1f} {r['ratio']:11.2f}")
+    for p, grip, grip2 in ([] if a.parts else TWO_SETUPS):
+        try:
+            rows = measure_setups(p, a.comp, grip, grip2)
+        except Exception as e:  # a part that does not generate is a row, not a crash
+            print(f"{p.stem:16s} fails: {str(e).splitlines()[0][:100]}")
+            continue
+        for r in rows:
+            print(f"{r['part']:16s} {r['cycle']:8.1f} {100 * r['air']:6.1f} {r['blocks']:6d} "
+                  f"{r['tools']:5d} {r['bound']:8.1f} {r['ratio']:11.2f}")
     return 0
 
 
