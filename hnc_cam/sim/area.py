@@ -122,13 +122,50 @@ def _with_sign_all(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.column_stack([a, b, -np.sign(b[:, 0] - a[:, 0])])
 
 
-def clip_below(rings: np.ndarray, X: float) -> np.ndarray:
+def heights_over(region: np.ndarray, z0: np.ndarray, z1: np.ndarray) -> np.ndarray:
+    """For each Z interval [z0_i, z1_i], a height X_i that no point of the region (edges of
+    :func:`region_edges`) over the interval lies above: the highest end of the edges whose
+    Z span may meet it (a vertical line through a point of the region leaves it through an
+    edge above the point); -inf where no edge does."""
+    n = len(z0)
+    out = np.full(n, -np.inf)
+    if n == 0 or not len(region):
+        return out
+    elo = np.minimum(region[:, 0], region[:, 2])
+    ehi = np.maximum(region[:, 0], region[:, 2])
+    top = np.maximum(region[:, 1], region[:, 3])
+    span = ehi - elo
+    T = max(4.0 * float(np.partition(span, len(span) // 2)[len(span) // 2]), 1e-9)
+    long_ = np.flatnonzero(span > T)
+    if len(long_):
+        meet = (elo[long_][None, :] <= z1[:, None]) & (ehi[long_][None, :] >= z0[:, None])
+        out = np.max(np.where(meet, top[long_][None, :], -np.inf), axis=1)
+    short = np.flatnonzero(span <= T)
+    if len(short):
+        # the short edges that start within T before an interval's start up to its end: a
+        # contiguous run of them sorted by start (a superset of those that meet it)
+        short = short[np.argsort(elo[short], kind="stable")]
+        h = np.append(top[short], -np.inf)
+        i0 = np.searchsorted(elo[short], z0 - T, "left")
+        i1 = np.searchsorted(elo[short], z1, "right")
+        some = i1 > i0
+        if some.any():
+            idx = np.column_stack([i0[some], i1[some]]).ravel()
+            m = np.maximum.reduceat(h, idx)[::2]
+            out[some] = np.maximum(out[some], m)
+    return out
+
+
+def clip_below(rings: np.ndarray, X) -> np.ndarray:
     """The closed rings (n, W, 2) clipped to the half-plane x <= X (one Sutherland-Hodgman
     step; the result's signed area is that of the ring's part in the half-plane, whatever its
-    shape), padded with repeated vertices: (n, 2W - 1, 2)."""
+    shape), padded with repeated vertices: (n, 2W - 1, 2). ``X``: one height, or one per ring."""
     n, W = rings.shape[:2]
     if n == 0:
         return rings
+    X = np.asarray(X, dtype=float)
+    if X.ndim:
+        X = X[:, None]
     inside = rings[:, :, 1] <= X
     p, q = rings[:, :-1], rings[:, 1:]
     ip, iq = inside[:, :-1], inside[:, 1:]

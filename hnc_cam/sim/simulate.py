@@ -77,8 +77,8 @@ from ..nc.toolpath import MOVE_KINDS, Move, Toolpath, columns
 from ..tooling import Machine, Stock, ToolLibrary, load_machine
 from .region import (chuck_zone, clean, diff, inter, jaw_region, polygons, stock_region,
                      union as union_of)
-from .area import (clip_below, clip_outline, envelope, extremes, front_bands, overlap_areas, polygon_edges,
-                   region_edges, ring_edges)
+from .area import (clip_below, clip_outline, envelope, extremes, front_bands, heights_over,
+                   overlap_areas, polygon_edges, region_edges, ring_edges)
 from .tool import CHORD, ToolShape, sweep_hulls, tool_shape
 
 FEED_KINDS = ("line", "arc", "thread")
@@ -541,7 +541,8 @@ class _Run:
         # nothing of the region over the pieces' Z range lies above X: a piece's sweep below X
         # is that of the outline's part below X - (the piece's lowest end), so the bands are
         # built for that part of the outline (a few vertices of a sampled nose) and cut at X
-        X = float(region[over][:, [1, 3]].max())
+        near = region[over]
+        X = float(near[:, [1, 3]].max())
         low = np.minimum(A[:, 1], B[:, 1])
         x0 = low + kx  # lowest point of each piece's sweep
         cov = self.piece_covered[p0:hi]
@@ -551,10 +552,18 @@ class _Run:
             K = clip_outline(self.outlines[s_], X - float(low[js].min()))
             if K is None:
                 continue
-            rings, imin, imax = front_bands(K, A[js], B[js], ~cov[js])
-            inb = (js + p0 >= lo) & (x0[js] < X)
+            # each band is cut at the highest point of the region over its own Z range, and
+            # the outline at the most any piece reaches below that
+            Xi = heights_over(near, np.minimum(A[js, 0], B[js, 0]) + float(K[:, 0].min()),
+                              np.maximum(A[js, 0], B[js, 0]) + float(K[:, 0].max()))
+            inb = (js + p0 >= lo) & (x0[js] < Xi)
             if inb.any():
-                edges.append(ring_edges(clip_below(rings[inb], X)))
+                K = clip_outline(K, float((Xi - low[js])[inb].max()))
+                if K is None:
+                    continue
+            rings, imin, imax = front_bands(K, A[js], B[js], ~cov[js])
+            if inb.any():
+                edges.append(ring_edges(clip_below(rings[inb], Xi[inb])))
                 owners.append(js[inb])
             # where the extreme vertices change from one piece to the next, the band reaches
             # back into the piece before's hull beside the start placement: that part is taken
