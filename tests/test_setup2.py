@@ -263,3 +263,37 @@ def test_a_part_without_a_second_setup_feature_is_refused_with_setups_2(tmp_path
     rc, _o, err = _run(capsys, ["generate", FRESH / "pin_partoff.py", "--grip", "20",
                                 "--setups", "2", "-o", f"{tmp_path}/out/"])
     assert rc == 2 and "nothing on the part needs a second setup" in err
+
+
+def test_counterbore_from_the_left_end_in_two_setups(tmp_path, capsys):
+    """A second bore from the left end: a 28 mm counterbore 8 mm deep on a 20 mm bore. One
+    setup refuses it naming --setups 2; two setups bore it from the turned-around part."""
+    part = FRESH / "bush_counterbore.py"
+    rc, _o, err = _run(capsys, ["generate", part, "--grip", "20", "-o", tmp_path / "o.nc"])
+    assert rc == 2 and "--setups 2" in err and not (tmp_path / "o.nc").exists()
+    from hnc_cam.plan.setups import generate_setups
+    s = generate_setups(part, grip=20, grip2=12)
+    assert s.zone.z == pytest.approx(-19.0)  # the counterbore's floor at Z-22, on 3 mm
+    g = s.machined2.material
+    assert 2 * _radius_at(g, -4.0, outer=False) == pytest.approx(28.0, abs=0.02)
+    assert 2 * _radius_at(g, -9.0, outer=False) == pytest.approx(20.0, abs=0.02)
+    # the floor at Z-8: the material's inner radius steps from 14 to 10 there (the nose's
+    # 0.4 mm fillet in the floor's inner corner)
+    assert 2 * _radius_at(g, -7.5, outer=False) == pytest.approx(28.0, abs=0.02)
+    assert 2 * _radius_at(g, -7.95, outer=False) == pytest.approx(27.59, abs=0.02)
+    assert 2 * _radius_at(g, -8.05, outer=False) == pytest.approx(20.0, abs=0.05)
+    # setup 1 bored 20 mm through (the counterbore bridged): its stock for setup 2
+    assert 2 * _radius_at(s.stock2, -4.0, outer=False) == pytest.approx(20.0, abs=0.02)
+    assert s.report.passed, s.report.summary()
+    d = tmp_path / "cb"
+    rc, _o, err = _run(capsys, ["generate", part, "--grip", "20", "--setups", "2", "--grip2",
+                                "12", "-o", f"{d}/"])
+    assert rc == 0, err
+    js = tmp_path / "v.json"
+    rc, out, _e = _run(capsys, ["verify", d / "O0001.nc", d / "O0002.nc", "--model", part,
+                                "--json", js])
+    assert rc == 0, out
+    import json
+    data = json.loads(js.read_text())
+    assert data["pass"] is True and len(data["setups"]) == 2
+    assert all(not st["collisions"] for st in data["setups"])

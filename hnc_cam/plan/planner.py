@@ -1314,7 +1314,9 @@ def _plan_bore(chain: list[Segment], stock: Stock, lib: ToolLibrary, opts: Optio
                       -p.bottom)
         raise PlanError(f"part {name}: {_pocket_text(q, bore=True)}: no boring bar in the library "
                         f"reaches it; it needs a boring bar whose trailing edge clears "
-                        f"{need + 2:.0f} deg")
+                        f"{need + 2:.0f} deg"
+                        + (" or a second setup with the part turned around: generate "
+                           "--setups 2 -o DIR/ --grip2 MM" if p.exit is None else ""))
     rough_t = ok[0]
     fin = [t for t in ok if "finish" in t.uses]
     fin_t = rough_t if "finish" in rough_t.uses else (fin[0] if fin else rough_t)
