@@ -1,16 +1,32 @@
 """Benchmark of ``hnc-cam family``: rows/s on the local process pool and on a Dask
 distributed cluster (``--scheduler``) of 1 and 2 worker processes on the loopback interface,
-verification included, and the peak memory of the workers.
+verification included; the memory of each worker process; the per-row stages of the run.
 
 Each configuration runs the same table of family 1 (parts/stepped_shaft.py) ``--repeat``
-times; the first run of a configuration starts cold (the local pool starts its workers, the
-cluster's fresh workers import the CAD kernel with their first row), the best of the others is
-the warm figure (a long-lived cluster). Every run's programs are compared with the first
-local run's: they must be byte-identical.
+times. The first run of a configuration starts cold (the local pool starts its fork server,
+which imports the CAD kernel once, the cluster's fresh workers import it with their first
+row); the best of the others is the warm figure (the fork server, or a long-lived cluster,
+already running). Every run's programs are compared with the first local run's: they must be
+byte-identical.
+
+Reference, measured in the same run: the local pool with workers forked from the family
+process itself, each importing the CAD kernel on its own (``--jobs 2``); the pool's figures
+are printed as ratios to it.
+
+Memory: a thread samples every process under this one (psutil, every 0.2 s) and keeps each
+one's peak resident set (RSS: every page it maps, shared or not), proportional set (PSS: a
+shared page counted by the share of each process mapping it; the workers' PSS add up to the
+memory they take) and unique set (USS: pages no other process maps). The fork server's pages
+are shared by the workers forked from it.
+
+Per-row stages: the seconds each written row spent loading the part (CAD kernel), planning,
+rendering, in the interpreter, simulating and verifying (in the workers) and writing its
+program (in the family process), summed over the rows of the warm run and divided by its rows,
+with each stage's share: where the next speed-up has to come from.
 
 The load average is printed beside the figures: on a shared machine they scale with it.
 
-Run: python benchmarks/family.py [--rows 200] [--repeat 2] [--no-cluster]
+Run: python benchmarks/family.py [--rows 200] [--repeat 2] [--no-cluster] [--no-reference]
 """
 from __future__ import annotations
 
@@ -19,6 +35,7 @@ import os
 import shutil
 import sys
 import tempfile
+import threading
 import time
 from pathlib import Path
 
@@ -26,12 +43,70 @@ REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO))
 sys.path.insert(0, str(REPO / "benchmarks"))
 PART = REPO / "parts" / "stepped_shaft.py"
+STAGES = ("load", "plan", "render", "interpret", "simulate", "verify", "write")
 
 
-def run(table: Path, out: Path, extra: list[str]) -> tuple[float, dict[str, bytes]]:
+class Memory:
+    """Peak RSS, PSS and USS (MB) of every process under this one while it runs."""
+
+    def __init__(self, period: float = 0.2):
+        self.period = period
+        self.peak: dict[int, list[float]] = {}
+        self.names: dict[int, str] = {}
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._run, daemon=True)
+
+    def __enter__(self) -> "Memory":
+        try:
+            import psutil  # noqa: F401
+        except ImportError:  # pragma: no cover
+            return self
+        self._thread.start()
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self._stop.set()
+        if self._thread.is_alive():
+            self._thread.join()
+
+    def _run(self) -> None:
+        import psutil
+        me = psutil.Process()
+        while not self._stop.is_set():
+            try:
+                kids = me.children(recursive=True)
+            except psutil.Error:
+                kids = []
+            for p in kids:
+                try:
+                    m = p.memory_full_info()
+                    if p.pid not in self.names:
+                        self.names[p.pid] = " ".join(p.cmdline())
+                except psutil.Error:
+                    continue
+                old = self.peak.setdefault(p.pid, [0.0, 0.0, 0.0])
+                for i, v in enumerate((m.rss, getattr(m, "pss", 0), m.uss)):
+                    old[i] = max(old[i], v / 2 ** 20)
+            self._stop.wait(self.period)
+
+    def of(self, pids) -> str:
+        rows = [self.peak[p] for p in pids if p in self.peak]
+        if not rows:
+            return "n/a"
+        return ", ".join(f"{r:.0f}/{p:.0f}/{u:.0f}" for r, p, u in rows)
+
+    def server(self, workers) -> str:
+        """The fork server(s): what runs the fork server's main and is no worker."""
+        rows = [v for p, v in self.peak.items() if "forkserver" in self.names.get(p, "")
+                and p not in workers]
+        return ", ".join(f"{r:.0f}/{p:.0f}/{u:.0f}" for r, p, u in rows) or "none"
+
+
+def run(table: Path, out: Path, extra: list[str]) -> tuple[float, dict[str, bytes], dict]:
     import contextlib
     import io
     from hnc_cam.cli import main
+    from hnc_cam.plan import command
     shutil.rmtree(out, ignore_errors=True)
     err = io.StringIO()
     t0 = time.perf_counter()
@@ -41,21 +116,27 @@ def run(table: Path, out: Path, extra: list[str]) -> tuple[float, dict[str, byte
     progs = {p.name: p.read_bytes() for p in out.glob("O*.nc")}
     if rc != 0:
         print(f"  warning: exit {rc}: {err.getvalue().strip()[:200]}")
-    return dt, progs
+    return dt, progs, dict(command.LAST_RUN)
 
 
-def rss_mb(pids: list[int]) -> str:
-    try:
-        import psutil
-    except ImportError:  # pragma: no cover
-        return "n/a"
-    out = []
-    for pid in pids:
-        try:
-            out.append(psutil.Process(pid).memory_info().rss / 2**20)
-        except psutil.Error:
-            pass
-    return "/".join(f"{m:.0f}" for m in out) + " MB" if out else "n/a"
+def stage_line(last: dict) -> str:
+    n = last.get("rows") or 0
+    st = last.get("stages") or {}
+    if not n:
+        return "no row written"
+    total = sum(st.values())
+    return (", ".join(f"{k} {1000 * st.get(k, 0.0) / n:.1f} ({100 * st.get(k, 0.0) / total:.0f} %)"
+                      for k in STAGES)
+            + f"; total {1000 * total / n:.1f} ms of work per row")
+
+
+def counts_line(last: dict) -> str:
+    ws = (last.get("workers") or {}).values()
+    return "; ".join(f"pid {w['pid']}: {w['inits']} init, kernel "
+                     f"{'inherited' if w['kernel_inherited'] else 'imported'}, "
+                     f"{w['tools']} tool library, {w['machines']} machine, "
+                     f"{w['environments']} template environment(s) loaded"
+                     for w in ws) or "n/a"
 
 
 def main() -> None:
@@ -64,17 +145,21 @@ def main() -> None:
     ap.add_argument("--rows", type=int, default=200)
     ap.add_argument("--repeat", type=int, default=2)
     ap.add_argument("--no-cluster", action="store_true")
+    ap.add_argument("--no-reference", action="store_true",
+                    help="skip the reference pool (workers importing the kernel themselves)")
+    ap.add_argument("--jobs", type=int, nargs="+", default=[1, 2])
     a = ap.parse_args()
     tmp = Path(tempfile.mkdtemp(prefix="hnc-bench-family-"))
     try:
         t = tmp / "t.csv"
         write_table(t, a.rows)
         print(f"load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores; "
-              f"{a.rows} rows, verification included")
+              f"{a.rows} rows, verification included; memory per process as peak "
+              f"RSS/PSS/USS MB")
         ref: dict[str, bytes] | None = None
 
         def report(name: str, times: list[float], progs_all: list[dict[str, bytes]],
-                   mem: str) -> None:
+                   mem: str, base: float | None = None) -> float:
             nonlocal ref
             for p in progs_all:
                 if ref is None:
@@ -82,17 +167,49 @@ def main() -> None:
                 if p != ref:
                     print(f"  warning: {name}: programs differ from the local run")
             warm = min(times[1:]) if len(times) > 1 else times[0]
-            print(f"{name:28s} cold {a.rows / times[0]:6.1f} rows/s ({times[0]:.1f} s), "
+            ratio = (f" ({a.rows / times[0] / base:.2f}x the reference's cold)"
+                     if base else "")
+            print(f"{name:34s} cold {a.rows / times[0]:6.1f} rows/s ({times[0]:.1f} s){ratio}, "
                   f"warm best of {max(1, len(times) - 1)} {a.rows / warm:6.1f} rows/s "
-                  f"({warm:.1f} s); workers {mem}; load {os.getloadavg()[0]:.2f}")
+                  f"({warm:.1f} s); load {os.getloadavg()[0]:.2f}")
+            print(f"  {'':32s}workers {mem}")
+            return a.rows / times[0]
 
-        for jobs in (1, 2):
-            times, progs = [], []
-            for _ in range(a.repeat):
-                dt, p = run(t, tmp / "out", ["--jobs", str(jobs)])
-                times.append(dt)
-                progs.append(p)
-            report(f"local pool --jobs {jobs}", times, progs, "n/a (pool ends with the run)")
+        base = None
+        if not a.no_reference:
+            import multiprocessing as mp
+            from hnc_cam.plan import command
+            own = command.pool_context
+            command.pool_context = lambda: mp.get_context("fork")
+            try:
+                times, progs = [], []
+                with Memory() as mem:
+                    for _ in range(a.repeat):
+                        dt, p, last = run(t, tmp / "out", ["--jobs", "2"])
+                        times.append(dt)
+                        progs.append(p)
+                base = report("reference: fork, own kernel, -j2", times, progs,
+                              mem.of(last.get("workers", {})))
+            finally:
+                command.pool_context = own
+        for jobs in a.jobs:
+            times, progs, lasts = [], [], []
+            with Memory() as mem:
+                for _ in range(a.repeat):
+                    dt, p, last = run(t, tmp / "out", ["--jobs", str(jobs)])
+                    times.append(dt)
+                    progs.append(p)
+                    lasts.append(last)
+            best = lasts[times.index(min(times[1:]))] if len(times) > 1 else lasts[0]
+            pids = set()
+            for last in lasts:
+                pids.update(last.get("workers", {}))
+            mem_s = ("in the family process" if jobs == 1 else
+                     f"{mem.of(sorted(pids))}; fork server {mem.server(pids)}")
+            report(f"local pool --jobs {jobs}", times, progs, mem_s,
+                   base if jobs == 2 else None)
+            print(f"  {'':32s}per row, ms: {stage_line(best)}")
+            print(f"  {'':32s}{counts_line(best)}")
         if a.no_cluster:
             return
         try:
@@ -105,13 +222,15 @@ def main() -> None:
             with LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
                               host="127.0.0.1", dashboard_address=None) as c:
                 times, progs = [], []
-                for _ in range(a.repeat):
-                    dt, p = run(t, tmp / "out", ["--scheduler", c.scheduler_address])
-                    times.append(dt)
-                    progs.append(p)
-                with Client(c.scheduler_address, set_as_default=False) as cl:
-                    pids = list(cl.run(os.getpid).values())
-                report(f"dask cluster, {n} worker(s)", times, progs, rss_mb(pids))
+                with Memory() as mem:
+                    for _ in range(a.repeat):
+                        dt, p, last = run(t, tmp / "out", ["--scheduler", c.scheduler_address])
+                        times.append(dt)
+                        progs.append(p)
+                    with Client(c.scheduler_address, set_as_default=False) as cl:
+                        pids = list(cl.run(os.getpid).values())
+                report(f"dask cluster, {n} worker(s)", times, progs, mem.of(pids))
+                print(f"  {'':32s}per row, ms: {stage_line(last)}")
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
 

@@ -126,12 +126,16 @@ def dialects(n: int = 15) -> list[str]:
 
 
 def cold_start() -> str:
-    """What a fresh process pays once before its first row (a family worker pays it once, a
-    ``generate`` command every time): interpreter start, the CAD kernel import, the rest of
-    the generator's imports, the tables and templates; measured in a child process."""
+    """What a fresh process pays once before its first row (a ``generate`` command every
+    time; a family's fork server once for all its workers): interpreter start, the CAD
+    kernel import, the rest of the generator's imports, the tables and templates, and the
+    exit, when the interpreter tears the imported modules down (the kernel's tens of
+    thousands of objects); measured in child processes, best of 3. The exit is also measured
+    with the cyclic collector's objects frozen first (``gc.freeze()``) and with ``os._exit``
+    (no teardown at all)."""
     import subprocess
     code = (
-        "import time; t0 = time.perf_counter()\n"
+        "import time, sys; t0 = time.perf_counter()\n"
         "import build123d\n"
         "t1 = time.perf_counter()\n"
         "from hnc_cam.plan.api import generate, warm; import hnc_cam.cad.extract, hnc_cam.nc, "
@@ -139,15 +143,35 @@ def cold_start() -> str:
         "t2 = time.perf_counter()\n"
         "warm()\n"
         "t3 = time.perf_counter()\n"
-        "print(t1 - t0, t2 - t1, t3 - t2)\n")
-    t0 = time.perf_counter()
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                         cwd=REPO, check=True).stdout.split()
-    whole = time.perf_counter() - t0
-    kernel, rest, tables = (float(x) for x in out)
-    return (f"process {1000 * whole:.0f} ms: CAD kernel import {1000 * kernel:.0f}, other "
-            f"imports {1000 * rest:.0f}, tables + templates {1000 * tables:.0f}, interpreter "
-            f"start and exit {1000 * (whole - kernel - rest - tables):.0f}")
+        "print(t1 - t0, t2 - t1, t3 - t2, time.time(), flush=True)\n"
+        "if sys.argv[1] == 'freeze':\n"
+        "    import gc; gc.freeze()\n"
+        "elif sys.argv[1] == '_exit':\n"
+        "    import os; os._exit(0)\n")
+
+    def once(how: str) -> tuple[float, float, float, float, float]:
+        t0 = time.perf_counter()
+        out = subprocess.run([sys.executable, "-c", code, how], capture_output=True, text=True,
+                             cwd=REPO, check=True).stdout.split()
+        end = time.time()
+        whole = time.perf_counter() - t0
+        kernel, rest, tables, done = (float(x) for x in out)
+        return whole, kernel, rest, tables, end - done
+
+    def bare() -> float:
+        t0 = time.perf_counter()
+        subprocess.run([sys.executable, "-c", "pass"], check=True)
+        return time.perf_counter() - t0
+
+    start = min(bare() for _ in range(3))
+    runs = {how: min((once(how) for _ in range(3)), key=lambda r: r[0])
+            for how in ("plain", "freeze", "_exit")}
+    whole, kernel, rest, tables, exit_ = runs["plain"]
+    return (f"process {1000 * whole:.0f} ms: interpreter start {1000 * start:.0f}, CAD kernel "
+            f"import {1000 * kernel:.0f}, other imports {1000 * rest:.0f}, tables + templates "
+            f"{1000 * tables:.0f}, exit {1000 * exit_:.0f} (module teardown; "
+            f"{1000 * runs['freeze'][4]:.0f} after gc.freeze(), {1000 * runs['_exit'][4]:.0f} "
+            f"with os._exit)")
 
 
 def step_generate(n: int = 3) -> str:

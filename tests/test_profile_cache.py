@@ -124,3 +124,89 @@ def test_unwritable_folder_and_python_parts(tmp_path, monkeypatch):
     monkeypatch.setenv(CACHE_ENV, str(cache))
     load_part(REPO / "parts" / "stepped_shaft.py", {"length": "90"})
     assert not list(cache.glob("*.profile"))  # Python parts are not cached
+
+
+# --------------------------------------------------------------------------------------------
+# Python parts in a long-lived process (a cluster worker, a session calling generate): the
+# imported part module is reused only while the part file and the user's helper modules it
+# imports are unchanged, compared by contents
+# --------------------------------------------------------------------------------------------
+
+HELPER_PART = """
+import shapes
+from hnc_cam.cad.sketch import revolve
+
+
+def part(length: float = 30.0):
+    return revolve(shapes.outline(length))
+"""
+
+HELPER = """
+from hnc_cam.cad.sketch import Outline
+
+DIAMETER = {d}
+
+
+def outline(length):
+    r = DIAMETER / 2
+    return Outline((0.0, 0.0)).line_to(r, 0.0).line_to(r, -length).line_to(0.0, -length).segments()
+"""
+
+LAZY_PART = """
+from hnc_cam.cad.sketch import revolve
+
+
+def part(length: float = 30.0):
+    from lazyshapes import outline   # imported when part() runs
+    return revolve(outline(length))
+"""
+
+
+def _max_dia(lp) -> float:
+    return round(2 * lp.profile.max_radius, 6)
+
+
+@pytest.fixture
+def helper_dir(tmp_path, monkeypatch):
+    d = tmp_path / "fam"
+    d.mkdir()
+    monkeypatch.syspath_prepend(str(d))
+    yield d
+    for name in ("shapes", "lazyshapes"):
+        sys.modules.pop(name, None)
+
+
+def test_edited_helper_module_is_imported_again(helper_dir):
+    """A part file importing a helper module beside it: the helper edited between two loads
+    in one process (the part file untouched) gives the new part, not the old one."""
+    part = helper_dir / "shaft.py"
+    part.write_text(HELPER_PART)
+    (helper_dir / "shapes.py").write_text(HELPER.format(d=20.0))
+    assert _max_dia(load_part(part, {"length": "30"})) == 20.0
+    assert _max_dia(load_part(part, {"length": "30"})) == 20.0  # reused
+    (helper_dir / "shapes.py").write_text(HELPER.format(d=24.0))
+    assert _max_dia(load_part(part, {"length": "30"})) == 24.0
+    assert _max_dia(load_part(part, {"length": "31"})) == 24.0
+
+
+def test_helper_imported_inside_part_is_tracked_too(helper_dir):
+    part = helper_dir / "lazy.py"
+    part.write_text(LAZY_PART)
+    (helper_dir / "lazyshapes.py").write_text(HELPER.format(d=18.0))
+    assert _max_dia(load_part(part)) == 18.0
+    (helper_dir / "lazyshapes.py").write_text(HELPER.format(d=22.0))
+    assert _max_dia(load_part(part)) == 22.0
+
+
+def test_part_file_edited_within_the_same_second_is_imported_again(helper_dir):
+    """Compared by contents: an edit that leaves the modification time as it was (a coarse
+    clock, a copy keeping times) still reloads the part."""
+    part = helper_dir / "same.py"
+    (helper_dir / "shapes.py").write_text(HELPER.format(d=20.0))
+    part.write_text(HELPER_PART)
+    st = part.stat()
+    assert _max_dia(load_part(part)) == 20.0
+    part.write_text(HELPER_PART.replace("shapes.outline(length)", "shapes.outline(length)[:]")
+                    .replace("length: float = 30.0", "length: float = 40.0"))
+    os.utime(part, ns=(st.st_atime_ns, st.st_mtime_ns))
+    assert load_part(part).params == {"length": 40.0}

@@ -108,25 +108,129 @@ def _import_file(path: Path) -> ModuleType:
     return mod
 
 
-_MODULE_CACHE: dict[tuple[str, float], ModuleType] = {}
+@dataclass
+class _Imported:
+    """A part module as imported, with what it was imported from: the digest of the part
+    file and of each helper module of the user's it imported (file -> digest; their names in
+    ``sys.modules``)."""
+    module: ModuleType
+    digest: bytes | None
+    helpers: dict[str, bytes | None]
+    names: set[str]
+    called: bool = False
+
+
+#: part modules by resolved path: reused while neither the part file nor a helper module it
+#: imports changes (a long-lived process, a cluster worker, loads the edited files again)
+_MODULE_CACHE: dict[str, _Imported] = {}
+
+
+def _digest(path: str | Path) -> bytes | None:
+    import hashlib
+    try:
+        return hashlib.blake2b(Path(path).read_bytes(), digest_size=16).digest()
+    except OSError:
+        return None
+
+
+_SYSTEM_ROOTS: list[str] = []
+
+
+def _system_roots() -> list[str]:
+    """Folders of installed code (the standard library, site-packages, this package): a
+    module there is not a helper of the user's part."""
+    if not _SYSTEM_ROOTS:
+        import os
+        import site
+        import sysconfig
+        roots = {sysconfig.get_paths().get(k) for k in ("stdlib", "platstdlib", "purelib",
+                                                        "platlib")}
+        try:
+            roots.add(site.getusersitepackages())
+        except Exception:  # noqa: BLE001 - no user site
+            pass
+        roots.add(str(Path(__file__).resolve().parents[1]))
+        _SYSTEM_ROOTS.extend(os.path.realpath(r) + os.sep for r in roots if r)
+    return _SYSTEM_ROOTS
+
+
+def _helpers(mod: ModuleType, before: set[str]) -> set[str]:
+    """Names in ``sys.modules`` of the user's own modules the part module uses: those that
+    appeared while it was imported (or its part() first ran) and those its namespace refers
+    to (``import helper``, ``from helper import f``), outside the installed code."""
+    import os
+    roots = _system_roots()
+    names = {n for n in list(sys.modules) if n not in before}
+    for v in list(vars(mod).values()):
+        if isinstance(v, ModuleType):
+            names.add(v.__name__)
+        else:
+            try:
+                m = getattr(v, "__module__", None)
+            except Exception:  # noqa: BLE001 - an object whose attributes raise
+                continue
+            if isinstance(m, str):
+                names.add(m)
+    out = set()
+    for n in names:
+        m = sys.modules.get(n)
+        f = getattr(m, "__file__", None)
+        if m is None or m is mod or not isinstance(f, str) or not f.endswith(".py"):
+            continue
+        if not os.path.realpath(f).startswith(tuple(roots)):
+            out.add(n)
+    return out
+
+
+def _note_helpers(entry: _Imported, names: set[str]) -> None:
+    for n in names - entry.names:
+        f = getattr(sys.modules.get(n), "__file__", None)
+        if f:
+            entry.names.add(n)
+            entry.helpers[f] = _digest(f)
 
 
 def load_module(path: str | Path) -> ModuleType:
-    """The part module at ``path`` (imported once per modification time)."""
+    """The part module at ``path``, imported again only when the part file or a helper
+    module of the user's that it imports has changed (compared by contents, not times)."""
     p = Path(path)
     if not p.exists():
         raise PartError(f"{p}: no such part file")
     _regular(p)
     if p.suffix != ".py":
         raise PartError(f"{p}: a part file is a .py module (or a .step/.stp/.brep file)")
-    key = (str(p.resolve()), p.stat().st_mtime)
-    mod = _MODULE_CACHE.get(key)
-    if mod is None:
-        mod = _import_file(p)
-        if not callable(getattr(mod, "part", None)):
-            _script_part(mod, p)
-        _MODULE_CACHE[key] = mod
+    key = str(p.resolve())
+    digest = _digest(p)
+    hit = _MODULE_CACHE.get(key)
+    if hit is not None and hit.digest == digest and all(
+            _digest(f) == d for f, d in hit.helpers.items()):
+        return hit.module
+    if hit is not None:  # import the changed helpers again with the part
+        for n in hit.names:
+            sys.modules.pop(n, None)
+        del _MODULE_CACHE[key]
+    before = set(sys.modules)
+    mod = _import_file(p)
+    if not callable(getattr(mod, "part", None)):
+        _script_part(mod, p)
+    entry = _Imported(mod, digest, {}, set())
+    _note_helpers(entry, _helpers(mod, before))
+    _MODULE_CACHE[key] = entry
     return mod
+
+
+def _call_part(p: Path, mod: ModuleType, params: dict[str, Any]) -> Any:
+    """``mod.part(**params)``; the first call of a freshly imported module also notes the
+    helper modules part() imports when it runs."""
+    entry = _MODULE_CACHE.get(str(p.resolve()))
+    if entry is None or entry.called or entry.module is not mod:
+        return mod.part(**params)
+    before = set(sys.modules)
+    try:
+        return mod.part(**params)
+    finally:
+        entry.called = True
+        _note_helpers(entry, _helpers(mod, before))
 
 
 #: module-level names a plain modelling script leaves its solid under (build123d examples
@@ -297,7 +401,7 @@ def load_part(path: str | Path, params: dict[str, Any] | None = None,
     where = str(p)
     full = resolve_params(mod, params, where)
     try:
-        solid = mod.part(**full)
+        solid = _call_part(p, mod, full)
     except PartError as e:  # the family refused the parameter set (names the parameters)
         raise PartError(f"{where}: part({_fmt(full)}): impossible part: {e}") from None
     except HncError:

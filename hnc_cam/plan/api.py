@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
+from time import perf_counter
 from typing import Any, Mapping
 from ..units import fmt_cycle_time
 
@@ -43,6 +44,8 @@ class Program:
     dialect: str = "hnc21t"
     #: the dialect's names of its cycles (:func:`hnc_cam.post.cycle_labels`)
     labels: dict[str, str] = field(default_factory=dict)
+    #: seconds spent in each stage: load, plan, render, interpret, simulate, verify
+    stages: dict[str, float] = field(default_factory=dict)
 
     @property
     def cycle_time_s(self) -> float:
@@ -145,6 +148,9 @@ _TOOLS: dict[Any, ToolLibrary] = {}
 #: the MATERIAL a part file declares, by id of the profile loaded from it
 _PART_MATERIAL: dict[int, str] = {}
 _MACHINES: dict[Any, Machine] = {}
+#: how many tool libraries and machine files this process has parsed (a family worker parses
+#: each once, not once per row)
+LOADS = {"tools": 0, "machines": 0}
 
 
 def _load_tools(path: str | Path | None) -> ToolLibrary:
@@ -154,6 +160,7 @@ def _load_tools(path: str | Path | None) -> ToolLibrary:
     lib = _TOOLS.get(key)
     if lib is None:
         lib = load_tools(path)
+        LOADS["tools"] += 1
         _TOOLS[key] = lib
     return lib
 
@@ -163,6 +170,7 @@ def _load_machine(path: str | Path | None, lib: ToolLibrary) -> Machine:
     mach = _MACHINES.get(key)
     if mach is None:
         mach = load_machine(path, tools=lib)
+        LOADS["machines"] += 1
         _MACHINES[key] = mach
     return mach
 
@@ -197,15 +205,20 @@ def _interpret(text: str, machine: Machine, file: str, dialect: str = "hnc21t"):
 
 
 def _verify(prof: TurnedProfile, plan: Plan, stock: Stock, toolpath, machine: Machine,
-            tools: ToolLibrary, tol: float):
+            tools: ToolLibrary, tol: float, stages: dict[str, float] | None = None):
     try:
         from .. import sim
         simulate = sim.simulate
         verify = sim.verify
     except (ImportError, AttributeError):
         return None
+    t0 = perf_counter()
     machined = simulate(toolpath, stock, machine=machine, model=prof)
-    return verify(machined, prof, tol=tol)
+    t1 = perf_counter()
+    rep = verify(machined, prof, tol=tol)
+    if stages is not None:
+        stages["simulate"], stages["verify"] = t1 - t0, perf_counter() - t1
+    return rep
 
 
 #: the smallest tube bore a part without a stock is given (a smaller bore is drilled from bar)
@@ -259,7 +272,9 @@ def generate(part: Any, stock: str | Stock | None = None, *, params: Mapping[str
     from .. import __version__
     from ..post import cycle_labels, render
 
+    t0 = perf_counter()
     prof, default_stock, name, pparams = _load_part(part, params)
+    t_load = perf_counter() - t0
     if stock is None:
         stock = default_stock
     if stock is None:
@@ -295,13 +310,18 @@ def generate(part: Any, stock: str | Stock | None = None, *, params: Mapping[str
                    partoff=bool(partoff),
                    partoff_dia=float(partoff_dia) if partoff_dia is not None else -1.0,
                    drill_style=drill_style)
+    t1 = perf_counter()
     plan = make_plan(prof, st, lib, mach, opts, name=name, params=pparams, version=__version__)
     dia = dialect_of(dialect, mach)
+    t2 = perf_counter()
     text = render(plan, dialect=dia, templates=templates, number_format=number_format,
                   block_numbers=block_numbers)
+    t3 = perf_counter()
     tp = _interpret(text, mach, file, dia)
     prog = Program(text=text, plan=plan, toolpath=tp, dialect=dia,
                    labels=cycle_labels(dia, templates))
+    prog.stages.update(load=t_load, plan=t2 - t1, render=t3 - t2,
+                       interpret=perf_counter() - t3)
     prog.warnings.extend(plan.warnings)
     if drill_style == "macro" and dia != "hnc21t" and any(
             op.kind == "drill" and op.drill is not None and op.drill.pecks
@@ -313,7 +333,8 @@ def generate(part: Any, stock: str | Stock | None = None, *, params: Mapping[str
         prog.warnings.append("the interpreter is not available: program not run")
         return prog
     if verify:
-        rep = _verify(plan.profile, plan, st if st.kind != "offset" else st, tp, mach, lib, tol)
+        rep = _verify(plan.profile, plan, st if st.kind != "offset" else st, tp, mach, lib, tol,
+                      prog.stages)
         prog.report = rep
         if rep is None:
             prog.warnings.append("the simulator is not available: program not verified")

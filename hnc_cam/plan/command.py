@@ -158,18 +158,19 @@ _INIT_PID: list[int | None] = [None]
 def _inits() -> int:
     """How many times this process ran the worker initializer."""
     return _INITS if _INIT_PID[0] == os.getpid() else 0
-#: pid of the process that runs the family (set before the pool starts)
-_PARENT: list[int | None] = [None]
 
 
-def _bind_to_parent(parent: int) -> None:
-    """In a worker: ignore Ctrl-C and SIGTERM's default for the group (the parent decides),
-    and die with the parent, even when it is killed with SIGKILL: the kernel's parent-death
-    signal on Linux, and a watchdog thread that exits when the parent pid changes."""
+def _bind_to_parent(family: int) -> None:
+    """In a worker: ignore Ctrl-C and SIGTERM's default for the group (the family process
+    decides), and die with the family process, even when it is killed with SIGKILL. The
+    worker's parent is the family process or the fork server it started (which leaves when
+    the family process goes): the kernel's parent-death signal on Linux, and a watchdog
+    thread that exits when the parent changes."""
     import signal
     import threading
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    parent = os.getppid()
     if sys.platform.startswith("linux"):
         try:
             import ctypes
@@ -177,17 +178,53 @@ def _bind_to_parent(parent: int) -> None:
             libc.prctl(1, signal.SIGKILL, 0, 0, 0)  # PR_SET_PDEATHSIG
         except (OSError, AttributeError):  # pragma: no cover - the watchdog still runs
             pass
-    if os.getppid() != parent:  # the parent died before the line above
+    if not _descends_from(parent, family):  # the parent died before the line above
         os._exit(1)
 
     def watch() -> None:
+        # a fork server's worker holds the server's pipe and its task queue's both ends:
+        # neither tells it that the family process is gone; the watchdog does
         import time
         while True:
             time.sleep(0.5)
-            if os.getppid() != parent:
+            if os.getppid() != parent or (parent != family and not _alive(family)):
                 os._exit(1)
 
     threading.Thread(target=watch, name="parent-watchdog", daemon=True).start()
+
+
+def _alive(pid: int) -> bool:
+    """Whether process ``pid`` runs (a zombie, killed but not yet waited for, does not)."""
+    try:
+        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+        return state not in ("Z", "X")
+    except OSError:
+        if sys.platform.startswith("linux"):
+            return False
+    except (IndexError, ValueError):  # pragma: no cover - a /proc of another format
+        pass
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:
+        pass
+    return True
+
+
+def _descends_from(parent: int, family: int) -> bool:
+    """``parent`` is the family process or a child of it (the fork server); where /proc
+    cannot say, True."""
+    if parent == family:
+        return True
+    try:
+        stat_ = Path(f"/proc/{parent}/stat").read_text()
+    except OSError:
+        return not sys.platform.startswith("linux")
+    try:
+        return int(stat_.rsplit(")", 1)[1].split()[1]) == family
+    except (IndexError, ValueError):  # pragma: no cover - a /proc of another format
+        return True
 
 
 class _Interrupted(Exception):
@@ -271,16 +308,24 @@ def _prepare_out(out: str) -> Path:
     return d
 
 
-def _init_worker(opts: dict[str, Any] | None = None) -> None:
-    """Once per worker process: import the CAD kernel, the interpreter and the simulator, and
-    load the tool library, the machine and the templates (cached in :mod:`hnc_cam.plan.api`
-    for every row the worker runs)."""
+def _init_worker(opts: dict[str, Any] | None = None, family: int | None = None,
+                 environ: dict[str, str] | None = None) -> None:
+    """Once per worker process: bind it to the family process ``family`` (see
+    :func:`_bind_to_parent`), take the family process's environment ``environ`` (a worker
+    forked from the fork server has the server's), import the CAD kernel, the interpreter and
+    the simulator (already there in a worker forked from the fork server, which imported
+    them: :mod:`hnc_cam.plan.pool`), and load the tool library, the machine and the templates
+    (cached in :mod:`hnc_cam.plan.api` for every row the worker runs)."""
     global _INITS
     if _INIT_PID[0] != os.getpid():
         _INITS, _INIT_PID[0] = 0, os.getpid()
+        _KERNEL_INHERITED[0] = "build123d" in sys.modules
     _INITS += 1
-    if _PARENT[0] is not None and os.getpid() != _PARENT[0]:
-        _bind_to_parent(_PARENT[0])
+    if family is not None and os.getpid() != family:
+        _bind_to_parent(family)
+    if environ is not None and environ != os.environ:
+        os.environ.clear()
+        os.environ.update(environ)
     try:
         import build123d  # noqa: F401
         from .. import cad  # noqa: F401
@@ -298,8 +343,34 @@ def _init_worker(opts: dict[str, Any] | None = None) -> None:
             pass
 
 
+#: whether this worker process found the CAD kernel already imported when it started (a
+#: fork of the fork server) rather than importing it itself
+_KERNEL_INHERITED: list[bool] = [False]
+
+
+def worker_counts() -> dict[str, Any]:
+    """What this process has loaded so far, to show that a worker loads each thing once
+    however many rows it runs: pid, initializer runs, whether the CAD kernel came with the
+    fork, tool libraries and machine files parsed, template environments built, and its
+    peak resident memory (MB)."""
+    from .api import LOADS
+    from ..post import environment
+    try:
+        import resource
+        peak: float | None = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    except ImportError:  # pragma: no cover - Windows
+        peak = None
+    return {"pid": os.getpid(), "inits": _inits(), "kernel_inherited": _KERNEL_INHERITED[0],
+            "tools": LOADS["tools"], "machines": LOADS["machines"],
+            "environments": environment.cache_info().misses,
+            "peak_rss_mb": (None if peak is None else
+                            peak / (2 ** 20 if sys.platform == "darwin" else 2 ** 10))}
+
+
 def _row_job(job: tuple) -> dict[str, Any]:
-    """Generate one row; never raises (the error becomes the row's result)."""
+    """Generate one row; never raises (the error becomes the row's result). The result
+    carries the seconds of each stage of the row (``stages``) and :func:`worker_counts`."""
+    import time
     idx, line, part, stock, params, number, opts = job
     out: dict[str, Any] = {"row": idx, "line": line, "program_number": number,
                            "worker": (os.getpid(), _inits())}
@@ -307,19 +378,23 @@ def _row_job(job: tuple) -> dict[str, Any]:
     kw = opts.pop("profile", None)
     try:
         from .api import VerificationError, generate
+        t0 = time.perf_counter()
         if kw:
             from ..cad import load_part
             part = load_part(part, params, **kw)
             params = {}
+        loaded = time.perf_counter() - t0
         prog = generate(part, stock, params=params, program_number=number,
                         file=f"O{number:04d}.nc", **opts)
         rep = prog.report
+        stages = dict(prog.stages)
+        stages["load"] = stages.get("load", 0.0) + loaded
         out.update(status="ok", text=prog.text, operations=" ".join(prog.operations),
                    cycle_time_s=round(prog.cycle_time_s, 1),
                    verified=("pass" if rep is not None else "skipped"),
                    max_overcut_mm=(round(rep.max_overcut_mm, 4) if rep is not None else ""),
                    max_undercut_mm=(round(rep.max_undercut_mm, 4) if rep is not None else ""),
-                   message="")
+                   message="", stages=stages)
     except VerificationError as e:
         out.update(status="failed", message=str(e), verified="fail", exit=1)
     except HncError as e:
@@ -327,6 +402,10 @@ def _row_job(job: tuple) -> dict[str, Any]:
                    exit=2)
     except Exception as e:  # a generator bug must not stop the other rows
         out.update(status="error", message=f"internal error: {type(e).__name__}: {e}", exit=2)
+    try:
+        out["counts"] = worker_counts()
+    except Exception:  # pragma: no cover - the counts only inform; the row stands
+        pass
     return out
 
 
@@ -422,14 +501,19 @@ def family_command(args: argparse.Namespace) -> int:
     dup = {n for n in numbers if numbers.count(n) > 1}
     if dup:
         raise PlanError(f"{args.table}: program number(s) {sorted(dup)} appear in several rows")
-    out_dir = _prepare_out(args.out)
     n_jobs = args.jobs or os.cpu_count() or 1
+    if not getattr(args, "scheduler", None) and n_jobs > 1 and len(jobs) > 1:
+        start_pool_server()  # imports the kernel while the output folder is prepared
+    out_dir = _prepare_out(args.out)
 
     def done(r: dict[str, Any]) -> None:  # each program is written as soon as its row ends
         if r.get("status") == "ok":
+            import time
+            t0 = time.perf_counter()
             name = f"O{int(r['program_number']):04d}.nc"
             write_atomic(out_dir / name, r["text"])
             r["file"] = name
+            r.setdefault("stages", {})["write"] = time.perf_counter() - t0
 
     interrupted = 0
     try:
@@ -446,6 +530,7 @@ def family_command(args: argparse.Namespace) -> int:
                                 "message": f"not finished: interrupted by "
                                            f"{signal.Signals(e.signum).name}"})
     results.sort(key=lambda r: r["row"])
+    _record_run(results)
     worst = 0
     fields = ["row", "program_number", "file", "status", "operations", "cycle_time_s",
               "verified", "max_overcut_mm", "max_undercut_mm", "message"]
@@ -480,6 +565,32 @@ def family_command(args: argparse.Namespace) -> int:
     return worst
 
 
+#: the last family run in this process (what ``benchmarks/family.py`` prints): ``stages``,
+#: the seconds of each stage (load, plan, render, interpret, simulate, verify, write) summed
+#: over the rows written; ``rows``, how many; ``workers``, each worker process's last
+#: :func:`worker_counts` by pid
+LAST_RUN: dict[str, Any] = {}
+
+
+def _record_run(results: list[dict[str, Any]]) -> None:
+    stages: dict[str, float] = {}
+    workers: dict[int, dict[str, Any]] = {}
+    rows = 0
+    for r in results:
+        if r.get("stages") and r.get("status") == "ok":
+            rows += 1
+            for k, v in r["stages"].items():
+                stages[k] = stages.get(k, 0.0) + v
+        c = r.get("counts")
+        if c:  # the counts only grow: a worker's largest are its last
+            w = workers.setdefault(c["pid"], dict(c))
+            for k, v in c.items():
+                if isinstance(v, (int, float)) and not isinstance(v, bool):
+                    w[k] = max(w[k] or 0, v)
+    LAST_RUN.clear()
+    LAST_RUN.update(stages=stages, rows=rows, workers=workers)
+
+
 def _run_jobs(jobs: list[tuple], n_jobs: int, opts: dict[str, Any] | None = None,
               on_done: Any = None, scheduler: str | None = None) -> list[dict[str, Any]]:
     """Run the rows (in worker processes for ``n_jobs`` > 1, or on the Dask cluster whose
@@ -495,7 +606,6 @@ def _run_jobs(jobs: list[tuple], n_jobs: int, opts: dict[str, Any] | None = None
         raise _Interrupted(out, signum)
 
     old_term = signal.signal(signal.SIGTERM, on_term)
-    _PARENT[0] = os.getpid()
     try:
         if scheduler:
             return _run_cluster(jobs, scheduler, opts, on_done, out)
@@ -532,6 +642,37 @@ class _Finished:
             self.progress.stop()
 
 
+#: what the fork server imports before it forks the workers
+POOL_PRELOAD = "hnc_cam.plan.pool"
+
+
+def pool_context() -> Any:
+    """The multiprocessing context of the local pool: workers forked from a fork server that
+    imported the CAD kernel, the generator and the bundled tables once
+    (:mod:`hnc_cam.plan.pool`): no worker imports the kernel itself, the workers share its
+    memory (copy on write), and the family process stays free of it. Where there is no fork
+    server (Windows), spawned workers that import it in their initializer."""
+    import multiprocessing as mp
+    if "forkserver" in mp.get_all_start_methods():
+        ctx = mp.get_context("forkserver")
+        ctx.set_forkserver_preload([POOL_PRELOAD])
+        return ctx
+    return mp.get_context("spawn")
+
+
+def start_pool_server() -> None:
+    """Start the fork server now (it imports the CAD kernel in the background while this
+    process checks the tables and reads the rows); the pool's first worker waits for it.
+    Nothing happens where there is no fork server or it runs already."""
+    ctx = pool_context()
+    if ctx.get_start_method() == "forkserver":
+        from multiprocessing import forkserver
+        try:
+            forkserver.ensure_running()
+        except OSError:  # pragma: no cover - the pool starts it (and reports) later
+            pass
+
+
 def _run_pool(jobs: list[tuple], n_jobs: int, opts: dict[str, Any] | None, on_done: Any,
               out: list[dict[str, Any]]) -> list[dict[str, Any]]:
     finished = _Finished(len(jobs), on_done, out)
@@ -543,7 +684,8 @@ def _run_pool(jobs: list[tuple], n_jobs: int, opts: dict[str, Any] | None, on_do
         else:
             from concurrent.futures import ProcessPoolExecutor, as_completed
             ex = ProcessPoolExecutor(max_workers=min(n_jobs, len(jobs)),
-                                     initializer=_init_worker, initargs=(opts,))
+                                     mp_context=pool_context(), initializer=_init_worker,
+                                     initargs=(opts, os.getpid(), dict(os.environ)))
             try:
                 futs = [ex.submit(_row_job, j) for j in jobs]
                 for f in as_completed(futs):
