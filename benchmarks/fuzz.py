@@ -22,7 +22,8 @@ The runs use small limits (``--steps``, moves and calls scaled from it) so that 
 programs end in milliseconds; ``--default-limits`` runs with the machine's defaults instead.
 
 Run: ``python benchmarks/fuzz.py --cases N --seed S [--save DIR] [--default-limits]
-[--case-timeout S] [--seconds S]``.
+[--case-timeout S] [--seconds S] [--compare]`` (``--compare``: each case also with the
+compiled core off; a difference from the Python code is a failure).
 Prints the count, the rate (cases/s), every distinct failure with a reproducer, the cases
 over 5 s, the longest case and the peak memory (max RSS) of the process.
 """
@@ -358,6 +359,47 @@ def check(text: str, machine) -> str | None:
     return None
 
 
+def _outcome(text: str, machine) -> tuple:
+    """Everything a run gives: the moves' fields (floats by their bits), the warnings, the
+    block count, or the alarm's one-line form, or the exception's type."""
+    from hnc_cam.nc import toolpath
+    try:
+        tp = run(text, machine, file="fuzz.nc")
+    except HncError as e:
+        return ("alarm", e.one_line())
+    except BaseException as e:  # noqa: BLE001
+        if isinstance(e, (KeyboardInterrupt, CaseTimeout)):
+            raise
+        return ("error", type(e).__name__)
+    val = (lambda v: v.hex() if isinstance(v, float) else
+           tuple(x.hex() if isinstance(x, float) else x for x in v) if isinstance(v, tuple) else v)
+    return ("ok", [tuple(val(getattr(m, f)) for f in toolpath.MOVE_FIELDS) for m in tp.moves],
+            [(w.line, w.message) for w in tp.warnings], tp.blocks_executed, tp.summary())
+
+
+def compare_core(text: str, machine) -> str | None:
+    """None when the compiled core and the Python code give the same outcome (or there is
+    no core), else a failure key."""
+    from hnc_cam.nc import interp, toolpath
+    if toolpath.core is None:
+        return None
+    a = _outcome(text, machine)
+    saved = toolpath.core, interp._core
+    toolpath.core = interp._core = None
+    try:
+        b = _outcome(text, machine)
+    finally:
+        toolpath.core, interp._core = saved
+    if a == b:
+        return None
+    if a[0] != b[0] or a[0] != "ok":
+        return f"CoreDiffers: core {str(a)[:120]} / Python {str(b)[:120]}"
+    for i, (ma, mb) in enumerate(zip(a[1], b[1])):
+        if ma != mb:
+            return f"CoreDiffers: move {i}: core {ma} / Python {mb}"
+    return f"CoreDiffers: core {str(a[2:])[:120]} / Python {str(b[2:])[:120]}"
+
+
 class CaseTimeout(BaseException):
     """Raised by the per-case timer (``--case-timeout``): the case is recorded as slow."""
 
@@ -409,7 +451,7 @@ def minimise(text: str, key: str, machine, budget: float = 10.0) -> str:
 
 def fuzz(cases: int, seed: int, steps: int | None = 2000, save: str | None = None,
          progress: bool = False, minimise_budget: float = 10.0, case_timeout: float = 0.0,
-         seconds: float = 0.0) -> dict:
+         seconds: float = 0.0, compare: bool = False) -> dict:
     """Run ``cases`` cases from ``seed``; returns the figures (also used by the tests).
     ``case_timeout`` > 0 stops a case after that many seconds (it counts as slow, with that
     time as a lower bound); ``seconds`` > 0 stops the run early (the count says how many ran)."""
@@ -437,6 +479,8 @@ def fuzz(cases: int, seed: int, steps: int | None = 2000, save: str | None = Non
             signal.setitimer(signal.ITIMER_REAL, case_timeout)
         try:
             f = check(text, machine)
+            if f is None and compare:
+                f = compare_core(text, machine)
         except CaseTimeout:
             f = None
         finally:
@@ -488,13 +532,18 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--seconds", type=float, default=0.0, help="stop the run after this many seconds")
     ap.add_argument("--memory-mb", type=int, default=3072, help="address-space cap of this process "
                     "(a case that needs more fails with MemoryError)")
+    ap.add_argument("--compare", action="store_true", help="run each case also with the compiled "
+                    "core off and report any difference from the Python code as a failure")
     a = ap.parse_args(argv)
     if a.memory_mb:
         lim = a.memory_mb * 1024 * 1024
         resource.setrlimit(resource.RLIMIT_AS, (lim, lim))
     os.environ.setdefault("PYTHONHASHSEED", "0")
     res = fuzz(a.cases, a.seed, None if a.default_limits else a.steps, a.save, progress=True,
-               case_timeout=a.case_timeout, seconds=a.seconds)
+               case_timeout=a.case_timeout, seconds=a.seconds, compare=a.compare)
+    from hnc_cam.nc import toolpath
+    print("compiled core: " + ("on" + (", compared with the Python code case by case" if a.compare else "")
+                               if toolpath.core is not None else "off (not built or HNC_CAM_PURE set)"))
     print(f"cases: {res['cases']} (grammar {res['kinds']['grammar']}, mutation {res['kinds']['mutation']}), "
           f"seed {res['seed']}")
     print(f"time: {res['elapsed_s']:.1f} s, rate {res['rate']:.0f} cases/s")

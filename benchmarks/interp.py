@@ -7,9 +7,15 @@
     side-by-side ratio;
 (d) the same moves in each dialect (HNC-21T, FANUC 0i-T, Haas, SINUMERIK 802; LinuxCNC's
     interpreter when its Python module is installed), load + run, as ratios to HNC-21T measured
-    in the same run.
+    in the same run;
+(e) whole processes on the same file: ``hnc-cam run FILE`` (with the compiled core, and with
+    ``HNC_CAM_PURE=1``, the Python code alone) against LinuxCNC's C++ interpreter
+    ``rs274 -g FILE /dev/null`` (Debian package ``linuxcnc-uspace``, installed here with apt
+    when ``rs274`` is absent and apt can; else that column is skipped, saying why), best of
+    N wall times with the load average beside them, as ratios; and the cold start of
+    ``hnc-cam run`` on a three-line program beside ``python -c pass``.
 
-Run: ``python benchmarks/interp.py [N]``.
+Run: ``python benchmarks/interp.py [N] [--whole] [--runs R]`` (``--whole``: only (e)).
 """
 from __future__ import annotations
 
@@ -71,8 +77,128 @@ def macro_program(n: int) -> str:
     return (f"%2\n#1=0\n#2=0\nWHILE #1 LT {n}\n#1=#1+1\n#2=#2+SIN[#1*PI/180]*2\nENDW\nM30\n")
 
 
+def linuxcnc_program(n: int) -> str:
+    """:func:`plain_program` for LinuxCNC's interpreter: lathe plane and diameter mode (G18 G7)
+    in mm for the ``%1`` line, M2 at the end (the same moves)."""
+    return plain_program(n).replace("%1\n", "G18 G7 G21\n", 1) + "M2\n"
+
+
+def _rs274() -> tuple[str | None, str]:
+    """LinuxCNC's stand-alone interpreter, installed with apt when absent and possible."""
+    import os
+    import shutil
+    import subprocess
+    rs = shutil.which("rs274")
+    if rs:
+        return rs, ""
+    if not shutil.which("apt-get"):
+        return None, "rs274 is not installed and there is no apt-get to install linuxcnc-uspace"
+    if os.geteuid() != 0:
+        return None, "rs274 is not installed (apt-get install linuxcnc-uspace needs root)"
+    env = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
+    for cmd in (["apt-get", "install", "-y", "-qq", "linuxcnc-uspace"],
+                ["apt-get", "update", "-qq"], ["apt-get", "install", "-y", "-qq", "linuxcnc-uspace"]):
+        r = subprocess.run(cmd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        if r.returncode == 0 and cmd[1] == "install":
+            break
+    rs = shutil.which("rs274")
+    if rs:
+        return rs, ""
+    return None, f"rs274 is not installed and apt-get could not install linuxcnc-uspace ({r.stderr.strip()[-200:]})"
+
+
+def _timed(cmd: list[str], env=None) -> tuple[float, float, int]:
+    """(wall s, CPU s of the child, peak RSS MB or -1) of one process run to its end. The
+    peak RSS comes from ``/usr/bin/time`` when there is one (a forked child's own figure
+    would start from this process's size)."""
+    import os
+    import subprocess
+    timer = ["/usr/bin/time", "-f", "%M"] if os.path.exists("/usr/bin/time") else []
+    t0 = time.perf_counter()
+    p = subprocess.Popen(timer + cmd, stdout=subprocess.DEVNULL,
+                         stderr=subprocess.PIPE if timer else subprocess.DEVNULL, env=env)
+    err = p.stderr.read() if timer else b""
+    _, status, ru = os.wait4(p.pid, 0)
+    dt = time.perf_counter() - t0
+    p.returncode = os.waitstatus_to_exitcode(status)
+    if p.stderr:
+        p.stderr.close()
+    if p.returncode != 0:
+        raise RuntimeError(f"{' '.join(cmd)} exited with {p.returncode}")
+    try:
+        rss = int(err.decode().strip().splitlines()[-1]) // 1024
+    except (ValueError, IndexError):
+        rss = -1
+    return dt, ru.ru_utime + ru.ru_stime, rss
+
+
+def whole_process(n: int, runs: int = 7) -> None:
+    import os
+    import tempfile
+    hnc = os.path.join(os.path.dirname(sys.executable), "hnc-cam")
+    if not os.path.exists(hnc):
+        hnc_cmd = [sys.executable, "-c", "import sys; from hnc_cam.cli import main; sys.exit(main())"]
+    else:
+        hnc_cmd = [hnc]
+    rs, why = _rs274()
+    # the Python processes as installed: with their bytecode cached (pip writes it at install)
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+    env.pop("HNC_CAM_PURE", None)
+    pure_env = dict(env, HNC_CAM_PURE="1")
+    from hnc_cam.nc import toolpath
+    core = "built" if toolpath.core is not None else "NOT built (both rows are the Python code)"
+    with tempfile.TemporaryDirectory() as d:
+        nc = os.path.join(d, "plain.nc")
+        ngc = os.path.join(d, "plain.ngc")
+        tiny = os.path.join(d, "tiny.nc")
+        with open(nc, "w") as f:
+            f.write(plain_program(n))
+        with open(ngc, "w") as f:
+            f.write(linuxcnc_program(n))
+        with open(tiny, "w") as f:
+            f.write("%1\nG01 X1 Z1 F100\nM30\n")
+        rows = {"hnc-cam run": (hnc_cmd + ["run", nc], env),
+                "hnc-cam run, HNC_CAM_PURE=1": (hnc_cmd + ["run", nc], pure_env)}
+        if rs:
+            rows["rs274 -g (LinuxCNC)"] = ([rs, "-g", ngc, os.devnull], None)
+        cold = {"hnc-cam run (3 lines)": (hnc_cmd + ["run", tiny], env),
+                "python -c pass": ([sys.executable, "-c", "pass"], env)}
+        _timed(hnc_cmd + ["run", tiny], env)  # writes the bytecode cache if it is missing
+        best: dict[str, tuple] = {}
+        loads = []
+        for _ in range(runs):
+            loads.append(os.getloadavg()[0])
+            for name, (cmd, env) in {**rows, **cold}.items():
+                r = _timed(cmd, env)
+                if name not in best or r[0] < best[name][0]:
+                    best[name] = r
+    print(f"(e) whole processes, {n} plain blocks, best of {runs} (load average "
+          f"{min(loads):.2f}..{max(loads):.2f}; compiled core {core}):")
+    ref = best.get("rs274 -g (LinuxCNC)")
+    for name in rows:
+        wall, cpu, rss = best[name]
+        ratio = f", {ref[0] / wall:.2f}x LinuxCNC's speed" if ref else ""
+        print(f"    {name:30s} {wall:.3f} s wall ({n / wall:,.0f} blocks/s), {cpu:.3f} s CPU, "
+              f"{rss} MB peak{ratio}")
+    if not ref:
+        print(f"    rs274: skipped: {why}")
+    for name in cold:
+        wall, cpu, rss = best[name]
+        print(f"    cold start: {name:24s} {wall:.3f} s wall, {cpu:.3f} s CPU, {rss} MB peak")
+
+
 def main(argv: list[str]) -> int:
+    runs = 7
+    if "--runs" in argv:
+        i = argv.index("--runs")
+        runs = int(argv[i + 1])
+        del argv[i:i + 2]
+    whole = "--whole" in argv
+    argv = [a for a in argv if a != "--whole"]
     n = int(argv[1]) if len(argv) > 1 else 100_000
+    if whole:
+        whole_process(n, runs)
+        return 0
     from hnc_cam.nc.interp import Interp, run
     from hnc_cam.nc import parser
     from hnc_cam.tooling import load_machine
@@ -121,6 +247,7 @@ def main(argv: list[str]) -> int:
           f"{dc:.3f} s -> {n / dc:,.0f} iterations/s)")
 
     dialects(n, mach)
+    whole_process(n, runs)
     try:
         from pygcode import Line as PLine
     except ImportError:

@@ -105,6 +105,7 @@ from .state import ModalState
 from ..dialect.hnc21t.memory import HncMemory
 from .expr import EvalError, Expr
 from .toolpath import Move, Toolpath, Warning_
+from .toolpath import core as _core
 
 _hypot = math.hypot
 _atan2 = math.atan2
@@ -551,6 +552,11 @@ class Interp(HncMemory):
         OTHER, IF, WHILE, ELSE, ENDIF, ENDW = P.OTHER, P.IF, P.WHILE, P.ELSE, P.ENDIF, P.ENDW
         block = self._block
         steps = self.steps
+        # runs of plain blocks go to the compiled core when there is one (the HNC reader and
+        # this executor only: it does what they do, and hands back before anything else)
+        fast = (_core.run_plain if _core is not None and type(self) is Interp
+                and getattr(self.syntax, "fast_words", None) is P.fast_words else None)
+        stopped = -1  # the statement the core last handed back: Python runs it
         for line, col, msg in getattr(src, "notes", ()) or ():
             self.warn(line, msg)
         try:
@@ -578,6 +584,14 @@ class Interp(HncMemory):
                 if k is OTHER:
                     c = comp[pc]
                     if c is None:
+                        if fast is not None and pc != stopped:
+                            steps -= 1  # counted again by the core, per statement it runs
+                            npc, steps = fast(self, pc, end, steps, OTHER)
+                            if npc != pc:
+                                stopped = pc = npc
+                                continue
+                            stopped = pc
+                            steps += 1
                         c = comp[pc] = self._compile(pc)
                     if c.__class__ is Blk:
                         self.steps = steps
@@ -1517,13 +1531,14 @@ class Interp(HncMemory):
         ``seam == "cycle"``: a temporary cancel (back to the programmed point on ``line``; the
         cycle restarts compensation after it); G28/G29 under compensation alarm (the manual:
         cancel compensation before G28)."""
-        from .compensation import CompItem, compensate_moves
         if seam in ("G28", "G29") and self.comp_mode in ("start", "normal") and self.dry is None:
             raise self.alarm(f"cancel tool nose radius compensation (G40) before {seam} (the "
                              f"manual, G28: compensation must be cancelled first)", line)
         items = self.comp_items
         if not items or self.dry is not None:
             return
+        # imported here: a program without G41/G42 never loads the offsetting code
+        from .compensation import CompItem, compensate_moves
         self.comp_items = []
         run = [it for it in items if it.mode != "lead"]
         if not run:

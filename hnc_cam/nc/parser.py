@@ -39,6 +39,7 @@ from dataclasses import dataclass, field
 from typing import Optional
 
 from ..errors import NCError
+from . import toolpath as _tp
 from .expr import Expr, constant_value
 from .lexer import FAST_SCAN, FUNCTIONS, clean, printable, tokenize
 
@@ -197,9 +198,17 @@ def load(text: str, file: str = "<program>", line_limit: Optional[int] = None) -
     characters. A structure error (``ENDW`` without ``WHILE``, an ``IF`` never closed, ...)
     is recorded in :attr:`Source.bad` and alarms when execution reaches that statement, so
     that an earlier line the controller stops at is reported first."""
-    raw = split_lines(text)
-    src = Source(file=file, lines=raw)
-    lineno, stext, kind, number = src.lineno, src.text, src.kind, src.number
+    core = _tp.core
+    got = (core.split(text, -1 if line_limit is None else line_limit, OTHER, HDR, _control, _header)
+           if core is not None and text.__class__ is str else None)
+    if got is not None:  # the compiled core's split: the same lists as the loop below
+        raw, lineno, stext, kind, number = got
+        src = Source(file=file, lines=raw, lineno=lineno, text=stext, kind=kind, number=number)
+        raw = ()
+    else:
+        raw = split_lines(text)
+        src = Source(file=file, lines=raw)
+        lineno, stext, kind, number = src.lineno, src.text, src.kind, src.number
     for i, r in enumerate(raw):
         if line_limit is not None and len(r) > line_limit:
             raise NCError(f"line too long: {len(r)} characters (the machine's limit is {line_limit}, "

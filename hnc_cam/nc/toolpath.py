@@ -392,6 +392,30 @@ for _n, _f in enumerate(MOVE_FIELDS):
 del _n, _f, _p
 
 
+def _bind_core():
+    """The compiled core (``hnc_cam/nc/_core.c``, built by the package's install) bound to
+    these column blocks; None when it is not built or ``HNC_CAM_PURE`` is set in the
+    environment (then everything runs the Python code, which the core matches bit for bit)."""
+    import os
+    if os.environ.get("HNC_CAM_PURE"):
+        return None
+    try:
+        from . import _core
+    except ImportError:
+        return None
+    _core.bind(Move, _Block, _local, _INDEX, _NF, _NI, _BLOCK,
+               [(op, _op_code(op)) for op in ("G00", "G01", "G02", "G03")], math.hypot)
+    return _core
+
+
+#: the compiled core, or None (pure Python)
+core = _bind_core()
+
+
+def _doubles(data: bytes) -> array:
+    return array("d", data)
+
+
 def _r(v: float) -> float:
     v = round(float(v), 6)
     return 0.0 if v == 0 else v
@@ -453,11 +477,21 @@ class Toolpath:
     def dumps(self) -> str:
         return json.dumps(self.to_json(), indent=None, separators=(",", ":"))
 
+    def _figures(self) -> tuple:
+        """(extents, feed length, rapid length, cycle time): from the compiled core when the
+        moves are all in column blocks (the same values: the same operations in the same
+        order, the sums by Python's ``sum``), else from the properties."""
+        moves = self.moves
+        if core is not None and moves.__class__ is list and moves:
+            r = core.stats(moves, _doubles)
+            if r is not None:
+                return (r[0], r[1], r[2], r[3]), sum(r[4]), sum(r[5]), sum(r[6])
+        return self.extents(), self.feed_length, self.rapid_length, self.cycle_time_s
+
     def summary(self) -> str:
-        x0, z0, x1, z1 = self.extents()
-        t = self.cycle_time_s
+        (x0, z0, x1, z1), feed, rapid, t = self._figures()
         return (f"{self.file}: {self.blocks_executed} blocks executed, {len(self.moves)} moves, "
-                f"feed {self.feed_length:.3f} mm, rapid {self.rapid_length:.3f} mm, "
+                f"feed {feed:.3f} mm, rapid {rapid:.3f} mm, "
                 f"cycle time {fmt_cycle_time(t)}, "
                 f"X {2 * x0:.3f}..{2 * x1:.3f} (dia), Z {z0:.3f}..{z1:.3f}"
                 + (f", {len(self.warnings)} warning(s)" if self.warnings else ""))
