@@ -54,7 +54,7 @@ static PyObject *a_src, *a_m, *a_dry, *a_comp_mode, *a_corner, *a_x, *a_z, *a_F,
 #define LENGTH_LIMIT 99999.999
 
 /* ---- numbers as Python computes them ---------------------------------------------------- */
-static int hypot_err = 0;
+static _Thread_local int hypot_err = 0;  /* per thread: runs in threads (a cluster worker) */
 
 static double phypot(double a, double b)
 {

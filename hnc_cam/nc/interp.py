@@ -96,8 +96,6 @@ from typing import Any, Optional
 
 from ..errors import NCError
 from ..geometry import Arc, Line
-from ..geometry.corner import CornerError
-from ..geometry.corner import corner as _corner
 from ..tooling import Machine, Register, load_machine
 from . import parser as P
 from .lexer import printable
@@ -1140,6 +1138,7 @@ class Interp(HncMemory):
         if l1 < 1e-9:  # a chamfer/round of the block before took all of this segment
             raise self.alarm(f"chamfer/round {kind}{size:g} is longer than the segment (nothing is "
                              f"left of it after the previous chamfer/round)", line, col)
+        from ..geometry.corner import CornerError, corner as _corner  # chamfers and rounds only
         try:
             k = _corner((ax, az), (gx, gz), (x2, z2), kind, size)
         except CornerError as ce:

@@ -15,7 +15,6 @@ their own rates until the shorter one arrives, then the other alone).
 """
 from __future__ import annotations
 
-import json
 import math
 import struct
 import threading
@@ -475,6 +474,7 @@ class Toolpath:
         }
 
     def dumps(self) -> str:
+        import json  # here: `hnc-cam run` without --json does without it
         return json.dumps(self.to_json(), indent=None, separators=(",", ":"))
 
     def _figures(self) -> tuple:
