@@ -79,7 +79,7 @@ def main() -> int:
         for p in sets:
             total += len(ctx.program(p).encode())
         total = total * a.variants // max(1, len(sets))
-        fitted = sum(s.kind == "fit" for pc in pieces for s in pc.slots)
+        fitted = sum(pc.fitted for pc in pieces)
         print(f"{name:<22} {len(pieces):>6} {len(fam.free):>6} {fitted:>6} {t1 - t0:>9.2f} "
               f"{t2 - t1:>8.2f} {size:>8} {total:>11} {total / size:>6.0f}x")
     return 0

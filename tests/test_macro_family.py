@@ -282,28 +282,31 @@ def test_every_bundled_family_gets_a_macro_or_one_clear_refusal(name, tmp_path, 
         assert len([ln for ln in err.splitlines() if ln.startswith("error:")]) == 1, err
 
 
-def test_a_groove_that_appears_splits_the_family_at_its_parameter(tmp_path):
+def test_a_groove_that_appears_is_decided_at_the_control(tmp_path):
+    """The long pins' groove (from length 52) is one program: the operations that differ are
+    both written, the control picks them by ``IF [length LT 52]``, and either side's toolpath
+    is that variant's."""
     from hnc_cam.cli import main
     from hnc_cam.nc import run
     ctx, fam, pieces = _derive(FRESH / "grooved_pin.py")
-    assert len(pieces) == 2
-    cuts = {b for pc in pieces for b in pc.bounds}
-    assert cuts == {"length < 52", "length >= 52"}
-    # a file is refused (two programs), nothing written; a folder holds both
+    assert len(pieces) == 1 and pieces[0].decisions == ["length < 52"]
     f = tmp_path / "one.nc"
-    assert main(["family", str(FRESH / "grooved_pin.py"), "--macro", "--check", "2",
-                 "-o", str(f)]) == 2
-    assert not f.exists()
-    d = tmp_path / "out"
-    assert main(["family", str(FRESH / "grooved_pin.py"), "--macro", "--check", "2",
-                 "-o", f"{d}/"]) == 0
-    short, long_ = (d / "O0001.nc").read_text(), (d / "O0002.nc").read_text()
-    # each program refuses a length of the other piece before any motion
-    for text, bad in ((short, 54.0), (long_, 49.0)):
-        var = next(ln.split("=")[0] for ln in text.splitlines() if ln.endswith("(LENGTH)"))
-        t = text.replace(next(ln for ln in text.splitlines() if ln.endswith("(LENGTH)")),
-                         f"{var}={bad} (LENGTH)")
-        assert not [m for m in run(t).moves if m.kind != "dwell"]
+    assert main(["family", str(FRESH / "grooved_pin.py"), "--macro", "--check", "4",
+                 "-o", str(f)]) == 0
+    text = f.read_text()
+    assert "IF [#50 LT 52]" in text and "ELSE" in text
+    line = next(ln for ln in text.splitlines() if ln.endswith("(LENGTH)"))
+    for length in (48.5, 51.99, 52.01, 52.45):
+        t = text.replace(line, f"{line.split('=')[0]}={length} (LENGTH)")
+        got = [m for m in run(t).moves if m.kind != "dwell"
+               and (abs(m.end[0] - m.start[0]) > 1e-3 or abs(m.end[1] - m.start[1]) > 1e-3)]
+        ref = [m for m in run(ctx.program(dict(fam.params, length=length))).moves
+               if m.kind != "dwell"
+               and (abs(m.end[0] - m.start[0]) > 1e-3 or abs(m.end[1] - m.start[1]) > 1e-3)]
+        assert len(got) == len(ref), length
+        for x, y in zip(got, ref):
+            assert x.end[0] == pytest.approx(y.end[0], abs=0.0006)
+            assert x.end[1] == pytest.approx(y.end[1], abs=0.0006)
 
 
 def test_table_rows_are_selected_by_number_and_each_is_checked(tmp_path):
@@ -381,8 +384,8 @@ def test_a_failing_check_names_the_set_exit_1_nothing_written(tmp_path, monkeypa
 
     def spoiled(*a, **kw):
         pc = orig(*a, **kw)
-        s = next(s for s in pc.slots if s.kind == "fit"
-                 and pc.blocks[s.block].words[s.word].letter == "Z")
+        s = next(s for rg in pc.regions for alt in rg.alts for s in alt.slots
+                 if s.kind == "fit" and alt.blocks[s.block].words[s.word].letter == "Z")
         s.node = ("+", s.node, ("*", ("c", 0.01), ("-", ("p", "length"), ("c", 60.0))))
         return pc
 

@@ -539,6 +539,13 @@ class Lets:
         self._memo: dict[int, str] = {}
         self._keep: list[tuple] = []
 
+    def fork(self) -> "Lets":
+        """A branch's writer: it sees what is assigned so far, its own temporaries start at
+        the next free variable and stay its own (a sibling branch reuses those numbers)."""
+        child = Lets(self.var, self.dialect, self.next, self.last, self.inline, self.depth)
+        child._memo, child._keep = dict(self._memo), list(self._keep)
+        return child
+
     def expr(self, n: tuple) -> str:
         """The expression of ``n`` (assignments it needs are appended to :attr:`lines`)."""
         key = id(n)

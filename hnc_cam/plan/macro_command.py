@@ -162,7 +162,7 @@ def macro_command(args: argparse.Namespace) -> int:
     else:
         sys.stdout.write(texts[0][1])
         sys.stdout.flush()
-    fitted = sum(s.kind == "fit" for pc in pieces for s in pc.slots)
+    fitted = sum(pc.fitted for pc in pieces)
     print(f"{args.part}: {len(pieces)} macro program(s) for {len(fam.free)} parameter(s) "
           f"({', '.join(fam.free)}), {fitted} fitted word(s), stock {stock}; "
           + (f"checked {checked} parameter set(s): pass" if checked else

@@ -448,6 +448,17 @@ class Piece:
     bounds: list[str] = field(default_factory=list)  # how this piece's range was cut
     stock: str = ""
     extra: list[tuple] = field(default_factory=list)  # conditions of a cut along a feature
+    regions: list = field(default_factory=list)  # Region: the program's sections, decided
+
+    @property
+    def fitted(self) -> int:
+        """The fitted words of every alternative."""
+        return sum(s.kind == "fit" for rg in self.regions for a in rg.alts for s in a.slots)
+
+    @property
+    def decisions(self) -> list[str]:
+        """The thresholds the program decides at the control."""
+        return [lab for rg in self.regions if rg.tree is not None for lab in rg.tree.labels()]
 
 
 class TopologyChange(Exception):
@@ -513,35 +524,39 @@ def _movers(ctx: Ctx, fam: Family, tr: Any, nominal: dict, lo: dict, hi: dict,
     return out
 
 
-def derive_piece(ctx: Ctx, fam: Family, lo: dict, hi: dict, nominal: dict[str, Any],
-                 n_fit: int = 10, n_hold: int = 8, seed: Any = 0,
-                 extra: list[tuple] = ()) -> Piece:
-    """Fit one program over the box ``lo``..``hi`` (raises :class:`TopologyChange` where a
-    variant's skeleton differs)."""
+#: the fewest variants an alternative of a decision is fitted from
+MIN_ALT = 8
+
+
+@dataclass
+class Alt:
+    """One alternative of a region: its representative variant's sections, their core
+    blocks and fitted words, and the variants it was fitted on."""
+    rep: Any  # macro_merge.Prog
+    secs: list
+    blocks: list[Block]
+    slots: list[Slot]
+    sets: list[dict[str, Any]]
+
+
+@dataclass
+class Region:
+    """A run of the nominal's sections and its alternatives (one, or several told apart by
+    ``tree``)."""
+    span: tuple[int, int]
+    alts: list[Alt]
+    tree: Any = None  # macro_merge.Node
+
+
+def _fit_blocks(ctx: Ctx, fam: Family, tr: Any, nominal: dict, lo: dict, hi: dict,
+                allb: list[list[Block]], allp: list[dict], n_fit: int,
+                law_at: int | None) -> list[Slot]:
+    """Each word of blocks that every variant in ``allb`` has alike (same skeleton): a
+    constant, an exact expression of the traced features, a crossing, a piecewise law (the
+    larger or smaller of two), or for S/F the lowest value. ``law_at``: the offset of these
+    blocks among the nominal's core blocks (None: not the nominal's alternative)."""
     import numpy as np
-    tr = _trace(fam.mod, nominal, fam.free)
-    _sketch_ok(fam, nominal)
-    text = ctx.program(nominal)
-    nb = core(blocks(text))
-    sk = skeleton(nb)
-    sets = sample(fam, tr, lo, hi, n_fit + n_hold, ("fit", seed), branches=False,
-                  extra=extra)
-    if len(sets) < 4:
-        raise PartError(f"{fam.path}: too few valid parameter sets near "
-                        f"{_pset(nominal, fam.free)} to derive a macro ({len(sets)} of the "
-                        f"sampled sets pass the family's checks)")
-    progs = []
-    for p in sets:
-        _sketch_ok(fam, p)
-        if not _same_branches(tr, p):
-            raise TopologyChange(p, "the sketch takes another branch")
-        vb = core(blocks(ctx.program(p)))
-        if skeleton(vb) != sk:
-            raise TopologyChange(p, _first_difference(nb, vb))
-        progs.append(vb)
-    n_fit = min(n_fit, len(sets) - 2)
-    allp = [nominal] + sets
-    allb = [nb] + progs
+    nb = allb[0]
     nodes, mat = _candidates(fam, tr, allp)
     cross = None
     slots: list[Slot] = []
@@ -550,14 +565,16 @@ def derive_piece(ctx: Ctx, fam: Family, lo: dict, hi: dict, nominal: dict[str, A
             texts = {vb[bi].words[wi].text for vb in allb}
             cycle = w.letter in "PQ" and any(x.letter == "G" and float(x.text) in (70, 71, 72, 73)
                                              for x in b.words)
-            if len(texts) == 1 or w.letter in _CODES or cycle:  # a cycle's P/Q: our own N
+            if cycle:
+                slots.append(Slot(bi, wi, "label"))
+                continue
+            if len(texts) == 1 or w.letter in _CODES:
                 slots.append(Slot(bi, wi, "const"))
                 continue
             y = np.array([vb[bi].words[wi].value for vb in allb])
-            r = _fit_word(y, mat, n_fit + 1)
+            r = _fit_word(y, mat, min(n_fit + 1, len(allp)))
             if r is not None:
-                node = _combine(nodes, *r)
-                slots.append(Slot(bi, wi, "fit", node))
+                slots.append(Slot(bi, wi, "fit", _combine(nodes, *r)))
                 continue
             if w.letter == "Z":
                 if cross is None:
@@ -571,18 +588,147 @@ def derive_piece(ctx: Ctx, fam: Family, lo: dict, hi: dict, nominal: dict[str, A
                 slots.append(Slot(bi, wi, "bound", value=v,
                                   note=f"{w.letter}{_num(v)}: THE LOWEST OF {len(y)} VARIANTS"))
                 continue
-            law = _local_law(y, mat, nodes, allp, fam, nominal)
-            if law is not None and law[1]:
+            law = _local_law(y, mat, nodes, allp, fam, allp[0])
+            node = _piecewise(y, mat, nodes, law, allp) if law is not None else None
+            if node is not None:
+                slots.append(Slot(bi, wi, "fit", node))
+                continue
+            if law is not None and law[1] and law_at is not None:
                 raise TopologyChange(allp[law[1][0]], f"the word {w.letter}{w.text} (line "
                                      f"{b.line}: {b.raw.strip()}) changes its law",
-                                     (bi, wi, law[0]))
-            movers = _movers(ctx, fam, tr, nominal, lo, hi, bi, wi, nb)
+                                     (law_at + bi, wi, law[0]))
+            movers = _movers(ctx, fam, tr, nominal, lo, hi, law_at + bi, wi,
+                             core(blocks(ctx.program(nominal)))) if law_at is not None else []
             raise PlanError(f"{fam.path}: the word {w.letter}{w.text} of the family's program "
                             f"(line {b.line}: {b.raw.strip()}) fits no exact expression of the "
                             f"parameters (moved by {', '.join(movers) or 'several parameters together'}); "
                             f"no macro is written")
-    return Piece(fam, tr, dict(lo), dict(hi), dict(nominal), text, nb, slots, sets,
-                 stock=ctx.stock)
+    return slots
+
+
+def _piecewise(y, mat, nodes, law, allp: list[dict]) -> tuple | None:
+    """A word that is the larger (or smaller) of two exact laws: the planner's allowance that
+    the steepest of several normals decides. ``law``: the law near the nominal and the sets
+    it misses; the second law is fitted on those, and max/min of the two must hold on all."""
+    import numpy as np
+    node1, off = law
+    if len(off) < 5:
+        return None
+    off = list(off)
+    r = _fit_word(y[off], mat[off], len(off) - 1)
+    if r is None:
+        return None
+    node2 = _combine(nodes, *r)
+    for kind in ("max", "min"):
+        n = (kind, node1, node2)
+        try:
+            if np.max(np.abs(np.array([_ev(n, p) for p in allp]) - y)) <= TOL:
+                return n
+        except (ValueError, ZeroDivisionError, OverflowError):
+            continue
+    return None
+
+
+def derive_piece(ctx: Ctx, fam: Family, lo: dict, hi: dict, nominal: dict[str, Any],
+                 n_fit: int = 10, n_hold: int = 8, seed: Any = 0,
+                 extra: list[tuple] = ()) -> Piece:
+    """Fit one program over the box ``lo``..``hi``: the variants' programs cut into sections
+    and aligned (:mod:`hnc_cam.plan.macro_merge`); where they differ, a decision tree on
+    traced features picks the alternative at the control; each alternative's words fitted
+    on its own variants. Raises :class:`TopologyChange` where no such tree tells the
+    variants apart (or a word leaves its law), for :func:`derive_pieces` to split."""
+    from . import macro_merge as mm
+    tr = _trace(fam.mod, nominal, fam.free)
+    _sketch_ok(fam, nominal)
+    text = ctx.program(nominal)
+    nb = core(blocks(text))
+    nomp = mm.prog(nominal, text, ctx.dialect)
+    nomp.ops = [("equal", 0, len(nomp.secs), 0, len(nomp.secs))]
+    sets = sample(fam, tr, lo, hi, n_fit + n_hold, ("fit", seed), branches=False,
+                  extra=extra)
+    if len(sets) < 4:
+        raise PartError(f"{fam.path}: too few valid parameter sets near "
+                        f"{_pset(nominal, fam.free)} to derive a macro ({len(sets)} of the "
+                        f"sampled sets pass the family's checks)")
+    progs: list[Any] = []
+
+    def add(ps: list[dict]) -> None:
+        for p in ps:
+            _sketch_ok(fam, p)
+            if not _same_branches(tr, p):
+                raise TopologyChange(p, "the sketch takes another branch")
+            v = mm.prog(p, ctx.program(p), ctx.dialect)
+            mm.align(nomp, v)
+            progs.append(v)
+
+    add(sets)
+    for rnd in range(4):
+        allv = [nomp] + progs
+        layout = []
+        need: list[list[tuple]] = []
+        for reg in mm.regions(nomp, progs):
+            keys = [mm.alt_key(nomp, v, reg) for v in allv]
+            distinct = list(dict.fromkeys(keys))
+            labels = [distinct.index(k) for k in keys]
+            tree = None
+            if len(distinct) > 1:
+                other = next(v for v, lab in zip(allv, labels) if lab != 0)
+                diff = _first_difference(nb, core(blocks(other.text)))
+                if None in distinct:
+                    raise TopologyChange(other.p, diff)
+
+                def side(p0, p1, t, reg=reg, distinct=distinct):
+                    p = {k: (p0[k] + t * (p1[k] - p0[k]) if k in fam.free else p0[k])
+                         for k in p0}
+                    try:
+                        v = mm.prog(p, ctx.program(p), ctx.dialect)
+                    except PlanError:
+                        return None
+                    mm.align(nomp, v)
+                    key = mm.alt_key(nomp, v, reg)
+                    return distinct.index(key) if key in distinct else None
+                tree = mm.build_tree(fam, tr, [v.p for v in allv], labels, side)
+                if tree is None:
+                    raise TopologyChange(other.p, diff)
+                paths = tree.paths()
+                need += [paths[i] for i in range(len(distinct)) if labels.count(i) < MIN_ALT]
+            layout.append((reg, distinct, labels, tree))
+        if not need or rnd == 3:
+            break
+        for conds in need:
+            add(sample(fam, tr, lo, hi, MIN_ALT, ("more", seed, rnd, len(progs)),
+                       branches=False, extra=list(extra) + conds))
+    allv = [nomp] + progs
+    line_ix = {b.line: i for i, b in enumerate(nb)}
+    regions: list[Region] = []
+    for reg, distinct, labels, tree in layout:
+        alts = []
+        for li in range(len(distinct)):
+            members = [v for v, lab in zip(allv, labels) if lab == li]
+            if len(members) < 4:
+                raise TopologyChange(members[0].p, f"too few variants ({len(members)}) take "
+                                     f"one of the program's alternatives "
+                                     f"({', '.join(tree.labels())})")
+            runs = [mm.run_of(nomp, v, reg) for v in members]
+            allb = [[b for s in run for b in s.blocks] for run in runs]
+            at = None
+            if members[0] is nomp:
+                at = line_ix[allb[0][0].line] if allb[0] else 0
+            slots = _fit_blocks(ctx, fam, tr, nominal, lo, hi, allb, [v.p for v in members],
+                                min(n_fit, len(members) - 2), at) if allb[0] else []
+            alts.append(Alt(members[0], runs[0], allb[0], slots, [v.p for v in members]))
+        regions.append(Region(reg, alts, tree))
+    # the nominal's own words, indexed on its blocks (what the fit counts)
+    flat = []
+    for rg in regions:
+        alt = rg.alts[0]
+        for s in alt.slots:
+            flat.append(Slot(line_ix[alt.blocks[s.block].line], s.word, s.kind, s.node,
+                             s.value, s.note))
+    pc = Piece(fam, tr, dict(lo), dict(hi), dict(nominal), text, nb, flat, sets,
+               stock=ctx.stock)
+    pc.regions = regions
+    return pc
 
 
 def _differs(ctx: Ctx, fam: Family, nb_sk: tuple, p: dict, tr: Any = None,
@@ -802,6 +948,148 @@ def _letters(free: list[str]) -> dict[str, str]:
     return out
 
 
+_HEADER_COMMENTS = ("(PARAMETERS", "(STOCK", "(PART", "(COMPENSATION")
+_LEAD_N = re.compile(r"^(\s*)N(\d+)")
+
+
+def _emit_alt(alt: Alt, lets: Lets, body: list[str], notes: list[str], counter: list[int],
+              fanuc: bool) -> None:
+    """An alternative's lines from its representative program, its words replaced by their
+    expressions (temporaries not yet assigned: just before), its blocks renumbered in the
+    macro's sequence and its cycles' P/Q following them."""
+    if not alt.secs:
+        return
+    for s in alt.slots:
+        if s.kind == "fit":
+            lets.expr(s.node)
+    body += lets.lines
+    lets.lines.clear()
+    lines = alt.rep.text.splitlines()
+    a, b = alt.secs[0].a, alt.secs[-1].b
+    nmap: dict[str, int] = {}
+    for i in range(a, b):
+        m = _LEAD_N.match(lines[i])
+        if m:
+            counter[0] += 1
+            nmap[m.group(2)] = counter[0]
+    for k, v in nmap.items():
+        counter[1][(id(alt.rep), k)] = v
+    bmap = {blk.line: i for i, blk in enumerate(alt.blocks)}
+    floating = {blk.line: blk.droppable for blk in blocks(alt.rep.text) if blk.floating}
+    by_block: dict[int, list[Slot]] = {}
+    for s in alt.slots:
+        by_block.setdefault(s.block, []).append(s)
+
+    def renum(t: str) -> str:
+        m = _LEAD_N.match(t)
+        return t if not m else f"{m.group(1)}N{nmap[m.group(2)]}{t[m.end():]}"
+    for i in range(a, b):
+        raw, ln = lines[i], i + 1
+        if raw.strip() == "%":
+            continue
+        bi = bmap.get(ln)
+        if bi is None:
+            if ln in floating and floating[ln]:
+                continue
+            if raw.lstrip().startswith(_HEADER_COMMENTS):
+                continue
+            body.append(renum(raw))
+            continue
+        blk = alt.blocks[bi]
+        out = raw
+        for s in sorted(by_block.get(bi, []), key=lambda s: -blk.words[s.word].span[0]):
+            w = blk.words[s.word]
+            ws, we = w.span
+            if s.kind == "fit":
+                rep = f"[{lets.expr(s.node)}]"
+            elif s.kind == "bound":
+                rep = _num(s.value)
+                notes.append(s.note)
+            elif s.kind == "label":  # resolved when every block has its number
+                counter[2][id(alt.rep)] = alt.rep
+                rep = f"\0{id(alt.rep)}:{w.text}\0"
+            else:
+                continue
+            out = out[:ws] + rep + out[we:]
+        out = renum(out)
+        if re.search(r"\bM30\b", out):
+            out = re.sub(r"\bM30\b", "M99", out)
+        body.append(out)
+
+
+def _resolve_labels(line: str, counter: list[Any], pc: Piece) -> str:
+    """A cycle's P/Q in the macro's numbering: the block it names in its own program, else
+    (that block in a section the program shares with the nominal) the nominal's block."""
+    def one(m: re.Match) -> str:
+        pid, old = int(m.group(1)), m.group(2)
+        got = counter[1].get((pid, old))
+        if got is None:
+            got = _through_nominal(counter[2][pid], old, pc, counter[1])
+        if got is None:
+            raise PlanError(f"{pc.fam.path}: a cycle names block N{old} of a program "
+                            f"alternative that the macro does not hold; no macro is written")
+        return str(got)
+    return re.sub(r"\0(\d+):(\d+)\0", one, line)
+
+
+def _through_nominal(prog: Any, old: str, pc: Piece, done: dict) -> int | None:
+    for j, sec in enumerate(prog.secs):
+        for k, b in enumerate(sec.blocks):
+            m = _LEAD_N.match(b.raw)
+            if m and m.group(2) == old:
+                for tag, i1, i2, j1, j2 in prog.ops:
+                    if tag == "equal" and j1 <= j < j2:
+                        for rg in pc.regions:
+                            rep = rg.alts[0].rep
+                            if rg.tree is None and rg.span[0] <= i1 + j - j1 < rg.span[1]:
+                                nb = rep.secs[i1 + j - j1].blocks[k]
+                                mm_ = _LEAD_N.match(nb.raw)
+                                return done.get((id(rep), mm_.group(2))) if mm_ else None
+                return None
+    return None
+
+
+
+def _emit_tree(node: Any, alts: list[Alt], lets: Lets, body: list[str], notes: list[str],
+               counter: list[int], labels: list[int], fanuc: bool) -> None:
+    """A decision at the control: HNC-21T ``IF [cond]`` / ``ELSE`` / ``ENDIF``, FANUC
+    ``IF [not cond] GOTO n`` ... ``GOTO m`` ``Nn`` ... ``Nm``. Each branch's temporaries are
+    its own (one branch runs), numbered from the same variable."""
+    if node.leaf is not None:
+        _emit_alt(alts[node.leaf], lets, body, notes, counter, fanuc)
+        return
+    from .macro import _negate
+    op, f, c = node.cond
+    ops = {"<": "LT", "<=": "LE", ">": "GT", ">=": "GE"}
+    fx, cx = lets.expr(f), lets.expr(c)
+    body += lets.lines
+    lets.lines.clear()
+    body.append(f"({node.label.upper()}?)")
+    forks = []
+    if fanuc:
+        l_no, l_end = labels[0] + 1, labels[0] + 2
+        labels[0] += 2
+        body.append(f"IF [{fx} {ops[_negate(node.cond)[0]]} {cx}] GOTO {l_no}")
+        fy = lets.fork()
+        _emit_tree(node.yes, alts, fy, body, notes, counter, labels, fanuc)
+        body += [f"GOTO {l_end}", f"N{l_no}"]
+        fn = lets.fork()
+        _emit_tree(node.no, alts, fn, body, notes, counter, labels, fanuc)
+        body.append(f"N{l_end}")
+        forks = [fy, fn]
+    else:
+        body.append(f"IF [{fx} {ops[op]} {cx}]")
+        fy = lets.fork()
+        _emit_tree(node.yes, alts, fy, body, notes, counter, labels, fanuc)
+        body.append("ELSE")
+        fn = lets.fork()
+        _emit_tree(node.no, alts, fn, body, notes, counter, labels, fanuc)
+        body.append("ENDIF")
+        forks = [fy, fn]
+    lets.next = max(f.next for f in forks)
+
+
+
 def _box_checks(pc: Piece) -> list[Check]:
     out = []
     for k in pc.fam.free:
@@ -909,53 +1197,22 @@ def render_program(pieces_or_one: Piece, dialect: str = "hnc21t", values: dict |
         main += [f"M98 P{sub}", "M30"]
         check_lines = []
     body: list[str] = []
-    for s in pc.slots:
-        if s.kind == "fit":
-            lets.expr(s.node)
+    for rg in pc.regions:  # every single alternative's words: before the first block
+        if rg.tree is None:
+            for s in rg.alts[0].slots:
+                if s.kind == "fit":
+                    lets.expr(s.node)
     pre = list(lets.lines)
     lets.lines.clear()
-    by_block: dict[int, list[Slot]] = {}
-    for s in pc.slots:
-        by_block.setdefault(s.block, []).append(s)
-    bmap = {b.line: i for i, b in enumerate(pc.blocks)}
-    floating = {b.line: b.droppable for b in blocks(pc.text) if b.floating}
-    lines = pc.text.splitlines()
-    start = 1
-    if fanuc:
-        start = next(i for i, ln in enumerate(lines) if ln.startswith("O")) + 1
-    else:
-        start = next(i for i, ln in enumerate(lines) if ln.startswith("%")) + 1
     notes: list[str] = []
-    for i, raw in enumerate(lines[start:], start + 1):
-        if raw.strip() == "%":
-            continue
-        bi = bmap.get(i)
-        if bi is None and i in floating:
-            if not floating[i]:
-                body.append(raw)
-            continue
-        if bi is None:
-            if raw.lstrip().startswith("(PARAMETERS") or raw.lstrip().startswith("(STOCK") \
-                    or raw.lstrip().startswith("(PART") or raw.lstrip().startswith("(COMPENSATION"):
-                continue
-            body.append(raw)
-            continue
-        b = pc.blocks[bi]
-        out = raw
-        for s in sorted(by_block.get(bi, []), key=lambda s: -b.words[s.word].span[0]):
-            w = b.words[s.word]
-            a, e = w.span
-            if s.kind == "fit":
-                rep = f"[{lets.expr(s.node)}]"
-            elif s.kind == "bound":
-                rep = _num(s.value) if not fanuc or w.letter == "S" else _num(s.value)
-                notes.append(s.note)
-            else:
-                continue
-            out = out[:a] + rep + out[e:]
-        if re.search(r"\bM30\b", out) and bi is not None:
-            out = re.sub(r"\bM30\b", "M99", out)
-        body.append(out)
+    counter: list[Any] = [0, {}, {}]  # last number, (program, old N) -> new, programs
+    labels = [9000]
+    for rg in pc.regions:
+        if rg.tree is None:
+            _emit_alt(rg.alts[0], lets, body, notes, counter, fanuc)
+        else:
+            _emit_tree(rg.tree, rg.alts, lets, body, notes, counter, labels, fanuc)
+    body = [_resolve_labels(ln, counter, pc) if "\0" in ln else ln for ln in body]
     sub_head = [f"%{sub}" if not fanuc else f"O{sub}"]
     sub_head += [f"({n})" for n in dict.fromkeys(notes)]
     text = "\n".join(main + sub_head + check_lines + pre + body) + "\n"

@@ -1,0 +1,283 @@
+"""Decisions at the control: one macro program over variants whose programs differ in places.
+
+The planner decides some things per variant from thresholds on the part's dimensions: a
+roughing cycle split where constant surface speed meets the spindle limit (an extra inner
+cycle below a diameter), the insert that roughs an undercut zone (the 55 deg one where the
+zone's walls let it in), the number of passes of a chamfer at the left end. Such a decision
+changes a few operations of the program, not the whole of it.
+
+*Sections*: a program is cut at its comment lines (each operation and each tool change
+starts with one) into sections; a section's key is its blocks' skeleton. Each variant's
+sections are aligned with the nominal's (:class:`difflib.SequenceMatcher` on the keys); the
+places where any variant differs, widened to whole sections and merged where they overlap,
+are the *regions* with more than one *alternative* (the runs of sections the variants have
+there). Every other section is a region of one alternative.
+
+*Decisions*: the alternatives of a region are told apart by a binary tree of thresholds on
+traced features (a parameter, a contour point's X on diameter or Z, an arc's radius): each
+node's feature and cut are those that leave no alternative on both sides over the sampled
+variants, the cut refined by bisection between the two nearest variants across it (to 1/4096
+of their distance) and rounded to the roundest number inside the last interval. The macro
+writes the tree as ``IF [cond] ... ELSE ... ENDIF`` (FANUC: ``IF [cond] GOTO n``), each branch
+an alternative's sections with its own fitted words.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from difflib import SequenceMatcher
+from typing import Any
+
+from .macro import _ev, _holds, _num, features
+
+#: bisection steps of a decision's threshold (to 1/4096 of the two sets' distance)
+BISECT = 12
+
+
+@dataclass
+class Section:
+    a: int  # first line (0-based index into the program's lines)
+    b: int  # end line (exclusive)
+    blocks: list  # the core blocks (macro_program.Block) in it
+    key: tuple
+
+
+def sections(text: str, dialect: str) -> list[Section]:
+    """The program's sections after its header line (``%nnnn`` / ``Onnnn``), each starting at
+    a comment-only line."""
+    from .macro_program import blocks, core
+    lines = text.splitlines()
+    head = "O" if dialect == "fanuc0it" else "%"
+    start = next(i for i, ln in enumerate(lines) if ln.startswith(head)) + 1
+    allb = blocks(text)
+    at = {b.line for b in allb}
+    cb = {b.line: b for b in core(allb)}
+    cuts = [start]
+    for i in range(start, len(lines)):
+        s = lines[i].strip()
+        if s.startswith("(") and (i + 1) not in at and \
+                any(ln in cb for ln in range(cuts[-1] + 1, i + 1)):
+            cuts.append(i)
+    cuts.append(len(lines))
+    out = []
+    for a, b in zip(cuts, cuts[1:]):
+        bs = [cb[ln] for ln in range(a + 1, b + 1) if ln in cb]
+        out.append(Section(a, b, bs, tuple(x.key for x in bs)))
+    return out
+
+
+@dataclass
+class Prog:
+    """One variant's program cut into sections, aligned with the nominal's."""
+    p: dict[str, Any]
+    text: str
+    secs: list[Section]
+    ops: list[tuple] = field(default_factory=list)
+
+    @property
+    def keys(self) -> list[tuple]:
+        return [s.key for s in self.secs]
+
+
+def prog(p: dict[str, Any], text: str, dialect: str) -> Prog:
+    return Prog(p, text, sections(text, dialect))
+
+
+def align(nom: Prog, v: Prog) -> None:
+    v.ops = SequenceMatcher(None, nom.keys, v.keys, autojunk=False).get_opcodes()
+
+
+def hunks(nom: Prog, progs: list[Prog]) -> list[tuple[int, int]]:
+    """The nominal's section ranges [a, b) where some variant differs, merged where they
+    overlap (an insertion takes the section after it, or the last one)."""
+    n = len(nom.secs)
+    ivs = []
+    for v in progs:
+        for tag, i1, i2, _j1, _j2 in v.ops:
+            if tag == "equal":
+                continue
+            if i2 > i1:
+                ivs.append((i1, i2))
+            else:
+                ivs.append((i1, i1 + 1) if i1 < n else (i1 - 1, i1))
+    links = cycle_links(nom)
+    while True:
+        ivs.sort()
+        out: list[list[int]] = []
+        for a, b in ivs:
+            if out and a < out[-1][1]:
+                out[-1][1] = max(out[-1][1], b)
+            else:
+                out.append([a, b])
+        # a cycle and the contour it names are decided together
+        more = [(a, b) for a, b in links
+                if any(a < y and x < b for x, y in out) and
+                not any(x <= a and b <= y for x, y in out)]
+        if not more:
+            return [(a, b) for a, b in out]
+        ivs = [tuple(x) for x in out] + more
+
+
+def cycle_links(nom: Prog) -> list[tuple[int, int]]:
+    """The section ranges from each roughing cycle to the blocks its P/Q name."""
+    import re
+    where_n: dict[str, int] = {}
+    for j, sec in enumerate(nom.secs):
+        for b in sec.blocks:
+            m = re.match(r"\s*N(\d+)", b.raw)
+            if m:
+                where_n[m.group(1)] = j
+    out = []
+    for j, sec in enumerate(nom.secs):
+        for b in sec.blocks:
+            if any(w.letter == "G" and float(w.text) in (70, 71, 72, 73) for w in b.words):
+                for w in b.words:
+                    if w.letter in "PQ" and w.text in where_n:
+                        k = where_n[w.text]
+                        out.append((min(j, k), max(j, k) + 1))
+    return out
+
+
+def regions(nom: Prog, progs: list[Prog]) -> list[tuple[int, int]]:
+    """Every section of the nominal in a region: the hunks, and each other section alone."""
+    hs = hunks(nom, progs)
+    out, i = [], 0
+    for a, b in hs:
+        out += [(k, k + 1) for k in range(i, a)]
+        out.append((a, b))
+        i = b
+    out += [(k, k + 1) for k in range(i, len(nom.secs))]
+    return out
+
+
+def where(v: Prog, i: int, n: int) -> int | None:
+    """The variant's section index at the nominal's boundary ``i`` (None: inside a change)."""
+    if i == n:
+        return len(v.secs)
+    for tag, i1, i2, j1, _j2 in v.ops:
+        if i1 == i:
+            return j1
+        if tag == "equal" and i1 < i < i2:
+            return j1 + i - i1
+        if i1 < i < i2:
+            return None
+    return None
+
+
+def alt_key(nom: Prog, v: Prog, reg: tuple[int, int]) -> tuple | None:
+    n = len(nom.secs)
+    a, b = where(v, reg[0], n), where(v, reg[1], n)
+    if a is None or b is None or b < a:
+        return None
+    return tuple(v.keys[a:b])
+
+
+def run_of(nom: Prog, v: Prog, reg: tuple[int, int]) -> list[Section]:
+    n = len(nom.secs)
+    return v.secs[where(v, reg[0], n):where(v, reg[1], n)]
+
+
+# ------------------------------------------------------------------------------------------
+# decision trees
+# ------------------------------------------------------------------------------------------
+
+@dataclass
+class Node:
+    """A decision: ``cond`` true -> ``yes``, else ``no``; a leaf holds an alternative's index."""
+    leaf: int | None = None
+    cond: tuple | None = None
+    label: str = ""
+    yes: "Node | None" = None
+    no: "Node | None" = None
+
+    def pick(self, p: dict[str, Any]) -> int:
+        node = self
+        while node.leaf is None:
+            node = node.yes if _holds(node.cond, p) else node.no
+        return node.leaf
+
+    def paths(self, acc: tuple = ()) -> dict[int, list[tuple]]:
+        """Each leaf's conditions from the root."""
+        if self.leaf is not None:
+            return {self.leaf: list(acc)}
+        out = self.yes.paths(acc + (self.cond,))
+        out.update(self.no.paths(acc + (("not", self.cond),)))
+        return out
+
+    def labels(self) -> list[str]:
+        if self.leaf is not None:
+            return []
+        return [self.label] + self.yes.labels() + self.no.labels()
+
+
+def _roundest(a: float, b: float) -> float:
+    """The number with the fewest decimals in [a, b]."""
+    lo, hi = min(a, b), max(a, b)
+    for nd in range(9):
+        for r in (round(lo, nd), round(hi, nd), round((lo + hi) / 2, nd)):
+            if lo <= r <= hi:
+                return r
+    return (lo + hi) / 2
+
+
+def build_tree(fam: Any, tr: Any, sets: list[dict], labels: list[int], side: Any) -> Node | None:
+    """The decision tree telling the labels apart by thresholds on one traced feature per
+    node, or None. ``side(p0, p1, t)`` -> the label at the set ``t`` of the way from ``p0`` to
+    ``p1`` (for bisection; None where it is another change)."""
+    import numpy as np
+    cands = [(k, ("p", k)) for k in fam.free] + features(tr)
+    cols = []
+    for desc, f in cands:
+        try:
+            v = np.array([_ev(f, p) for p in sets])
+        except (ValueError, ZeroDivisionError, OverflowError):
+            continue
+        if np.all(np.isfinite(v)) and np.ptp(v) > 1e-9:
+            cols.append((desc if f[0] != "p" else f[1], f, v))
+
+    def grow(idx: list[int]) -> Node | None:
+        labs = {labels[i] for i in idx}
+        if len(labs) == 1:
+            return Node(leaf=labs.pop())
+        best = None
+        for desc, f, v in cols:
+            order = sorted(idx, key=lambda i: v[i])
+            for k in range(1, len(order)):
+                left = {labels[i] for i in order[:k]}
+                right = {labels[i] for i in order[k:]}
+                if left & right or v[order[k]] - v[order[k - 1]] < 1e-9:
+                    continue
+                gap = (v[order[k]] - v[order[k - 1]]) / (np.ptp(v) or 1.0)
+                if best is None or gap > best[0]:
+                    best = (gap, desc, f, order[k - 1], order[k], left, order[:k], order[k:])
+        if best is None:
+            return None
+        _gap, desc, f, ia, ib, left, lidx, ridx = best
+        # refine between the two nearest sets across the cut
+        p0, p1 = sets[ia], sets[ib]
+        a, b = 0.0, 1.0
+        for _ in range(BISECT):
+            m = (a + b) / 2
+            lab = side(p0, p1, m)
+            if lab is not None and lab in left:
+                a = m
+            else:
+                b = m
+
+        def at(t: float) -> dict:
+            return {k: (p0[k] + t * (p1[k] - p0[k]) if k in fam.free else p0[k]) for k in p0}
+        fa, fb = _ev(f, at(a)), _ev(f, at(b))
+        c = _roundest(fa, fb)
+        # a round value the last set on the left side has itself (the planner's own
+        # threshold, as ceil(depth / step) at a whole depth) stays on the left
+        op = ("<=" if c == fa else "<") if fa < fb else (">=" if c == fa else ">")
+        cond = (op, f, ("c", c))
+        yes, no = grow(lidx), grow(ridx)
+        if yes is None or no is None:
+            return None
+        label = f"{desc} {op} {_num(c)}"
+        node = Node(cond=cond, label=label, yes=yes, no=no)
+        if any(node.pick(sets[i]) != labels[i] for i in idx):
+            return None
+        return node
+
+    return grow(list(range(len(sets))))
