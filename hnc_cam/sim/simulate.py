@@ -365,7 +365,6 @@ class _Sweeper:
         the piece's start placement was not swept by the move before: a tool change, a jump,
         the first move). ``prev``: (tool shape, end point) of the move before the run."""
         n = len(moves)
-        sweeps = np.full(n, None, dtype=object)
         cols = columns(moves)
         kind = cols["kind"]
         live = np.flatnonzero(kind != _DWELL)
@@ -413,6 +412,13 @@ class _Sweeper:
         band_parts: list[tuple] = []
         outlines: list[np.ndarray] = []
         band_ok = np.zeros(n, dtype=bool)
+        # the sweeps are built when asked for (_Run.sweep_of); their bounds now, from the
+        # pieces' ends and the outline's (the bounds of the hull of two placements)
+        bounds = np.full((n, 4), np.nan)
+        pieces: list[tuple] = []
+        move_group = np.full(n, -1, dtype=np.int64)
+        move_p0 = np.zeros(n, dtype=np.int64)
+        move_p1 = np.zeros(n, dtype=np.int64)
         for shape, lines, arcs in groups.values():
             own = np.array(lines, dtype=np.int64)
             P = start[own][:, ::-1].reshape(-1, 2)
@@ -424,15 +430,21 @@ class _Sweeper:
                 Q = np.concatenate([Q, *(p[1:] for p in paths)])
                 own = np.concatenate([own, *(np.full(len(p) - 1, k) for k, p in zip(arcs, paths))])
                 first = np.concatenate([first, *(np.arange(len(p) - 1) == 0 for p in paths)])
-            hulls = sweep_hulls(shape.outline, P, Q)
             nl = len(lines)
-            if nl:
-                sweeps[own[:nl]] = hulls[:nl]
-            s0 = nl
-            for k, p in zip(arcs, paths if arcs else ()):
-                e = s0 + len(p) - 1
-                sweeps[k] = hulls[s0] if e - s0 == 1 else union_of(hulls[s0:e])
-                s0 = e
+            gi = len(pieces)
+            pieces.append((shape.outline, P, Q))
+            if len(own):
+                ko = np.asarray(shape.outline, dtype=float)
+                lo_ = np.minimum(P, Q) + ko.min(axis=0)
+                hi_ = np.maximum(P, Q) + ko.max(axis=0)
+                pb = np.column_stack([lo_, hi_])
+                move_group[own] = gi
+                starts = np.flatnonzero(np.r_[True, own[1:] != own[:-1]])
+                ends = np.r_[starts[1:], len(own)]
+                mo = own[starts]
+                move_p0[mo], move_p1[mo] = starts, ends
+                bounds[mo, :2] = np.minimum.reduceat(pb[:, :2], starts, axis=0)
+                bounds[mo, 2:] = np.maximum.reduceat(pb[:, 2:], starts, axis=0)
             if bands and len(shape.outline) <= PAIR_VERTS and len(own):
                 covered = ~first | cont[own]
                 K = _ccw_outline(shape)
@@ -459,7 +471,11 @@ class _Sweeper:
             qo = qo[order]
         else:
             qp, qo = np.zeros(0, dtype=object), np.zeros(0, dtype=np.int64)
-        run = _Run(moves, sweeps, qp, qo)
+        run = _Run(moves, np.full(n, None, dtype=object), qp, qo)
+        run.pieces, run.move_group, run.move_p0, run.move_p1 = pieces, move_group, move_p0, move_p1
+        run.bounds = bounds
+        if n <= EAGER_SWEEPS:
+            run.sweep_of(run.live)  # few moves: all at once costs less than batch by batch
         run.columns = {"kind": kind, "register": cols["register"], "duration": cols["duration"]}
         run.last = prev
         run.band_ok = band_ok
@@ -489,7 +505,13 @@ class _Run:
 
     def __init__(self, moves: list[Move], sweeps: np.ndarray, quads: np.ndarray,
                  quad_owner: np.ndarray):
-        self.moves, self.sweeps, self.quads, self.quad_owner = moves, sweeps, quads, quad_owner
+        self.moves, self._sweeps, self.quads, self.quad_owner = moves, sweeps, quads, quad_owner
+        # the straight pieces per tool outline (outline, starts, ends) and each move's: the
+        # outline's index (-1: a dwell, no sweep) and its pieces' range
+        self.pieces: list[tuple] = []
+        self.move_group = np.full(len(moves), -1, dtype=np.int64)
+        self.move_p0 = self.move_p1 = np.zeros(len(moves), dtype=np.int64)
+        self.bounds = np.full((len(moves), 4), np.nan)
         self.last: tuple = (None, None)
         self.columns: dict[str, np.ndarray] = {}
         self.band_ok = np.zeros(len(moves), dtype=bool)
@@ -504,6 +526,44 @@ class _Run:
         self.piece_covered = np.zeros(0, dtype=bool)
         self.piece_min = self.piece_max = self.piece_shape = np.zeros(0, dtype=np.int64)
         self.outlines: list[np.ndarray] = []
+
+    @property
+    def live(self) -> np.ndarray:
+        """The moves that sweep a region (all but dwells)."""
+        return np.flatnonzero(self.move_group >= 0)
+
+    @property
+    def sweeps(self) -> np.ndarray:
+        """The swept region of every move (None for dwells)."""
+        self.sweep_of(self.live)
+        return self._sweeps
+
+    def sweep_of(self, idx: np.ndarray) -> np.ndarray:
+        """The swept regions of the moves ``idx`` (built once, with one vectorised call per
+        tool outline): the exact hull of each straight piece (:func:`sweep_hulls`), their
+        union for a sampled arc."""
+        idx = np.asarray(idx, dtype=np.int64)
+        sw = self._sweeps
+        todo = idx[(self.move_group[idx] >= 0) & (sw[idx] == None)]  # noqa: E711
+        if len(todo):
+            todo = np.unique(todo)
+            g = self.move_group[todo]
+            for gi in np.unique(g).tolist():
+                ks = todo[g == gi]
+                K, P, Q = self.pieces[gi]
+                p0, p1 = self.move_p0[ks], self.move_p1[ks]
+                cnt = p1 - p0
+                sel = np.repeat(p0 - np.cumsum(cnt) + cnt, cnt) + np.arange(int(cnt.sum()))
+                hulls = sweep_hulls(K, P[sel], Q[sel])
+                one = cnt == 1
+                pos = np.cumsum(cnt) - cnt
+                sw[ks[one]] = hulls[pos[one]]
+                for k, a, c in zip(ks[~one].tolist(), pos[~one].tolist(), cnt[~one].tolist()):
+                    sw[k] = union_of(hulls[a:a + c])
+        return sw[idx]
+
+    def sweep(self, k: int) -> BaseGeometry | None:
+        return self.sweep_of(np.array([k]))[0]
 
     def pass_length(self, k: int) -> int:
         """The number of moves of the pass that move k is in: from the pass's start (a feed
@@ -638,6 +698,9 @@ class _Run:
 SEAM = 0.01
 #: moves whose sweeps are built together (bounds the memory held for sweeps)
 CHUNK = 4096
+#: a run of at most this many moves has its sweeps built at once; a longer one builds them for
+#: the batches taken move by move and the moves checked (a batch taken with bands needs none)
+EAGER_SWEEPS = 1024
 
 
 def _difference(a: BaseGeometry, b: BaseGeometry) -> BaseGeometry:
@@ -736,12 +799,11 @@ def _simulate(toolpath, stock, machine, tools, model, batch, snapshots, on_snaps
                 issues.append(Issue(m.line, toolpath.block(m.line),
                                     "thread move while the spindle is not turning",
                                     "thread-spindle"))
-            has = np.flatnonzero(shapely.is_empty(run.sweeps) == False)  # noqa: E712 (None -> False)
-            has = has[run.sweeps[has] != None]  # noqa: E711
+            has = run.live
             if len(has):
-                boxes[c0 + has] = shapely.bounds(run.sweeps[has])
+                boxes[c0 + has] = run.bounds[has]
                 if jaws is not None:
-                    _jaw_hits(jaws, run.sweeps, has, cm, sweeper, toolpath, issues, jaw_lines)
+                    _jaw_hits(jaws, run, has, cm, sweeper, toolpath, issues, jaw_lines)
             # batches also start with every pass (a feed move after a rapid): a pass that comes
             # back over the one before it would not be taken with bands in the same batch
             cuts = sorted({*range(0, len(cm), batch), len(cm), *run.pass_starts.tolist(),
@@ -760,11 +822,10 @@ def _simulate(toolpath, stock, machine, tools, model, batch, snapshots, on_snaps
                     if hi <= lo:
                         continue
                     idx = has[lo:hi]
-                    geoms = run.sweeps[idx]
                     if not _boxes_meet(material, boxes[c0 + idx]):
                         continue
                     if run.band_ok[idx].all():
-                        got = _batch_by_bands(material, edges_of, run, c0, s0, s1, idx, geoms,
+                        got = _batch_by_bands(material, edges_of, run, c0, s0, s1, idx, None,
                                               removed_area, sweeper, toolpath, issues, notes)
                         if got is not None:
                             if got is not material:
@@ -785,7 +846,7 @@ def _simulate(toolpath, stock, machine, tools, model, batch, snapshots, on_snaps
                         if hi <= lo or material.is_empty:
                             continue
                         sub = has[lo:hi]
-                        got = _batch_by_moves(material, run, c0, t0, t1, sub, run.sweeps[sub],
+                        got = _batch_by_moves(material, run, c0, t0, t1, sub, run.sweep_of(sub),
                                               removed_area, sweeper, toolpath, issues, notes)
                         if got is not material:
                             material = _settle(got, chuck, fallen)
@@ -801,16 +862,22 @@ def _simulate(toolpath, stock, machine, tools, model, batch, snapshots, on_snaps
                     thread_regs=dict(sweeper.thread_regs))
 
 
-def _jaw_hits(jaws: BaseGeometry, sweeps: np.ndarray, idx: np.ndarray, cm: list[Move],
+def _jaw_hits(jaws: BaseGeometry, run: "_Run", idx: np.ndarray, cm: list[Move],
               sweeper: "_Sweeper", tp: Toolpath, issues: list[Issue], seen: set[int]) -> None:
     """A ``collision: chuck jaw`` finding for each program line with a move whose sweep
     touches the jaws (as a cut touches material: :func:`_touches`)."""
-    hit = idx[shapely.intersects(jaws, sweeps[idx])]
-    for k in hit.tolist():
+    z0, x0, z1, x1 = jaws.bounds
+    bb = run.bounds[idx]
+    idx = idx[(bb[:, 0] <= z1) & (bb[:, 2] >= z0) & (bb[:, 1] <= x1) & (bb[:, 3] >= x0)]
+    if not len(idx):
+        return
+    sweeps = run.sweep_of(idx)
+    hit = np.flatnonzero(shapely.intersects(jaws, sweeps))
+    for j, k in zip(hit.tolist(), idx[hit].tolist()):
         m = cm[k]
         if m.line in seen:
             continue
-        rem = inter(jaws, sweeps[k])
+        rem = inter(jaws, sweeps[j])
         if not _touches(rem):
             continue
         seen.add(m.line)
@@ -886,8 +953,8 @@ def _batch_by_bands(material, edges_of, run: "_Run", c0, b0, b1, idx, geoms, rem
             nc = k in nc_hit
             if nc or run.checked[k]:
                 m = run.moves[k]
-                g = run.sweeps[k]
-                before = [run.sweeps[j] for j in idx.tolist() if j < k]
+                g = run.sweep(k)
+                before = list(run.sweep_of(idx[idx < k]))
                 _check_move(m, _local_before(material, g, before), g, sweeper.shape(m),
                             run.path(k), toolpath, issues, notes, nc)
     return after
