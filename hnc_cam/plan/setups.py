@@ -175,6 +175,10 @@ def setup1_profile(prof: TurnedProfile, zone: Zone, face: float = SETUP2_FACE) -
     z_end = zone.z_min - face
     od = ct.trim_left(ct.orient(prof.outside, 0.0), zone.z_min)
     right, left = _clip(od, zone.z)
+    if not right or not left or zone.z > -1e-6:
+        raise PlanError(f"part {prof.name}: the second setup would make the whole part (its "
+                        f"zone from Z{_fmt(zone.z)} reaches the right face): nothing is left "
+                        f"for the first setup to hold it by")
     x_top = max(s.bbox()[2] for s in left)
     p = right[-1].end
     out = list(right)
@@ -187,6 +191,9 @@ def setup1_profile(prof: TurnedProfile, zone: Zone, face: float = SETUP2_FACE) -
         bore = ct.trim_left(ct.orient(prof.bore, 0.0), zone.z_min)
         if abs(bore[-1].end[1] - zone.z_min) < 1e-6:  # a through bore: bridged in the zone
             b_right, b_left = _clip(bore, zone.z)
+            if not b_right:
+                raise PlanError(f"part {prof.name}: the bore widens toward the left end from "
+                                f"its right face on: no setup reaches all of it")
             x_in = min(s.bbox()[0] for s in b_left) if b_left else b_right[-1].end[0]
             q = b_right[-1].end
             bore_out = list(b_right)
