@@ -43,6 +43,20 @@ from OCP.gp import gp_Ax1, gp_Ax3, gp_Dir, gp_Pln, gp_Pnt, gp_Trsf, gp_Vec
 
 from ..errors import ProfileError
 
+
+def _quick_exit() -> None:
+    """At the exit of a process that imported the CAD kernel: the objects alive then are
+    frozen out of the cyclic collector, whose passes over the kernel's hundreds of thousands
+    of objects while the interpreter tears the modules down took most of a second (seconds
+    on a busy machine) of every ``generate``/``verify`` command."""
+    import gc
+    gc.freeze()
+
+
+import atexit  # noqa: E402
+
+atexit.register(_quick_exit)
+
 #: angular tolerance for "parallel to / perpendicular to the axis" (radians)
 ANG_TOL = 1e-6
 #: distance tolerance for "on the axis" (mm)
