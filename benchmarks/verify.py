@@ -16,6 +16,7 @@ report fails, and the leftover is classified reachable/unreachable, the expensiv
     python benchmarks/verify.py --repeat 5         # best of 5 (default 3; 1 for 1,000 passes)
     python benchmarks/verify.py --baseline REV     # also the code of git revision REV, same run
     python benchmarks/verify.py --shaft            # only the per-part figure for parts/stepped_shaft.py
+    python benchmarks/verify.py --shaft --baseline REV   # the per-part figure, REV's code beside it
 
 Prints per size, best of N with the load average beside it: moves, interpreter time, simulate
 time, verify time (wall; and the CPU time of simulate+verify per round), simulate+verify as a
@@ -25,9 +26,11 @@ its growth against the row before scaled to 10x moves (``growth``, x10 = linear)
 the interpreter's);
 with ``--baseline REV`` the same figures for the code of REV (exported with ``git archive``
 into a temporary directory and imported from there, each size measured right after the
-current code's) and the ratio REV/current per size; then
-(the default sizes) the per-part simulate and verify time of generated programs for
-parts/stepped_shaft.py.
+current code's) and the ratio REV/current per size; the targets (100,000 moves simulated and
+verified in under 2 s with either tool, growth at most x10.5 per 10x moves, under 300 MB at
+1,000,000 moves) against the rows measured; then (the default sizes, or ``--shaft``) the
+per-part simulate and verify time of generated programs for parts/stepped_shaft.py, each
+separately, with REV's code on the same programs beside it.
 """
 from __future__ import annotations
 
@@ -118,38 +121,58 @@ def one(passes: int, repeat: int = 1, r08: bool = True) -> dict:
     del m, rep
     if r08:
         lib = _unlimited(load_machine())  # T0101: CNMG120408, r 0.8, tip 3
+        c0 = time.process_time()
         t_sim2, m2 = _best(lambda: simulate(tp, stock, lib), repeat)
         t_ver2, rep2 = _best(lambda: verify(m2, prof, tol=0.01), repeat)
-        out.update(simulate_r08_s=t_sim2, verify_r08_s=t_ver2, pass_r08=rep2.passed)
+        out.update(simulate_r08_s=t_sim2, verify_r08_s=t_ver2, pass_r08=rep2.passed,
+                   cpu_r08_s=(time.process_time() - c0) / repeat)
     out["peak_mb"] = _rss_mb()
     out["sim_mb"] = out["peak_mb"] - interp_mb
     return out
 
 
-def shaft() -> dict:
-    """Per-part simulate and verify time for generated programs of parts/stepped_shaft.py
-    (both comp modes, three lengths; medians of three rounds): the cost that generate and
-    family pay per part for their verification."""
-    import statistics
+SHAFT = "parts/stepped_shaft.py"
+
+
+def shaft_programs() -> list[dict]:
+    """Generated programs of parts/stepped_shaft.py (both comp modes, three lengths), by the
+    current code: the same programs for the current code's and a baseline's measurement."""
     from pathlib import Path
 
     import hnc_cam
-    from hnc_cam.cad import load_part
-    from hnc_cam.nc.interp import run
-    from hnc_cam.sim import simulate, verify
-    from hnc_cam.tooling import Stock, load_machine
-    part = str(Path(__file__).resolve().parents[1] / "parts" / "stepped_shaft.py")
-    machine = load_machine()
-    cases = []
+    part = str(Path(__file__).resolve().parents[1] / SHAFT)
+    out = []
     for comp in ("cam", "control"):
         for length in (95, 100, 104):
             params = {"length": str(length)}
             prog = hnc_cam.generate(part, params=params, verify=False, comp=comp)
-            loaded = load_part(part, params)
-            tp = run(prog.text, machine, start="reference")
-            cases.append((tp, Stock.parse(loaded.stock), loaded.profile))
+            out.append({"params": params, "text": prog.text})
+    return out
+
+
+def shaft(programs: list[dict] | None = None, rounds: int = 5) -> dict:
+    """Per-part simulate and verify time for generated programs of parts/stepped_shaft.py
+    (medians over the programs and ``rounds`` rounds, and the CPU time of both per part): the
+    cost that generate and family pay per part for their verification."""
+    import statistics
+    from pathlib import Path
+
+    from hnc_cam.cad import load_part
+    from hnc_cam.nc.interp import run
+    from hnc_cam.sim import simulate, verify
+    from hnc_cam.tooling import Stock, load_machine
+    part = str(Path(__file__).resolve().parents[1] / SHAFT)
+    machine = load_machine()
+    cases = []
+    for p in programs if programs is not None else shaft_programs():
+        loaded = load_part(part, p["params"])
+        tp = run(p["text"], machine, start="reference")
+        cases.append((tp, Stock.parse(loaded.stock), loaded.profile))
+    for tp, stock, prof in cases:  # warm: first calls build caches
+        verify(simulate(tp, stock, machine, model=prof), prof)
     ts, tv, ok = [], [], True
-    for _ in range(3):
+    c0 = time.process_time()
+    for _ in range(rounds):
         for tp, stock, prof in cases:
             t0 = time.perf_counter()
             m = simulate(tp, stock, machine, model=prof)
@@ -157,8 +180,56 @@ def shaft() -> dict:
             ok = verify(m, prof).passed and ok
             ts.append(t1 - t0)
             tv.append(time.perf_counter() - t1)
+    cpu = (time.process_time() - c0) / (rounds * len(cases))
     return {"simulate_ms": 1000 * statistics.median(ts), "verify_ms": 1000 * statistics.median(tv),
-            "pass": ok, "moves": len(cases[0][0].moves)}
+            "cpu_ms": 1000 * cpu, "pass": ok, "moves": len(cases[0][0].moves)}
+
+
+def _shaft_measure(programs_file: str, code: str | None = None) -> dict:
+    """:func:`shaft` in a fresh process (``code``: a directory holding another hnc_cam)."""
+    import os
+    env = dict(os.environ)
+    if code is not None:
+        env["PYTHONPATH"] = code + os.pathsep + env.get("PYTHONPATH", "")
+    load = os.getloadavg()[0]
+    out = subprocess.run([sys.executable, __file__, "--shaft-run", programs_file],
+                         capture_output=True, text=True, env=env, cwd=code or None)
+    if out.returncode != 0:
+        raise SystemExit(f"error: per-part benchmark failed:\n{out.stderr}")
+    r = json.loads(out.stdout.strip().splitlines()[-1])
+    r["load"] = (load + os.getloadavg()[0]) / 2
+    return r
+
+
+def _shaft_report(baseline: str | None, code: str | None) -> None:
+    """Print the per-part figure of the current code (and of the baseline's code in ``code``)
+    on the same generated programs."""
+    import os
+    import tempfile
+    fd, path = tempfile.mkstemp(prefix="hnc_shaft_", suffix=".json")
+    os.close(fd)
+    try:
+        gen = subprocess.run([sys.executable, __file__, "--shaft-gen", path], capture_output=True,
+                             text=True)
+        if gen.returncode != 0:
+            raise SystemExit(f"error: generating the per-part programs failed:\n{gen.stderr}")
+        rows = [("current", _shaft_measure(path))]
+        if code is not None:
+            rows.append((f"baseline {baseline}", _shaft_measure(path, code)))
+    finally:
+        os.unlink(path)
+    moves = rows[0][1]["moves"]
+    print(f"{SHAFT}, generated programs (~{moves} moves; per part, median):")
+    for name, r in rows:
+        print(f"  {name:>20}: simulate {r['simulate_ms']:6.1f} ms + verify {r['verify_ms']:6.1f} ms"
+              f" = {r['simulate_ms'] + r['verify_ms']:6.1f} ms (CPU {r['cpu_ms']:6.1f} ms), "
+              f"load {r['load']:.2f}, {'all pass' if r['pass'] else 'SOME FAIL'}")
+    if len(rows) > 1:
+        a, b = rows[1][1], rows[0][1]
+        print(f"  ratio baseline / current: simulate x{a['simulate_ms'] / b['simulate_ms']:.2f}, "
+              f"verify x{a['verify_ms'] / b['verify_ms']:.2f}, both "
+              f"x{(a['simulate_ms'] + a['verify_ms']) / (b['simulate_ms'] + b['verify_ms']):.2f} "
+              f"(CPU x{a['cpu_ms'] / b['cpu_ms']:.2f})")
 
 
 def _measure(passes: int, repeat: int, r08: bool, code: str | None = None) -> dict:
@@ -229,8 +300,13 @@ def main(argv: list[str]) -> int:
         print(json.dumps(one(int(argv[1]), int(argv[2]) if len(argv) > 2 else 1,
                              argv[3] != "0" if len(argv) > 3 else True)))
         return 0
-    if argv and argv[0] == "--shaft":
-        print(json.dumps(shaft()))
+    if argv and argv[0] == "--shaft-gen":
+        with open(argv[1], "w") as f:
+            json.dump(shaft_programs(), f)
+        return 0
+    if argv and argv[0] == "--shaft-run":
+        with open(argv[1]) as f:
+            print(json.dumps(shaft(json.load(f))))
         return 0
     import argparse
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -238,15 +314,25 @@ def main(argv: list[str]) -> int:
     ap.add_argument("--repeat", type=int, default=3, help="best of N (1,000 passes: once)")
     ap.add_argument("--baseline", metavar="REV", help="also measure the code of git revision REV")
     ap.add_argument("--no-r08", action="store_true", help="skip the 0.8 mm nose verification")
+    ap.add_argument("--shaft", action="store_true",
+                    help="only the per-part figure (parts/stepped_shaft.py)")
     args = ap.parse_args(argv)
     sizes = args.passes or [1, 10, 100, 1000]
+    import shutil
+    if args.shaft:
+        d = _export(args.baseline) if args.baseline else None
+        try:
+            _shaft_report(args.baseline, d)
+        finally:
+            if d is not None:
+                shutil.rmtree(d, ignore_errors=True)
+        return 0
 
     def rep(k: int) -> int:
         return 1 if k >= 1000 else max(1, args.repeat)
 
     # with a baseline, each size is measured for both codes one after the other, so that both
     # see about the same load
-    import shutil
     d = _export(args.baseline) if args.baseline else None
     rows, base = [], []
     try:
@@ -254,10 +340,13 @@ def main(argv: list[str]) -> int:
             rows.append(_measure(k, rep(k), not args.no_r08))
             if d is not None:
                 base.append(_measure(k, rep(k), not args.no_r08, code=d))
+        if not args.passes:
+            _shaft_report(args.baseline, d)
     finally:
         if d is not None:
             shutil.rmtree(d, ignore_errors=True)
     _table("current code:", rows)
+    _targets(rows)
     if args.baseline:
         _table(f"baseline {args.baseline}:", base)
         print(f"ratio baseline {args.baseline} / current (time: simulate+verify sharp"
@@ -268,14 +357,30 @@ def main(argv: list[str]) -> int:
             if not args.no_r08:
                 line += (f", x{(a['simulate_r08_s'] + a['verify_r08_s']) / (b['simulate_r08_s'] + b['verify_r08_s']):.2f}")
             print(line + f"; memory x{a['peak_mb'] / b['peak_mb']:.2f}")
-    if not args.passes:
-        out = subprocess.run([sys.executable, __file__, "--shaft"], capture_output=True,
-                             text=True, check=True)
-        r = json.loads(out.stdout.strip().splitlines()[-1])
-        print(f"parts/stepped_shaft.py, generated programs (~{r['moves']} moves): simulate "
-              f"{r['simulate_ms']:.0f} ms + verify {r['verify_ms']:.0f} ms per part (median), "
-              f"{'all pass' if r['pass'] else 'SOME FAIL'}")
     return 0
+
+
+def _targets(rows: list[dict]) -> None:
+    """The issue's targets against the rows measured (current code)."""
+    print("targets:")
+    for r in rows:
+        if 50_000 <= r["moves"] <= 200_000:
+            t = r["total"]
+            print(f"  {r['moves']} moves simulated and verified, sharp tool: {t:.2f} s "
+                  f"(target < 2 s: {'met' if t < 2 else 'NOT met'}; CPU {r['cpu_s']:.2f} s, "
+                  f"load {r['load']:.2f})")
+            if "simulate_r08_s" in r:
+                t = r["simulate_r08_s"] + r["verify_r08_s"]
+                print(f"  {r['moves']} moves simulated and verified, 0.8 mm nose: {t:.2f} s "
+                      f"(target < 2 s: {'met' if t < 2 else 'NOT met'}; CPU "
+                      f"{r.get('cpu_r08_s', math.nan):.2f} s, load {r['load']:.2f})")
+        if r["moves"] >= 500_000:
+            print(f"  {r['moves']} moves: peak {r['peak_mb']:.0f} MB "
+                  f"(target < 300 MB: {'met' if r['peak_mb'] < 300 else 'NOT met'})")
+    for a, b in zip(rows, rows[1:]):
+        f = (b["total"] / a["total"]) / (b["moves"] / a["moves"]) * 10
+        print(f"  growth {a['moves']} -> {b['moves']} moves: x{f:.1f} per 10x moves "
+              f"(target <= x10.5: {'met' if f <= 10.5 else 'NOT met'})")
 
 
 if __name__ == "__main__":
