@@ -6,8 +6,10 @@ stderr. Exit 0, 1 when the program fails verification (nothing written), 2 on ba
 family: one program per CSV row (columns: the part's parameters, optional ``program_number``
 and ``stock``), ``DIR/O<number>.nc`` plus ``DIR/summary.csv`` (row, program_number, file,
 status, operations, cycle_time_s, verified, max_overcut_mm, max_undercut_mm, message).
-Rows run in worker processes (``--jobs``, default all cores) that import the CAD kernel once
-(pool initializer) and are reused for every row, or, with ``--scheduler tcp://HOST:PORT``,
+Rows run in worker processes (``--jobs``, default all cores) forked from a fork server that
+imported the CAD kernel, the generator and the bundled tables once (:mod:`hnc_cam.plan.pool`;
+spawned workers importing them in the pool initializer where there is no fork server), reused
+for every row, or, with ``--scheduler tcp://HOST:PORT``,
 as tasks on a Dask distributed cluster whose workers import it with their first row (the
 same progress bar, summary.csv, order and messages; identical programs). A bad row is reported (stderr and
 summary.csv) and the others still complete; the exit code is then 2 (1 when the only
@@ -650,27 +652,27 @@ def pool_context() -> Any:
     """The multiprocessing context of the local pool: workers forked from a fork server that
     imported the CAD kernel, the generator and the bundled tables once
     (:mod:`hnc_cam.plan.pool`): no worker imports the kernel itself, the workers share its
-    memory (copy on write), and the family process stays free of it. Where there is no fork
-    server (Windows), spawned workers that import it in their initializer."""
+    memory (copy on write), and the family process stays free of it. The server is started
+    here (it imports in the background; the pool's first worker waits for it). Where there
+    is no fork server (Windows) or it cannot start (no folder for its socket), spawned
+    workers that import the kernel in their initializer."""
     import multiprocessing as mp
     if "forkserver" in mp.get_all_start_methods():
+        from multiprocessing import forkserver
         ctx = mp.get_context("forkserver")
         ctx.set_forkserver_preload([POOL_PRELOAD])
-        return ctx
+        try:
+            forkserver.ensure_running()
+            return ctx
+        except OSError:
+            pass
     return mp.get_context("spawn")
 
 
 def start_pool_server() -> None:
-    """Start the fork server now (it imports the CAD kernel in the background while this
-    process checks the tables and reads the rows); the pool's first worker waits for it.
-    Nothing happens where there is no fork server or it runs already."""
-    ctx = pool_context()
-    if ctx.get_start_method() == "forkserver":
-        from multiprocessing import forkserver
-        try:
-            forkserver.ensure_running()
-        except OSError:  # pragma: no cover - the pool starts it (and reports) later
-            pass
+    """Start the fork server now, so that it imports the CAD kernel while this process gets
+    on with the rows' preparation (see :func:`pool_context`)."""
+    pool_context()
 
 
 def _run_pool(jobs: list[tuple], n_jobs: int, opts: dict[str, Any] | None, on_done: Any,
