@@ -203,3 +203,32 @@ def test_shaft_program_verifies_the_same_with_the_rule_off():
     assert x1 == pytest.approx(20.0)  # the chucked stock beyond Z-40 is untouched
     col = shapely.intersection(m.material, shapely.LineString([(-10, 0), (-10, 30)]))
     assert col.bounds[3] == pytest.approx(15.0, abs=1e-6)
+
+
+def test_distances_by_blocks_equal_every_point_against_every_segment():
+    from hnc_cam.geometry import Arc, Line
+    from hnc_cam.sim.measure import _line_dist, _arc_dist, distances
+    # a wavy chain of 400 short lines, two arcs and a zero-length line; points along it (a
+    # boundary's order) and scattered
+    pts_chain = [(15 + 0.1 * math.sin(-0.1 * i * 0.5), -0.1 * i) for i in range(401)]
+    segs = [Line(a, b) for a, b in zip(pts_chain[:-1], pts_chain[1:])]
+    segs += [Arc((20.0, -50.0), (22.0, -52.0), (20.0, -52.0), True),
+             Arc((5.0, -60.0), (3.0, -62.0), (5.0, -62.0), False), Line((15.0, -10.0), (15.0, -10.0))]
+    rnd = np.random.default_rng(5)
+    t = np.linspace(0, 1, 20000)
+    pts = np.column_stack([-40 * t, 15 + 0.1 * np.sin(-40 * t * 0.5) + rnd.normal(0, 0.05, len(t))])
+    pts = np.vstack([pts, rnd.uniform([-70, -5], [5, 30], (2000, 2))])
+    d, w = distances(pts, segs)
+    # reference: each segment's distance in turn, the first nearest kept
+    px, pz = pts[:, 1], pts[:, 0]
+    best = np.full(len(pts), np.inf)
+    which = np.full(len(pts), -1)
+    for k, s in enumerate(segs):
+        dk = _arc_dist(px, pz, s) if isinstance(s, Arc) else _line_dist(px, pz, s.start, s.end)
+        better = dk < best
+        best[better], which[better] = dk[better], k
+    assert np.array_equal(d, best) and np.array_equal(w, which)
+    # and the kernel's own distances
+    for i in rnd.choice(len(pts), 50, replace=False).tolist():
+        p = (float(pts[i, 1]), float(pts[i, 0]))
+        assert d[i] == pytest.approx(min(s.distance_to(p) for s in segs), abs=1e-9)
