@@ -546,6 +546,10 @@ def _achieved(material: BaseGeometry, zone: _Zone) -> float | None:
 
 # --- verify -------------------------------------------------------------------------------
 
+#: candidate moves whose swept regions :func:`blame` builds together
+BLAME_BLOCK = 32
+
+
 def blame(machined: Machined, at: Deviation, removed: bool) -> None:
     """Fill ``at.line``/``at.block``: for removed material (overcut) the first move whose swept
     region holds the point, else the feed move whose swept region comes nearest to it."""
@@ -571,13 +575,17 @@ def blame(machined: Machined, at: Deviation, removed: bool) -> None:
     else:
         cand = np.argsort(gap, kind="stable")  # line and arc moves among them, nearest first
     best, best_d = None, math.inf
-    for i in cand:  # (not as a list: the loop ends early, the array can be long)
+    got: dict[int, BaseGeometry | None] = {}  # sweeps built BLAME_BLOCK candidates at a time
+    for j, i in enumerate(cand):  # (not as a list: the loop ends early, the array can be long)
         if not removed and gap[i] > best_d:
             break  # sorted by box gap: no later move can come nearer
         m = moves[i]
         if not removed and m.kind not in ("line", "arc"):
             continue
-        g = sweeper.sweeps([m])[0][0]
+        if int(i) not in got:
+            block = [int(k) for k in cand[j:j + BLAME_BLOCK]]
+            got = dict(zip(block, sweeper.sweeps([moves[k] for k in block])[0]))
+        g = got[int(i)]
         if g is None:
             continue
         d = g.distance(p)
