@@ -45,8 +45,8 @@ def main() -> int:
     generate(str(REPO / "parts" / "stepped_shaft.py"), verify=False)  # warm the imports
     print(f"load average {os.getloadavg()[0]:.1f}; dialect {a.dialect}; --check {a.check}; "
           f"{a.variants} variants")
-    print(f"{'family':<22} {'pieces':>6} {'params':>6} {'fitted':>6} {'derive s':>9} "
-          f"{'check s':>8} {'macro B':>8} {'variants B':>11} {'ratio':>7}")
+    print(f"{'family':<22} {'pieces':>6} {'decide':>6} {'params':>6} {'fitted':>6} "
+          f"{'derive s':>9} {'check s':>8} {'macro B':>8} {'variants B':>11} {'ratio':>7}")
     for path in [Path(p) for p in a.parts] or _families():
         name = path.stem
         t0 = time.perf_counter()
@@ -80,8 +80,15 @@ def main() -> int:
             total += len(ctx.program(p).encode())
         total = total * a.variants // max(1, len(sets))
         fitted = sum(pc.fitted for pc in pieces)
-        print(f"{name:<22} {len(pieces):>6} {len(fam.free):>6} {fitted:>6} {t1 - t0:>9.2f} "
-              f"{t2 - t1:>8.2f} {size:>8} {total:>11} {total / size:>6.0f}x")
+        decide = sum(len(pc.decisions) for pc in pieces)
+        print(f"{name:<22} {len(pieces):>6} {decide:>6} {len(fam.free):>6} {fitted:>6} "
+              f"{t1 - t0:>9.2f} {t2 - t1:>8.2f} {size:>8} {total:>11} {total / size:>6.0f}x")
+        print(f"{'':<22} domain: " + " ".join(f"{k} {fam.lo[k]:.4g}..{fam.hi[k]:.4g}"
+                                              for k in fam.free))
+        for pc in pieces:
+            if pc.bounds or pc.decisions:
+                print(f"{'':<22} piece [{', '.join(pc.bounds) or 'whole domain'}]: decides "
+                      f"{'; '.join(pc.decisions) or 'nothing'}")
     return 0
 
 

@@ -256,7 +256,7 @@ def test_macro_words_are_the_families_dimensions():
 
 
 #: the bundled families whose macro programs are derived and proven today (docs/MACRO.md)
-DERIVED = {"stepped_shaft.py", "bushing.py", "flange.py"}
+DERIVED = {"stepped_shaft.py", "bushing.py", "flange.py", "cq_pin.py"}
 
 
 @pytest.mark.parametrize("name", FAMILIES)
@@ -517,3 +517,80 @@ def part(length=30.0, d=32.0, step=24.0, l1=12.0):
     out = tmp_path / "m.nc"
     assert main(["family", str(fam), "--macro", "--check", "2", "-o", str(out)]) == 0
     assert "(STOCK 40x60+2 " in out.read_text()
+
+
+_SPACER = '''"""A spacer family. Parameters (mm): length, d, step, l1."""
+from hnc_cam.cad.sketch import Outline, revolve
+
+STOCK = "40x60+2"
+DOMAIN = %s
+
+
+def sketch(length=30.0, d=32.0, step=24.0, l1=12.0):
+    s = Outline((0.0, 0.0))
+    s.line_to(step / 2, 0.0, chamfer=0.8)
+    s.line_to(step / 2, -l1)
+    s.line_to(d / 2, -l1, chamfer=0.5)
+    s.line_to(d / 2, -length)
+    s.line_to(0.0, -length)
+    return s.segments()
+
+
+def part(length=30.0, d=32.0, step=24.0, l1=12.0):
+    return revolve(sketch(length, d, step, l1))
+'''
+
+
+def test_a_declared_domain_is_the_macros_domain(tmp_path):
+    """``DOMAIN = {"length": (22, 44)}`` in the part file: the macro holds (and is checked)
+    over that whole range of length, not over a box around the nominal; the program refuses
+    a length outside it before any motion."""
+    from hnc_cam.cli import main
+    from hnc_cam.nc import run
+    fam = tmp_path / "spacer.py"
+    fam.write_text(_SPACER % '{"length": (22, 44)}')
+    out = tmp_path / "m.nc"
+    assert main(["family", str(fam), "--macro", "--check", "4", "-o", str(out)]) == 0
+    text = out.read_text()
+    assert "LENGTH 22..44" in text
+    line = next(ln for ln in text.splitlines() if ln.endswith("(LENGTH)"))
+    for length, moves in ((22.5, True), (43.5, True), (45.0, False)):
+        t = text.replace(line, f"{line.split('=')[0]}={length} (LENGTH)")
+        got = [m for m in run(t).moves if m.kind != "dwell"]
+        assert bool(got) == moves, length
+
+
+@pytest.mark.parametrize("dom, what", [('{"length": (40, 30)}', "no range"),
+                                       ('{"length": ("a", 3)}', "two numbers"),
+                                       ('{"width": (1, 3)}', "does not take"),
+                                       ('{"length": (40, 50)}', "outside"),
+                                       ('[1, 2]', "must be a dict")])
+def test_a_bad_declared_domain_is_one_line_exit_2(tmp_path, capsys, dom, what):
+    from hnc_cam.cli import main
+    fam = tmp_path / "spacer.py"
+    fam.write_text(_SPACER % dom)
+    out = tmp_path / "m.nc"
+    assert main(["family", str(fam), "--macro", "--check", "1", "-o", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("error:") and what in err[0], err
+    assert not out.exists()
+
+
+def test_expressions_are_written_simplified_and_keep_their_value():
+    """Constants folded and neutral terms gone (``[[#1/2]-0]`` is ``[#1/2]``), shared parts
+    still shared; the interpreter evaluates each to the exact expression's value."""
+    from hnc_cam.nc import run
+    from hnc_cam.plan.macro import Lets
+    a, b = ("p", "a"), ("p", "b")
+    half = ("/", a, ("c", 2.0))
+    cases = [(("-", half, ("c", 0.0)), "[#51/2]"),
+             (("-", ("neg", a), ("neg", ("+", b, ("c", 1.5)))), "[[#52+1.5]-#51]"),
+             (("+", ("*", ("c", 1.0), a), ("+", ("c", 2.0), ("c", 3.0))), "[#51+5]"),
+             (("*", ("+", half, ("c", 0.0)), ("+", half, ("c", 0.0))), "[[#51/2]*[#51/2]]")]
+    env = {"a": 7.0, "b": 3.0}
+    for node, text in cases:
+        lets = Lets({"a": "#51", "b": "#52"})
+        got = lets.expr(node)
+        assert got == text and not lets.lines
+        tp = run(f"%1\n#51=7\n#52=3\nG00 X[{got}] Z0\nM30\n", start="reference")
+        assert tp.moves[-1].end[0] * 2 == pytest.approx(_ev(node, env), abs=1e-9)

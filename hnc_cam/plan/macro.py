@@ -453,6 +453,56 @@ def _simplify(n: tuple) -> tuple:
     return (op, a, b)
 
 
+def _fold(n: tuple) -> tuple:
+    """One level of exact simplification of ``n`` (its operands already simplified):
+    operations on constants folded, ``x*1``, ``x/1``, ``x+0``, ``x-0``, ``0-x``, ``--x``,
+    ``x+[-y]``, ``x-[-y]`` and ``[-x]-[-y]`` written plainly."""
+    k = n[0]
+    if k == "neg":
+        a = n[1]
+        return ("c", -a[1]) if a[0] == "c" else a[1] if a[0] == "neg" else n
+    if k == "f":
+        return ("c", _FUN[n[1]](n[2][1])) if n[2][0] == "c" else n
+    if k not in ("+", "-", "*", "/"):
+        return n
+    a, b = n[1], n[2]
+    if a[0] == "c" and b[0] == "c":
+        try:
+            return ("c", _ev(n, {}))
+        except ZeroDivisionError:
+            return n
+    if k == "*":
+        if a[0] == "c" and a[1] == 1:
+            return b
+        if b[0] == "c" and b[1] == 1:
+            return a
+        if (a[0] == "c" and a[1] == 0) or (b[0] == "c" and b[1] == 0):
+            return ("c", 0.0)
+    if k == "/" and b[0] == "c" and b[1] == 1:
+        return a
+    if k == "+":
+        if a[0] == "c" and a[1] == 0:
+            return b
+        if b[0] == "c" and b[1] == 0:
+            return a
+        if b[0] == "neg":
+            return ("-", a, b[1])
+        if b[0] == "c" and b[1] < 0:
+            return ("-", a, ("c", -b[1]))
+    if k == "-":
+        if b[0] == "c" and b[1] == 0:
+            return a
+        if a[0] == "c" and a[1] == 0:
+            return _fold(("neg", b))
+        if a[0] == "neg" and b[0] == "neg":
+            return ("-", b[1], a[1])
+        if b[0] == "neg":
+            return ("+", a, b[1])
+        if b[0] == "c" and b[1] < 0:
+            return ("+", a, ("c", -b[1]))
+    return n
+
+
 def _cond(c: tuple, var: dict[str, str], dialect: str) -> str:
     """A condition as the dialect writes it, bracketed."""
     if c[0] == "not":
@@ -492,6 +542,36 @@ class Family:
     hi: dict[str, float]
 
 
+def _declared_domain(mod: Any, path: str, full: dict[str, Any],
+                     free: list[str]) -> dict[str, tuple[float, float]]:
+    """The family's own ``DOMAIN = {"name": (low, high), ...}``: the range over which each
+    named parameter is valid (the macro holds over it instead of the box around the
+    nominal)."""
+    dom = getattr(mod, "DOMAIN", None)
+    if dom is None:
+        return {}
+    if not isinstance(dom, dict):
+        raise PartError(f"{path}: DOMAIN must be a dict of parameter name: (low, high)")
+    out: dict[str, tuple[float, float]] = {}
+    for k, rng in dom.items():
+        if k not in full:
+            raise PartError(f"{path}: DOMAIN names {k!r}, which sketch() does not take")
+        try:
+            a, b = (float(x) for x in rng)
+        except (TypeError, ValueError):
+            raise PartError(f"{path}: DOMAIN[{k!r}] must be two numbers (low, high), not "
+                            f"{rng!r}") from None
+        if not (math.isfinite(a) and math.isfinite(b) and a < b):
+            raise PartError(f"{path}: DOMAIN[{k!r}] = ({a:g}, {b:g}) is no range (low < high)")
+        if k not in free:
+            continue  # a whole number stays at its value
+        if not a <= full[k] <= b:
+            raise PartError(f"{path}: {k}={full[k]:g} is outside the family's DOMAIN "
+                            f"{a:g}..{b:g}")
+        out[k] = (a, b)
+    return out
+
+
 def load_family(path: str, base: dict[str, Any], rows: list[dict[str, Any]] | None = None,
                 spread: float = 0.15) -> Family:
     """The family at ``path`` traced at ``base`` (defaults updated by ``--set``), its domain
@@ -514,8 +594,14 @@ def load_family(path: str, base: dict[str, Any], rows: list[dict[str, Any]] | No
                                 f"macro holds one value (give it with --set)")
     lo = {k: (full[k] * (1 - spread) if full[k] > 0 else full[k] * (1 + spread)) for k in free}
     hi = {k: (full[k] * (1 + spread) if full[k] > 0 else full[k] * (1 - spread)) for k in free}
+    declared = _declared_domain(mod, path, full, free)
+    for k, (a, b) in declared.items():
+        lo[k], hi[k] = a, b
     for r in rows:
         for k in free:
+            if k in declared and not lo[k] <= r[k] <= hi[k]:
+                raise PartError(f"{path}: the table gives {k}={r[k]:g}, outside the family's "
+                                f"DOMAIN {lo[k]:g}..{hi[k]:g}")
             lo[k], hi[k] = min(lo[k], r[k]), max(hi[k], r[k])
     tr = _trace(mod, full, free)
     return Family(path, mod, full, free, tr, lo, hi)
@@ -539,6 +625,59 @@ class Lets:
         self._memo: dict[int, str] = {}
         self._keep: list[tuple] = []
 
+    def simple(self, n: tuple) -> tuple:
+        """``n`` with constants folded and neutral terms gone, shared sub-trees kept shared."""
+        memo = self.__dict__.setdefault("_simple", {})
+        key = id(n)
+        if key in memo:
+            return memo[key]
+        k = n[0]
+        if k in ("c", "p", "atan2", "min", "max"):
+            kids = [self.simple(x) for x in n[1:]] if k != "c" and k != "p" else []
+            out = n if all(x is y for x, y in zip(kids, n[1:])) else (k, *kids)
+        elif k == "neg":
+            a = self.simple(n[1])
+            out = _fold(n if a is n[1] else ("neg", a))
+        elif k == "f":
+            a = self.simple(n[2])
+            out = _fold(n if a is n[2] else ("f", n[1], a))
+        else:
+            a, b = self.simple(n[1]), self.simple(n[2])
+            out = _fold(n if (a is n[1] and b is n[2]) else (k, a, b))
+        memo[key] = out
+        memo[id(out)] = out  # simple already
+        self._keep += [n, out]
+        return out
+
+    def rounded(self, n: tuple) -> str:
+        """``n`` rounded at the control to the 0.001 mm the per-variant program writes (a
+        tiny arc's centre follows its ends' last digit): HNC-21T
+        ``INT[[e*1000]+[SIGN[e]*0.5]]/1000``, FANUC ``ROUND[e*1000]/1000``."""
+        key = ("r", id(n))
+        if key in self._memo:
+            return self._memo[key]
+        e = self.expr(n)
+        if e.startswith("#") or _depth(e) == 0:
+            inner = e
+        else:  # the expression twice: once in a variable
+            inner = self._assign(e)
+        s = (f"[ROUND[{inner}*1000]/1000]" if self.dialect == "fanuc0it" else
+             f"[INT[[{inner}*1000]+[SIGN[{inner}]*0.5]]/1000]")
+        if len(s) > self.inline or _depth(s) > self.depth:
+            s = self._assign(s)
+        self._memo[key] = s
+        return s
+
+    def _assign(self, s: str) -> str:
+        if self.next > self.last:
+            raise PlanError(f"the macro needs more than {self.last - self.next + 1} "
+                            f"variables for its expressions (the control's range for them "
+                            f"ends at #{self.last})")
+        name = f"#{self.next}"
+        self.next += 1
+        self.lines.append(f"{name}={s}")
+        return name
+
     def fork(self) -> "Lets":
         """A branch's writer: it sees what is assigned so far, its own temporaries start at
         the next free variable and stay its own (a sibling branch reuses those numbers)."""
@@ -547,10 +686,17 @@ class Lets:
         return child
 
     def expr(self, n: tuple) -> str:
-        """The expression of ``n`` (assignments it needs are appended to :attr:`lines`)."""
+        """The expression of ``n`` (assignments it needs are appended to :attr:`lines`),
+        simplified where that is exact (:func:`_fold`)."""
         key = id(n)
         if key in self._memo:
             return self._memo[key]
+        m = self.simple(n)
+        if m is not n:
+            s = self.expr(m)
+            self._memo[key] = s
+            self._keep.append(n)
+            return s
         k = n[0]
         if k in ("c", "p"):
             s = render(n, self.var, self.dialect)

@@ -219,12 +219,25 @@ def _roundest(a: float, b: float) -> float:
     return (lo + hi) / 2
 
 
+def slopes(tr: Any) -> list[tuple[str, tuple]]:
+    """Each traced line's slope (radial over axial change): where an insert reaches a wall
+    follows the wall's angle, a ratio of its ends' coordinates."""
+    from .macro import _node
+    out = []
+    for i, sg in enumerate(tr.segments):
+        if sg[0] != "L":
+            continue
+        x0, z0, x1, z1 = (_node(sg[1][0]), _node(sg[1][1]), _node(sg[2][0]), _node(sg[2][1]))
+        out.append((f"segment {i + 1} slope", ("/", ("-", x1, x0), ("-", z1, z0))))
+    return out
+
+
 def build_tree(fam: Any, tr: Any, sets: list[dict], labels: list[int], side: Any) -> Node | None:
     """The decision tree telling the labels apart by thresholds on one traced feature per
     node, or None. ``side(p0, p1, t)`` -> the label at the set ``t`` of the way from ``p0`` to
     ``p1`` (for bisection; None where it is another change)."""
     import numpy as np
-    cands = [(k, ("p", k)) for k in fam.free] + features(tr)
+    cands = [(k, ("p", k)) for k in fam.free] + features(tr) + slopes(tr)
     cols = []
     for desc, f in cands:
         try:
@@ -241,24 +254,38 @@ def build_tree(fam: Any, tr: Any, sets: list[dict], labels: list[int], side: Any
         best = None
         for desc, f, v in cols:
             order = sorted(idx, key=lambda i: v[i])
+            span = np.ptp(v) or 1.0
+            cuts = []  # (k, test of a label on the left side, disjoint)
             for k in range(1, len(order)):
                 left = {labels[i] for i in order[:k]}
                 right = {labels[i] for i in order[k:]}
-                if left & right or v[order[k]] - v[order[k - 1]] < 1e-9:
+                if not left & right:
+                    cuts.append((k, left.__contains__, True))
+            # one side a single alternative, the other side decided further down
+            lab0, lab1 = labels[order[0]], labels[order[-1]]
+            k0 = next((k for k in range(len(order)) if labels[order[k]] != lab0), None)
+            if k0:
+                cuts.append((k0, lab0.__eq__, False))
+            k1 = max(k for k in range(len(order)) if labels[order[k]] != lab1) + 1
+            if k1 < len(order):
+                cuts.append((k1, lambda lab, r=lab1: lab is not None and lab != r, False))
+            for k, test, disjoint in cuts:
+                gap = v[order[k]] - v[order[k - 1]]
+                if gap < 1e-9:
                     continue
-                gap = (v[order[k]] - v[order[k - 1]]) / (np.ptp(v) or 1.0)
-                if best is None or gap > best[0]:
-                    best = (gap, desc, f, order[k - 1], order[k], left, order[:k], order[k:])
+                score = (disjoint, gap / span)
+                if best is None or score > best[0]:
+                    best = (score, desc, f, order[k - 1], order[k], test, order[:k], order[k:])
         if best is None:
             return None
-        _gap, desc, f, ia, ib, left, lidx, ridx = best
+        _score, desc, f, ia, ib, test, lidx, ridx = best
         # refine between the two nearest sets across the cut
         p0, p1 = sets[ia], sets[ib]
         a, b = 0.0, 1.0
         for _ in range(BISECT):
             m = (a + b) / 2
             lab = side(p0, p1, m)
-            if lab is not None and lab in left:
+            if lab is not None and test(lab):
                 a = m
             else:
                 b = m

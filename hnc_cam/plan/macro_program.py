@@ -525,7 +525,7 @@ def _movers(ctx: Ctx, fam: Family, tr: Any, nominal: dict, lo: dict, hi: dict,
 
 
 #: the fewest variants an alternative of a decision is fitted from
-MIN_ALT = 8
+MIN_ALT = 12
 
 
 @dataclass
@@ -573,6 +573,16 @@ def _fit_blocks(ctx: Ctx, fam: Family, tr: Any, nominal: dict, lo: dict, hi: dic
                 continue
             y = np.array([vb[bi].words[wi].value for vb in allb])
             r = _fit_word(y, mat, min(n_fit + 1, len(allp)))
+            if r is not None and (_simple(r[1]) or w.letter != "Z"):
+                slots.append(Slot(bi, wi, "fit", _combine(nodes, *r)))
+                continue
+            if w.letter == "Z":  # a crossing before a fit of unrounded coefficients
+                if cross is None:
+                    cross = _cross_columns(tr, nb, allb, allp)
+                node = _fit_single(y, *cross)
+                if node is not None:
+                    slots.append(Slot(bi, wi, "fit", node))
+                    continue
             if r is not None:
                 slots.append(Slot(bi, wi, "fit", _combine(nodes, *r)))
                 continue
@@ -604,6 +614,11 @@ def _fit_blocks(ctx: Ctx, fam: Family, tr: Any, nominal: dict, lo: dict, hi: dic
                             f"parameters (moved by {', '.join(movers) or 'several parameters together'}); "
                             f"no macro is written")
     return slots
+
+
+def _simple(coefs) -> bool:
+    """Coefficients that are small fractions (a dimension's own law, not a near-fit)."""
+    return all(abs(float(Fraction(c).limit_denominator(12)) - c) < 1e-9 for c in coefs)
 
 
 def _piecewise(y, mat, nodes, law, allp: list[dict]) -> tuple | None:
@@ -952,6 +967,14 @@ _HEADER_COMMENTS = ("(PARAMETERS", "(STOCK", "(PART", "(COMPENSATION")
 _LEAD_N = re.compile(r"^(\s*)N(\d+)")
 
 
+#: the words written to the program's 0.001 mm at the control (coordinates and radii)
+_ROUNDED = set("XZRIKUW")
+
+
+def _word(lets: Lets, node: tuple, letter: str) -> str:
+    return lets.rounded(node) if letter in _ROUNDED else lets.expr(node)
+
+
 def _emit_alt(alt: Alt, lets: Lets, body: list[str], notes: list[str], counter: list[int],
               fanuc: bool) -> None:
     """An alternative's lines from its representative program, its words replaced by their
@@ -961,7 +984,7 @@ def _emit_alt(alt: Alt, lets: Lets, body: list[str], notes: list[str], counter: 
         return
     for s in alt.slots:
         if s.kind == "fit":
-            lets.expr(s.node)
+            _word(lets, s.node, alt.blocks[s.block].words[s.word].letter)
     body += lets.lines
     lets.lines.clear()
     lines = alt.rep.text.splitlines()
@@ -1001,7 +1024,8 @@ def _emit_alt(alt: Alt, lets: Lets, body: list[str], notes: list[str], counter: 
             w = blk.words[s.word]
             ws, we = w.span
             if s.kind == "fit":
-                rep = f"[{lets.expr(s.node)}]"
+                rep = _word(lets, s.node, w.letter)
+                rep = rep if rep.startswith("[") else f"[{rep}]"
             elif s.kind == "bound":
                 rep = _num(s.value)
                 notes.append(s.note)
@@ -1201,7 +1225,7 @@ def render_program(pieces_or_one: Piece, dialect: str = "hnc21t", values: dict |
         if rg.tree is None:
             for s in rg.alts[0].slots:
                 if s.kind == "fit":
-                    lets.expr(s.node)
+                    _word(lets, s.node, rg.alts[0].blocks[s.block].words[s.word].letter)
     pre = list(lets.lines)
     lets.lines.clear()
     notes: list[str] = []
