@@ -125,15 +125,20 @@ def bushing_with_back_chamfer(R=25.0, rb=15.0, L=40.0, c=1.0, cb=1.5) -> TurnedP
 
 @pytest.mark.cad
 @pytest.mark.parametrize("comp", ["cam", "control"])
-def test_back_chamfer_left_for_second_operation_verifies(comp):
-    from hnc_cam.testing import assert_roundtrip
+def test_back_chamfer_is_made_in_a_second_setup_and_verifies(comp):
+    """One setup refuses the bore's chamfer facing the chuck (no NOTE bridging it); two setups
+    make it from the part turned around, and the whole part verifies with nothing left at
+    the chamfer (now the new face's bore mouth, Z0 to Z-1.5)."""
+    from hnc_cam.errors import PlanError
+    from hnc_cam.plan.api import generate
+    from hnc_cam.plan.setups import generate_setups
     prof = bushing_with_back_chamfer()
-    prog, rep = assert_roundtrip(prof, stock="55/27x57+2", tol=0.01, comp=comp)
-    assert "NOTE" in prog.text and rep.passed and rep.max_undercut_mm <= 0.01
-    # the chamfer is listed whole as unreachable: at least its depth (1.5 mm at 45 deg:
-    # 1.5/sqrt(2)), deepest where the bore pass's nose fillet meets the chucked stock
-    ch = [u for u in rep.unreachable if abs(u.z + 40.0) < 0.05]
-    assert len(ch) == 1 and 1.5 / 2 ** 0.5 - 0.001 <= ch[0].size_mm <= 1.25
+    with pytest.raises(PlanError, match=r"bore's chamfer from Z-38.5 to Z-40 .*--setups 2"):
+        generate(prof, "55/27x57+2", comp=comp)
+    s = generate_setups(prof, "55/27x57+2", grip=8, grip2=15, comp=comp)
+    rep = s.report
+    assert rep.passed and rep.max_undercut_mm <= 0.01
+    assert not [u for u in rep.unreachable if u.z > -1.6 and u.x < 34.0]
 
 
 # --- 3. an elliptical nose keeps its tangent at the axis ------------------------------------
