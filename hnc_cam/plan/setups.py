@@ -466,7 +466,11 @@ def generate_setups(part: Any, stock: Any = None, *, params: Any = None, tools: 
                         number_format=number_format, block_numbers=block_numbers)
     first.toolpath = api._interpret(first.text, mach, file, dia)
     st1 = first.plan.stock
-    from .. import sim
+    try:
+        from .. import sim
+    except ImportError as e:
+        raise PlanError(f"--setups 2 plans the second setup from the first one's simulated "
+                        f"result: the simulator is not installed ({e})") from None
     m1 = sim.simulate(first.toolpath, st1, machine=mach, model=first.plan.profile)
     rep1 = sim.verify(m1, first.plan.profile, tol=tol)
     region1 = setup1_result(m1, first.plan.profile)
