@@ -179,10 +179,17 @@ class Ctx:
     stock: str
     dialect: str
     cache: dict = field(default_factory=dict)
+    #: the per-variant programs a derivation may generate (a bound on its time)
+    budget: int = 400
 
     def program(self, p: dict[str, Any]) -> str:
         key = tuple(sorted((k, _fmt(v)) for k, v in p.items()))
         if key not in self.cache:
+            if len(self.cache) >= self.budget:
+                raise PlanError(f"{self.path}: deriving the macro took {self.budget} "
+                                f"per-variant programs without one law over the domain (its "
+                                f"program changes in more places than decisions and pieces "
+                                f"hold); no macro is written")
             from .api import generate
             try:
                 prog = generate(self.path, self.stock, params={k: _fmt(v) for k, v in p.items()},
