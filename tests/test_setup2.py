@@ -69,8 +69,9 @@ def test_pin_without_setups_2_is_refused_naming_setups_2(tmp_path, capsys):
 
 def test_bush_zone_grip_and_setup1_left_end(bush_setups):
     s = bush_setups
-    # the zone: from the bore chamfer's start (Z-29) on 3 mm into the cylinders
-    assert s.zone.z == pytest.approx(-26.0) and s.zone.z_min == pytest.approx(-30.0)
+    # the zone: from the bore chamfer's start (Z-29) on into the cylinders by the largest
+    # nose radius (0.8) + 0.5 mm
+    assert s.zone.z == pytest.approx(-27.7) and s.zone.z_min == pytest.approx(-30.0)
     assert s.grip.diameter == pytest.approx(40.0) and s.grip.length == pytest.approx(15.0)
     # the jaws 1 mm (the right edge's chamfer) + 15 mm from the chucked end
     assert s.grip.offset == pytest.approx(16.0)
@@ -179,7 +180,7 @@ def test_grip_longer_than_the_finished_diameter_is_refused(tmp_path, capsys):
     lines = err.strip().splitlines()
     assert rc == 2 and len(lines) == 1 and lines[0].startswith("error:")
     assert "grip 28 mm is longer than the finished diameter 40 mm" in lines[0]
-    assert "(25 mm long" in lines[0]
+    assert "(26.7 mm long" in lines[0]
     assert not (tmp_path / "out").exists() or not any((tmp_path / "out").iterdir())
 
 
@@ -247,15 +248,15 @@ def test_bush_two_setups_in_other_dialects(tmp_path, capsys, dialect, names):
 
 
 def test_jaws_reaching_the_zone_are_refused(tmp_path, capsys):
-    """A grip of 24 mm on the bush's 40 mm diameter (25 mm of it outside the zone) puts the
-    jaws' front face at Z-5, within the clearance (2 mm + the largest nose + 0.3) of the
-    zone setup 2 machines from Z-4."""
+    """A grip of 24 mm on the bush's 40 mm diameter (26.7 mm of it outside the zone) puts
+    the jaws' front face at Z-5, within the clearance (2 mm + the largest nose + 0.3) of the
+    zone setup 2 machines from Z-2.3."""
     rc, _o, err = _run(capsys, ["generate", BUSH, "--grip", "20", "--setups", "2",
                                 "--grip2", "24", "-o", f"{tmp_path}/out/"])
     lines = err.strip().splitlines()
     assert rc == 2 and len(lines) == 1 and lines[0].startswith("error:")
-    assert "reach Z-5, less than 3.1 mm from the zone it machines (from Z-4)" in lines[0]
-    assert "--grip2 of at most 21.9" in lines[0]
+    assert "reach Z-5, less than 3.1 mm from the zone it machines (from Z-2.3)" in lines[0]
+    assert "--grip2 of at most 23.6" in lines[0]
     assert not (tmp_path / "out").exists() or not any((tmp_path / "out").iterdir())
 
 
@@ -273,7 +274,7 @@ def test_counterbore_from_the_left_end_in_two_setups(tmp_path, capsys):
     assert rc == 2 and "--setups 2" in err and not (tmp_path / "o.nc").exists()
     from hnc_cam.plan.setups import generate_setups
     s = generate_setups(part, grip=20, grip2=12)
-    assert s.zone.z == pytest.approx(-19.0)  # the counterbore's floor at Z-22, on 3 mm
+    assert s.zone.z == pytest.approx(-20.7)  # the counterbore's floor at Z-22, on 1.3 mm
     g = s.machined2.material
     assert 2 * _radius_at(g, -4.0, outer=False) == pytest.approx(28.0, abs=0.02)
     assert 2 * _radius_at(g, -9.0, outer=False) == pytest.approx(20.0, abs=0.02)

@@ -109,22 +109,25 @@ def second_setup_zone(prof: TurnedProfile, lib: ToolLibrary) -> Zone | None:
     # end needs the cylinder after it)
     chains = [od] + ([an.mirror_chain(ct.trim_left(ct.orient(prof.bore, 0.0), z_min))]
                      if prof.bore else [])
-    z += min(_run_right(c, z) for c in chains)
+    run = ZONE_RUN + max((t.nose_radius for t in lib.tools if t.kind in ("turn", "bore")),
+                         default=0.0)
+    z += min(_run_right(c, z, run) for c in chains)
     return Zone(z=z, z_min=z_min, features=[f[1] for f in sorted(feats, key=lambda f: -f[0])])
 
 
-#: how far (mm) the second setup's zone runs on into a cylinder past its last feature
-ZONE_RUN = 3.0
+#: how far (mm) the second setup's zone runs on into a cylinder past its last feature,
+#: beyond the largest nose radius of the library's turning tools and boring bars
+ZONE_RUN = 0.5
 
 
-def _run_right(chain: Sequence[Segment], z: float) -> float:
+def _run_right(chain: Sequence[Segment], z: float, run: float) -> float:
     """How far the chain (running toward -Z) stays at one radius right of ``z``, at most
-    :data:`ZONE_RUN`: the length the zone may run on along that cylinder."""
+    ``run``: the length the zone may run on along that cylinder."""
     for s in chain:
         z_lo, z_hi = min(s.start[1], s.end[1]), max(s.start[1], s.end[1])
         if z_lo - 1e-9 <= z < z_hi - 1e-9:
             if isinstance(s, Line) and abs(s.start[0] - s.end[0]) < 1e-9:
-                return min(ZONE_RUN, z_hi - z)
+                return min(run, z_hi - z)
             return 0.0
     return 0.0
 
