@@ -298,3 +298,15 @@ def test_counterbore_from_the_left_end_in_two_setups(tmp_path, capsys):
     data = json.loads(js.read_text())
     assert data["pass"] is True and len(data["setups"]) == 2
     assert all(not st["collisions"] for st in data["setups"])
+
+
+def test_bush_from_solid_bar_in_two_setups():
+    """The bush from a 42 mm bar: setup 1 drills and bores it through (the chuck-side chamfer
+    bridged), setup 2 makes the chamfer from the part turned around."""
+    from hnc_cam.plan.setups import generate_setups
+    s = generate_setups(BUSH, "42x80+1", grip=20, grip2=15)
+    assert "drill" in [op.kind for op in s.first.plan.operations]
+    assert s.report1.passed and s.report.passed, s.report.summary()
+    g = s.machined2.material
+    assert 2 * _radius_at(g, -0.5, outer=False) == pytest.approx(25.0, abs=0.02)
+    assert 2 * _radius_at(g, -0.5) == pytest.approx(39.0, abs=0.02)
