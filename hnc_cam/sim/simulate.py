@@ -89,7 +89,7 @@ TOUCH_AREA = 1e-4
 TOUCH_THICK = 5e-4
 RAPID_DEPTH = 0.1
 #: consecutive moves taken out of the material together
-BATCH = 256
+BATCH = 512
 #: a batch whose bounds do not add up is halved down to this many moves, which are then
 #: taken out move by move within one zone of material
 MOVE_BATCH = 48
