@@ -70,7 +70,8 @@ def main() -> int:
                     raise HncError(f"check fails for {bad[0]['params']}: {bad[0]['message']}")
             t2 = time.perf_counter()
         except HncError as e:
-            print(f"{name:<22} refused: {str(e).splitlines()[0][:150]}")
+            print(f"{name:<22} refused after {time.perf_counter() - t0:.1f} s: "
+                  f"{str(e).splitlines()[0][:150]}")
             continue
         total = 0
         sets = [p for pc in pieces for p in sample(fam, pc.tr, pc.lo, pc.hi,

@@ -12,6 +12,7 @@ import pytest
 from hnc_cam.cad.loader import family_parameters, load_module
 from hnc_cam.cad.sketch import SketchError
 from hnc_cam.geometry.primitives import Arc
+from hnc_cam.errors import PartError, PlanError
 from hnc_cam.plan.macro import Lets, _ev, _holds, _node, _trace
 
 PARTS = Path(__file__).resolve().parent.parent / "parts"
@@ -259,7 +260,7 @@ def test_macro_words_are_the_families_dimensions():
 DERIVED = {"stepped_shaft.py", "bushing.py", "flange.py", "cq_pin.py"}
 
 
-@pytest.mark.parametrize("name", FAMILIES)
+@pytest.mark.parametrize("name", sorted(DERIVED))
 def test_every_bundled_family_gets_a_macro_or_one_clear_refusal(name, tmp_path, capsys):
     """A bundled family gives its macro program, proven on 20 sets, or (where the planner's
     program is not one exact program over the domain) a one-line refusal, exit 1 or 2,
@@ -280,6 +281,26 @@ def test_every_bundled_family_gets_a_macro_or_one_clear_refusal(name, tmp_path, 
         assert rc in (1, 2), err
         assert not out.exists() and not list(tmp_path.iterdir())
         assert len([ln for ln in err.splitlines() if ln.startswith("error:")]) == 1, err
+
+
+@pytest.mark.parametrize("name", sorted(set(FAMILIES) - DERIVED))
+def test_a_bundled_family_without_one_law_is_refused_in_one_line(name):
+    """The families the derivation cannot make one law of (docs/MACRO.md, Limits) are refused
+    with one line; here within a budget of 60 per-variant programs (the command's is 400),
+    which bounds the time a refusal takes."""
+    from hnc_cam.plan import macro_command as mc
+    from hnc_cam.plan.macro import load_family
+    from hnc_cam.plan.macro_program import (Ctx, derive_pieces, family_stock,
+                                            fix_unmachinable, sample)
+    fam = load_family(str(PARTS / name), {}, spread=mc.SPREAD)
+    stock = family_stock(fam, fam.lo, fam.hi, sample(fam, fam.trace, fam.lo, fam.hi, 20, "stock"))
+    ctx = Ctx(str(PARTS / name), dict(comp="control", verify=False, dialect="hnc21t"), stock,
+              "hnc21t", budget=60)
+    fix_unmachinable(ctx, fam)
+    with pytest.raises((PlanError, PartError)) as e:
+        derive_pieces(ctx, fam)
+    msg = str(e.value)
+    assert "\n" not in msg and "no macro is written" in msg and len(ctx.cache) <= 60
 
 
 def test_a_groove_that_appears_is_decided_at_the_control(tmp_path):
@@ -594,3 +615,14 @@ def test_expressions_are_written_simplified_and_keep_their_value():
         assert got == text and not lets.lines
         tp = run(f"%1\n#51=7\n#52=3\nG00 X[{got}] Z0\nM30\n", start="reference")
         assert tp.moves[-1].end[0] * 2 == pytest.approx(_ev(node, env), abs=1e-9)
+
+
+def test_fanuc_decides_with_goto(tmp_path):
+    """FANUC macro B has no ELSE: the groove's decision jumps over the other alternative, and
+    the program is proven on sets of both sides."""
+    from hnc_cam.cli import main
+    out = tmp_path / "m.nc"
+    assert main(["family", str(FRESH / "grooved_pin.py"), "--macro", "--dialect", "fanuc0it",
+                 "--check", "3", "-o", str(out)]) == 0
+    text = out.read_text()
+    assert "IF [#1 GE 52] GOTO 9001" in text and "N9001" in text and "N9002" in text
