@@ -282,13 +282,41 @@ class Slot:
     node: tuple | None = None
     value: float | None = None
     note: str = ""
+    #: written rounded to 0.001 at the control (a crossing: the tiny arc left beyond it has
+    #: its centre set by the last digit of its ends)
+    rounded: bool = False
 
 
-def _candidates(fam: Family, tr: Any, sets: list[dict[str, Any]]):
+def normal_features(tr: Any) -> list[tuple[str, tuple]]:
+    """At each traced segment's ends, its normal's reciprocal X part and Z-over-X ratio
+    (``1/n_x``, ``n_z/n_x``; a line's ``len/dz`` and ``dx/dz``): the planner's finishing
+    allowance is ``(margin + gouge(n)) / n_x`` at the steepest normal, affine in these."""
+    out: list[tuple[str, tuple]] = []
+    for i, seg in enumerate(tr.segments):
+        x0, z0, x1, z1 = _n(seg[1][0]), _n(seg[1][1]), _n(seg[2][0]), _n(seg[2][1])
+        if seg[0] == "L":
+            dx, dz = ("-", x1, x0), ("-", z1, z0)
+            ln = ("f", "sqrt", ("+", ("*", dx, dx), ("*", dz, dz)))
+            out += [(f"segment {i + 1} length/dz", ("/", ln, dz)),
+                    (f"segment {i + 1} dx/dz", ("/", dx, dz))]
+            continue
+        if seg[3] is None:
+            continue
+        cx, cz, r = _n(seg[3][0]), _n(seg[3][1]), _n(seg[4])
+        for end, (x, z) in (("start", (x0, z0)), ("end", (x1, z1))):
+            out += [(f"segment {i + 1} {end} r/nx", ("/", r, ("-", x, cx))),
+                    (f"segment {i + 1} {end} nz/nx", ("/", ("-", z, cz), ("-", x, cx)))]
+    return out
+
+
+def _candidates(fam: Family, tr: Any, sets: list[dict[str, Any]], normals: bool = False):
     """Columns (values over ``sets``) of the distinct non-constant features and parameters,
-    with their expressions (the shortest of equal columns)."""
+    with their expressions (the shortest of equal columns); with ``normals`` also the
+    segments' normal ratios (:func:`normal_features`)."""
     import numpy as np
     feats = [(k, ("p", k)) for k in fam.free] + features(tr)
+    if normals:
+        feats += normal_features(tr)
     cols: dict[tuple, tuple[tuple, np.ndarray, int]] = {}
     for _desc, n in feats:
         try:
@@ -565,6 +593,7 @@ def _fit_blocks(ctx: Ctx, fam: Family, tr: Any, nominal: dict, lo: dict, hi: dic
     import numpy as np
     nb = allb[0]
     nodes, mat = _candidates(fam, tr, allp)
+    nodes2 = mat2 = None
     cross = None
     slots: list[Slot] = []
     for bi, b in enumerate(nb):
@@ -588,25 +617,24 @@ def _fit_blocks(ctx: Ctx, fam: Family, tr: Any, nominal: dict, lo: dict, hi: dic
                     cross = _cross_columns(tr, nb, allb, allp)
                 node = _fit_single(y, *cross)
                 if node is not None:
-                    slots.append(Slot(bi, wi, "fit", node))
+                    slots.append(Slot(bi, wi, "fit", node, rounded=True))
                     continue
             if r is not None:
                 slots.append(Slot(bi, wi, "fit", _combine(nodes, *r)))
                 continue
-            if w.letter == "Z":
-                if cross is None:
-                    cross = _cross_columns(tr, nb, allb, allp)
-                node = _fit_single(y, *cross)
-                if node is not None:
-                    slots.append(Slot(bi, wi, "fit", node))
-                    continue
             if w.letter in ("S", "F"):
                 v = float(min(y))
                 slots.append(Slot(bi, wi, "bound", value=v,
                                   note=f"{w.letter}{_num(v)}: THE LOWEST OF {len(y)} VARIANTS"))
                 continue
-            law = _local_law(y, mat, nodes, allp, fam, allp[0])
-            node = _piecewise(y, mat, nodes, law, allp) if law is not None else None
+            if nodes2 is None:  # the normals' ratios, for an allowance's law
+                nodes2, mat2 = _candidates(fam, tr, allp, normals=True)
+            r = _fit_word(y, mat2, min(n_fit + 1, len(allp)))
+            if r is not None:
+                slots.append(Slot(bi, wi, "fit", _combine(nodes2, *r)))
+                continue
+            law = _local_law(y, mat2, nodes2, allp, fam, allp[0])
+            node = _piecewise(y, mat2, nodes2, law, allp) if law is not None else None
             if node is not None:
                 slots.append(Slot(bi, wi, "fit", node))
                 continue
@@ -746,7 +774,7 @@ def derive_piece(ctx: Ctx, fam: Family, lo: dict, hi: dict, nominal: dict[str, A
         alt = rg.alts[0]
         for s in alt.slots:
             flat.append(Slot(line_ix[alt.blocks[s.block].line], s.word, s.kind, s.node,
-                             s.value, s.note))
+                             s.value, s.note, s.rounded))
     pc = Piece(fam, tr, dict(lo), dict(hi), dict(nominal), text, nb, flat, sets,
                stock=ctx.stock)
     pc.regions = regions
@@ -974,12 +1002,8 @@ _HEADER_COMMENTS = ("(PARAMETERS", "(STOCK", "(PART", "(COMPENSATION")
 _LEAD_N = re.compile(r"^(\s*)N(\d+)")
 
 
-#: the words written to the program's 0.001 mm at the control (coordinates and radii)
-_ROUNDED = set("XZRIKUW")
-
-
-def _word(lets: Lets, node: tuple, letter: str) -> str:
-    return lets.rounded(node) if letter in _ROUNDED else lets.expr(node)
+def _word(lets: Lets, s: Slot) -> str:
+    return lets.rounded(s.node) if s.rounded else lets.expr(s.node)
 
 
 def _emit_alt(alt: Alt, lets: Lets, body: list[str], notes: list[str], counter: list[int],
@@ -991,7 +1015,7 @@ def _emit_alt(alt: Alt, lets: Lets, body: list[str], notes: list[str], counter: 
         return
     for s in alt.slots:
         if s.kind == "fit":
-            _word(lets, s.node, alt.blocks[s.block].words[s.word].letter)
+            _word(lets, s)
     body += lets.lines
     lets.lines.clear()
     lines = alt.rep.text.splitlines()
@@ -1031,7 +1055,7 @@ def _emit_alt(alt: Alt, lets: Lets, body: list[str], notes: list[str], counter: 
             w = blk.words[s.word]
             ws, we = w.span
             if s.kind == "fit":
-                rep = _word(lets, s.node, w.letter)
+                rep = _word(lets, s)
                 rep = rep if rep.startswith("[") else f"[{rep}]"
             elif s.kind == "bound":
                 rep = _num(s.value)
@@ -1232,7 +1256,7 @@ def render_program(pieces_or_one: Piece, dialect: str = "hnc21t", values: dict |
         if rg.tree is None:
             for s in rg.alts[0].slots:
                 if s.kind == "fit":
-                    _word(lets, s.node, rg.alts[0].blocks[s.block].words[s.word].letter)
+                    _word(lets, s)
     pre = list(lets.lines)
     lets.lines.clear()
     notes: list[str] = []
