@@ -29,7 +29,10 @@ Model (the choices made where the issue leaves room):
   material is the material minus the sweeps. Where they do not (a move coming back through
   what its batch cut), the batch is taken move by move: within a zone (the convex
   hull of its sweeps grown by ``SEAM``) each sweep is taken out of the local material in
-  program order, one overlay per move that meets it.
+  program order, one overlay per move that meets it. A short pass (:data:`SHORT_PASS` moves
+  or fewer, from a feed move after a rapid to the next) is taken that way from the start.
+  A move's swept region is built only where an overlay or a check needs it; its bounds come
+  from its pieces' ends and the outline's.
 * Material that is no longer connected to the chucked end (the minimum-Z end of the stock)
   falls off and counts as removed, checked after every batch.
 
