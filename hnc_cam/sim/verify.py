@@ -34,9 +34,9 @@ Choices (the issue leaves them open):
   under it. Components no deeper than ``NOISE`` are not classified and count as reachable.
 * **Tails**: leftover the tools could reach that lies within the tolerance of unreachable
   leftover in the same connected piece of leftover (the same side of the model) is the tail of
-  that unreachable feature and unreachable too, as the planner leaves a feature no tool
-  reaches (a chamfer facing the chuck inside a bore) whole, with a NOTE, for another
-  operation.
+  that unreachable feature and unreachable too: a feature no tool of the program reaches (a
+  chamfer facing the chuck inside a bore, which the planner makes in a second setup) is left
+  whole, tail included.
 * **Part-off**: when the program parts the part off, the piece that fell off (the simulator's
   ``fallen``) holds more of the model than what stays in the chuck: that piece is the part
   compared, its left end (face and chamfer) included (:func:`separated_part`).
@@ -349,7 +349,7 @@ def tool_body(shape: ToolShape, length: float) -> np.ndarray:
     the insert across that direction (a real shank is at least that wide). For a boring bar
     that makes the bar as tall as the insert: an inside tool reaches nothing behind a mouth
     narrower than where its tip is (a recess or a chamfer facing the chuck inside the bore),
-    as the planner assumes when it leaves such a feature for another operation. An inside
+    as the planner assumes when it leaves such a feature to the second setup. An inside
     tool whose ``head`` is known (its ``min_bore``) has a body that deep across X from its
     controlled point toward the axis and beyond: in a narrow bore the head's back meets the
     far wall before the tip reaches the centre, so a flat bottom near the axis is out of its
