@@ -1,14 +1,15 @@
 """What the fork server of ``hnc-cam family``'s local pool imports once, before it forks the
-workers (``multiprocessing``'s fork server preloads this module; nothing else imports it).
+workers (``multiprocessing``'s fork server preloads this module; a Dask worker started with
+``--preload hnc_cam.plan.pool`` imports it too, to have the kernel before its first row).
 
 The CAD kernel (build123d, OpenCascade), the profile extractor, the planner, the templates'
 environment, the interpreter, the simulator and the bundled tool library and machine are
 loaded here once; every worker is a fork of this process, so it starts with all of them
 (their pages shared with the other workers, copy on write) instead of importing the kernel
-itself (about 2 s and most of a worker's memory). The objects alive after the imports are
-moved out of the cyclic garbage collector's reach (``gc.freeze``): a collection in a worker
-then neither walks them nor writes to their pages, which would copy the shared pages into
-each worker. The fork server itself leaves without tearing the kernel down (a second or more
+itself (about 2 s and most of a worker's memory). In the fork server, the objects alive after
+the imports are moved out of the cyclic garbage collector's reach (``gc.freeze``): a
+collection in a worker then neither walks them nor writes to their pages, which would copy
+the shared pages into each worker. The fork server itself leaves without tearing the kernel down (a second or more
 of finalisation that nobody waits for) when the family process closes its pipe.
 
 Whatever fails here (the CAD kernel not installed, a broken bundled file) is left for the
