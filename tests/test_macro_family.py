@@ -626,3 +626,15 @@ def test_fanuc_decides_with_goto(tmp_path):
                  "--check", "3", "-o", str(out)]) == 0
     text = out.read_text()
     assert "IF [#1 GE 52] GOTO 9001" in text and "N9001" in text and "N9002" in text
+
+
+def test_fanuc_macro_of_nine_parameters_passes_its_check(tmp_path):
+    """cq_pin in FANUC: nine arguments without H (a G65 with an H word is read as a macro A
+    call), and checks whose min/max would nest brackets more than 5 deep written through
+    variables; proven on sets of the box."""
+    from hnc_cam.cli import main
+    out = tmp_path / "m.nc"
+    assert main(["family", str(PARTS / "cq_pin.py"), "--macro", "--dialect", "fanuc0it",
+                 "--check", "3", "-o", str(out)]) == 0
+    call = next(ln for ln in out.read_text().splitlines() if ln.startswith("G65 P"))
+    assert " H" not in call and len(call.split()) == 11

@@ -668,6 +668,15 @@ class Lets:
         self._memo[key] = s
         return s
 
+    def _held(self, n: tuple) -> str:
+        """``n`` as a variable or a plain number (assigned now if it is neither)."""
+        e = self.expr(n)
+        if _depth(e) == 0 and " " not in e:
+            return e
+        name = self._assign(e)
+        self._memo[id(n)] = name
+        return name
+
     def _assign(self, s: str) -> str:
         if self.next > self.last:
             raise PlanError(f"the macro needs more than {self.last - self.next + 1} "
@@ -707,6 +716,9 @@ class Lets:
         else:
             s = render((k, ("p", "\0a"), ("p", "\0b")),
                        {"\0a": self.expr(n[1]), "\0b": self.expr(n[2])}, self.dialect)
+            if _depth(s) > self.depth:  # its operands in variables first (FANUC: 5 deep)
+                s = render((k, ("p", "\0a"), ("p", "\0b")),
+                           {"\0a": self._held(n[1]), "\0b": self._held(n[2])}, self.dialect)
         if len(s) > self.inline or _depth(s) > self.depth:
             if self.next > self.last:
                 raise PlanError(f"the macro needs more than {self.last - self.next + 1} "

@@ -989,10 +989,12 @@ def _letters(free: list[str]) -> dict[str, str]:
         raise PlanError(f"the family has {len(free)} parameters; a FANUC G65 call passes at "
                         f"most {len(FANUC_ARGS)} (its argument letters)")
     out: dict[str, str] = {}
-    left = list(FANUC_ARGS)
+    # H last: a G65 with an H word reads as a macro A call (G65 Hm P#i Q#j R#k) to our
+    # interpreter, so H is taken only when every other letter is
+    left = [c for c in FANUC_ARGS if c != "H"] + ["H"]
     for k in free:
         first = k[0].upper()
-        letter = first if first in left else left[0]
+        letter = first if first in left and first != "H" else left[0]
         left.remove(letter)
         out[k] = letter
     return out
