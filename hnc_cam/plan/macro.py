@@ -380,6 +380,8 @@ _HNC_FUN = {"sqrt": "SQRT", "sin": "SIN", "cos": "COS", "tan": "TAN", "atan": "A
 def render(n: tuple, var: dict[str, str], dialect: str = "hnc21t") -> str:
     """The expression ``n`` in the dialect's macro syntax; ``var`` maps a parameter to its
     variable (``#50``)."""
+    if dialect == "siemens802":
+        return _render_802(n, var)
     k = n[0]
     if k == "c":
         s = _num(n[1])
@@ -405,6 +407,35 @@ def render(n: tuple, var: dict[str, str], dialect: str = "hnc21t") -> str:
         return f"ATAN2[{a},{b}]"
     a, b = render(n[1], var, dialect), render(n[2], var, dialect)
     return f"[{a}{k}{b}]"
+
+
+def _render_802(n: tuple, var: dict[str, str]) -> str:
+    """SINUMERIK 802: ``( )`` brackets, ``SQRT( )``, trigonometry in degrees, ``ATAN2(y,x)``
+    (no ATAN)."""
+    k = n[0]
+    if k == "c":
+        s = _num(n[1])
+        return f"({s})" if s.startswith("-") else s
+    if k == "p":
+        return var[n[1]]
+    if k == "neg":
+        return f"(-{_render_802(n[1], var)})"
+    deg = f"180/{_num(math.pi)}"
+    if k == "f":
+        inner = _render_802(n[2], var)
+        if n[1] in ("sin", "cos", "tan"):
+            return f"{_HNC_FUN[n[1]]}({inner}*{deg})"
+        if n[1] == "atan":
+            return f"(ATAN2({inner},1)/({deg}))"
+        return f"{_HNC_FUN[n[1]]}({inner})"
+    if k in ("min", "max"):
+        a, b = _render_802(n[1], var), _render_802(n[2], var)
+        return f"(({a}+{b}{'-' if k == 'min' else '+'}ABS({a}-{b}))/2)"
+    if k == "atan2":
+        a, b = _render_802(n[1], var), _render_802(n[2], var)
+        return f"(ATAN2({a},{b})/({deg}))"
+    a, b = _render_802(n[1], var), _render_802(n[2], var)
+    return f"({a}{k}{b})"
 
 
 def _simplify(n: tuple) -> tuple:
@@ -619,6 +650,8 @@ class Lets:
     def __init__(self, var: dict[str, str], dialect: str = "hnc21t", first: int = 100,
                  last: int = 199, inline: int = 40, depth: int | None = None):
         self.var, self.dialect, self.next, self.last, self.inline = var, dialect, first, last, inline
+        #: how a variable is named: ``#n`` (macro B), ``Rn`` (SINUMERIK 802)
+        self.prefix = "R" if dialect == "siemens802" else "#"
         # FANUC nests brackets at most 5 deep (PS0118): 4 here, the word's own makes 5
         self.depth = depth if depth is not None else (4 if dialect == "fanuc0it" else 64)
         self.lines: list[str] = []
@@ -657,12 +690,15 @@ class Lets:
         if key in self._memo:
             return self._memo[key]
         e = self.expr(n)
-        if e.startswith("#") or _depth(e) == 0:
+        if e.startswith(self.prefix) or _depth(e) == 0:
             inner = e
         else:  # the expression twice: once in a variable
             inner = self._assign(e)
-        s = (f"[ROUND[{inner}*1000]/1000]" if self.dialect == "fanuc0it" else
-             f"[INT[[{inner}*1000]+[SIGN[{inner}]*0.5]]/1000]")
+        if self.dialect == "siemens802":  # TRUNC of a positive number is its floor
+            s = f"((TRUNC({inner}*1000+1000000.5)-1000000)/1000)"
+        else:
+            s = (f"[ROUND[{inner}*1000]/1000]" if self.dialect == "fanuc0it" else
+                 f"[INT[[{inner}*1000]+[SIGN[{inner}]*0.5]]/1000]")
         if len(s) > self.inline or _depth(s) > self.depth:
             s = self._assign(s)
         self._memo[key] = s
@@ -681,8 +717,8 @@ class Lets:
         if self.next > self.last:
             raise PlanError(f"the macro needs more than {self.last - self.next + 1} "
                             f"variables for its expressions (the control's range for them "
-                            f"ends at #{self.last})")
-        name = f"#{self.next}"
+                            f"ends at {self.prefix}{self.last})")
+        name = f"{self.prefix}{self.next}"
         self.next += 1
         self.lines.append(f"{name}={s}")
         return name
@@ -710,7 +746,8 @@ class Lets:
         if k in ("c", "p"):
             s = render(n, self.var, self.dialect)
         elif k == "neg":
-            s = f"[-{self.expr(n[1])}]"
+            s = (f"(-{self.expr(n[1])})" if self.dialect == "siemens802" else
+                 f"[-{self.expr(n[1])}]")
         elif k == "f":
             s = render(("f", n[1], ("p", "\0")), {"\0": self.expr(n[2])}, self.dialect)
         else:
@@ -723,8 +760,8 @@ class Lets:
             if self.next > self.last:
                 raise PlanError(f"the macro needs more than {self.last - self.next + 1} "
                                 f"variables for its expressions (the control's range for them "
-                                f"ends at #{self.last})")
-            name = f"#{self.next}"
+                                f"ends at {self.prefix}{self.last})")
+            name = f"{self.prefix}{self.next}"
             self.next += 1
             self.lines.append(f"{name}={s}")
             s = name
@@ -760,9 +797,9 @@ def _depth(s: str) -> int:
     """How deep the brackets of ``s`` nest."""
     d = m = 0
     for ch in s:
-        if ch == "[":
+        if ch in "[(":
             d += 1
             m = max(m, d)
-        elif ch == "]":
+        elif ch in "])":
             d -= 1
     return m

@@ -15,7 +15,7 @@ SPREAD = 0.05
 #: parameter sets ``--check`` runs by default
 DEFAULT_CHECK = 5
 #: the dialects a macro program is written in
-DIALECTS = ("hnc21t", "fanuc0it")
+DIALECTS = ("hnc21t", "fanuc0it", "siemens802")
 #: generate() keywords a variant takes from the command line
 _GEN_KEYS = ("tools", "machine", "templates", "number_format", "block_numbers", "thread_cycle",
              "face_cycle", "material", "allowance", "grip", "partoff", "partoff_dia")
@@ -140,7 +140,20 @@ def macro_command(args: argparse.Namespace) -> int:
                                         f"nothing written")
         texts.append((f"O{num:04d}.nc", final.text))
     out = args.output
-    if len(texts) > 1:
+    if dia == "siemens802" and out and (out.endswith("/") or Path(out).is_dir()):
+        # -o DIR/: the main program(s) and each subprogram in its own file (NAME.MPF,
+        # NAME_C1.SPF, ...), all or none
+        from .export import write_program_folder
+        write_program_folder(out, "".join(t for _n, t in texts))
+        texts = []
+    elif dia == "siemens802" and len(texts) > 1:
+        raise PlanError(f"{args.part}: the family's program changes shape over the domain, "
+                        f"so it is {len(texts)} programs ("
+                        + "; ".join(", ".join(pc.bounds) for pc in pieces)
+                        + "): give a folder with -o DIR/")
+    if not texts:
+        pass
+    elif len(texts) > 1:
         if not out or not (out.endswith("/") or Path(out).is_dir()):
             raise PlanError(f"{args.part}: the family's program changes shape over the domain, "
                             f"so it is {len(texts)} programs ("

@@ -47,6 +47,8 @@ def sections(text: str, dialect: str) -> list[Section]:
     from .macro_program import blocks, core
     lines = text.splitlines()
     head = "O" if dialect == "fanuc0it" else "%"
+    # a comment line starts a section; the 802: a ; comment or a subprogram's header
+    comment = (";", "%") if dialect == "siemens802" else ("(",)
     start = next(i for i, ln in enumerate(lines) if ln.startswith(head)) + 1
     allb = blocks(text)
     at = {b.line for b in allb}
@@ -54,7 +56,7 @@ def sections(text: str, dialect: str) -> list[Section]:
     cuts = [start]
     for i in range(start, len(lines)):
         s = lines[i].strip()
-        if s.startswith("(") and (i + 1) not in at and \
+        if s.startswith(comment) and (i + 1) not in at and \
                 any(ln in cb for ln in range(cuts[-1] + 1, i + 1)):
             cuts.append(i)
     cuts.append(len(lines))

@@ -58,6 +58,11 @@ FANUC_ARGS = {"A": 1, "B": 2, "C": 3, "I": 4, "J": 5, "K": 6, "D": 7, "E": 8, "F
               "W": 23, "X": 24, "Y": 25, "Z": 26}
 #: HNC-21T globals: the row number, then the parameters, then the temporaries
 HNC_FIRST, HNC_LAST = 50, 199
+#: SINUMERIK 802 R parameters: the row number, then the parameters, then the temporaries, all
+#: below the cycles' transfer parameters R100-R249
+S802_FIRST, S802_LAST = 20, 99
+#: the per-variant 802 program's header comments the macro replaces with its own
+_S802_HEAD = (";$PATH=/_N_MPF_DIR", "; PARAMETERS", "; STOCK", "; COMPENSATION")
 
 
 # ------------------------------------------------------------------------------------------
@@ -69,6 +74,7 @@ class Word:
     letter: str
     text: str  # the number as written
     span: tuple[int, int]  # of the number in the line
+    eq: bool = False  # SINUMERIK: written NAME=number (a fitted word needs the = added if not)
 
     @property
     def value(self) -> float:
@@ -102,8 +108,57 @@ class Block:
             and not any(w.letter == "M" for w in self.words)
 
 
+#: SINUMERIK 802 words: a name and ``=`` before the number (``R105=1``, ``CHF=1.414``,
+#: ``X=19.2``), names and strings that are no words (``LCYC95``, ``_CNAME="PIN_C1"``), else a
+#: letter and its number
+_S_WORD = re.compile(
+    r'(?P<str>"[^"]*")'
+    r"|(?<![A-Z0-9_])(?P<named>R\d+|CHF|CR|AR|RND|IX|KZ|SF|LIMS|SPOS|[A-Z])\s*=\s*"
+    r"(?P<nv>[-+]?(?:\d+\.?\d*|\.\d+))"
+    r"|(?<![A-Z0-9_])(?P<name>[A-Z_][A-Z_][A-Z0-9_]*)(?![A-Z0-9_])"
+    r"|(?<![A-Z_])(?P<letter>[A-Z])\s*(?P<v>[-+]?(?:\d+\.?\d*|\.\d+))")
+
+
+def is_siemens(text: str) -> bool:
+    """A SINUMERIK 802 program (its ``%_N_NAME_MPF`` header)."""
+    return text.lstrip().startswith("%_N_")
+
+
+def _siemens_blocks(text: str) -> list[Block]:
+    """:func:`blocks` of an 802 program: ``;`` comments, header lines ``%_N_...`` aside;
+    a fitted word is written ``X=<expression>`` (:attr:`Word.eq` says whether the ``=`` is
+    there)."""
+    out: list[Block] = []
+    for i, raw in enumerate(text.splitlines(), 1):
+        code = raw.split(";", 1)[0]
+        if not code.strip() or code.lstrip().startswith("%"):
+            continue
+        words: list[Word] = []
+        rest: list[str] = []
+        pos = 0
+        for m in _S_WORD.finditer(code):
+            if m.group("named") or m.group("letter"):
+                letter = m.group("named") or m.group("letter")
+                g = "nv" if m.group("named") else "v"
+                rest.append(code[pos:m.start()].strip())
+                pos = m.end()
+                if letter == "N" and not words:
+                    continue
+                words.append(Word(letter, m.group(g), (m.start(g), m.end(g)),
+                                  eq=bool(m.group("named"))))
+        rest.append(code[pos:].strip())
+        other = "".join(rest)
+        if not words and not other:
+            continue
+        key = tuple((w.letter, w.text if w.letter in _CODES else None) for w in words) + (other,)
+        out.append(Block(i, raw, words, key))
+    return out
+
+
 def blocks(text: str) -> list[Block]:
     """The blocks of a program that carry words (comment-only lines aside)."""
+    if is_siemens(text):
+        return _siemens_blocks(text)
     out: list[Block] = []
     for i, raw in enumerate(text.splitlines(), 1):
         spans, depth, start = [], 0, 0
@@ -309,14 +364,30 @@ def normal_features(tr: Any) -> list[tuple[str, tuple]]:
     return out
 
 
-def _candidates(fam: Family, tr: Any, sets: list[dict[str, Any]], normals: bool = False):
+def segment_lengths(tr: Any) -> list[tuple[str, tuple]]:
+    """Each traced line's length (the 802 writes a chamfer as ``CHF=`` its own length)."""
+    from .macro import _Math
+    out = []
+    for i, s in enumerate(tr.segments):
+        if s[0] == "L":
+            (x0, z0), (x1, z1) = s[1], s[2]
+            n = _node(_Math().sqrt((x1 - x0) * (x1 - x0) + (z1 - z0) * (z1 - z0)))
+            out.append((f"segment {i + 1} length", n))
+    return out
+
+
+def _candidates(fam: Family, tr: Any, sets: list[dict[str, Any]], normals: bool = False,
+                lengths: bool = False):
     """Columns (values over ``sets``) of the distinct non-constant features and parameters,
     with their expressions (the shortest of equal columns); with ``normals`` also the
-    segments' normal ratios (:func:`normal_features`)."""
+    segments' normal ratios (:func:`normal_features`), with ``lengths`` the lines' lengths
+    (:func:`segment_lengths`)."""
     import numpy as np
     feats = [(k, ("p", k)) for k in fam.free] + features(tr)
     if normals:
         feats += normal_features(tr)
+    if lengths:
+        feats += segment_lengths(tr)
     cols: dict[tuple, tuple[tuple, np.ndarray, int]] = {}
     for _desc, n in feats:
         try:
@@ -393,10 +464,14 @@ def _fit_word(y, mat, n_fit: int):
     r = attempt(())
     if r:
         return r
-    for i in range(m):
+    first = None
+    for i in range(m):  # one feature: a simple coefficient (an exact law) before any other
         r = attempt((i,))
-        if r:
+        if r and _simple(r[1]):
             return r
+        first = first or r
+    if first:
+        return first
     best: list[tuple[float, tuple[int, int]]] = []
     for pair in itertools.combinations(range(m), 2):
         r = attempt(pair)
@@ -592,7 +667,7 @@ def _fit_blocks(ctx: Ctx, fam: Family, tr: Any, nominal: dict, lo: dict, hi: dic
     blocks among the nominal's core blocks (None: not the nominal's alternative)."""
     import numpy as np
     nb = allb[0]
-    nodes, mat = _candidates(fam, tr, allp)
+    nodes, mat = _candidates(fam, tr, allp, lengths=ctx.dialect == "siemens802")
     nodes2 = mat2 = None
     cross = None
     slots: list[Slot] = []
@@ -628,7 +703,8 @@ def _fit_blocks(ctx: Ctx, fam: Family, tr: Any, nominal: dict, lo: dict, hi: dic
                                   note=f"{w.letter}{_num(v)}: THE LOWEST OF {len(y)} VARIANTS"))
                 continue
             if nodes2 is None:  # the normals' ratios, for an allowance's law
-                nodes2, mat2 = _candidates(fam, tr, allp, normals=True)
+                nodes2, mat2 = _candidates(fam, tr, allp, normals=True,
+                                           lengths=ctx.dialect == "siemens802")
             r = _fit_word(y, mat2, min(n_fit + 1, len(allp)))
             if r is not None:
                 slots.append(Slot(bi, wi, "fit", _combine(nodes2, *r)))
@@ -1049,6 +1125,9 @@ def _emit_alt(alt: Alt, lets: Lets, body: list[str], notes: list[str], counter: 
                 continue
             if raw.lstrip().startswith(_HEADER_COMMENTS):
                 continue
+            if lets.dialect == "siemens802" and (raw.startswith(_S802_HEAD)
+                                                  or raw.endswith("_MPF")):
+                continue
             body.append(renum(raw))
             continue
         blk = alt.blocks[bi]
@@ -1058,7 +1137,10 @@ def _emit_alt(alt: Alt, lets: Lets, body: list[str], notes: list[str], counter: 
             ws, we = w.span
             if s.kind == "fit":
                 rep = _word(lets, s)
-                rep = rep if rep.startswith("[") else f"[{rep}]"
+                if lets.dialect == "siemens802":  # X=<expression>, R105=<expression>
+                    rep = rep if w.eq else f"={rep}"
+                else:
+                    rep = rep if rep.startswith("[") else f"[{rep}]"
             elif s.kind == "bound":
                 rep = _num(s.value)
                 notes.append(s.note)
@@ -1069,7 +1151,7 @@ def _emit_alt(alt: Alt, lets: Lets, body: list[str], notes: list[str], counter: 
                 continue
             out = out[:ws] + rep + out[we:]
         out = renum(out)
-        if re.search(r"\bM30\b", out):
+        if lets.dialect != "siemens802" and re.search(r"\bM30\b", out):
             out = re.sub(r"\bM30\b", "M99", out)
         body.append(out)
 
@@ -1121,9 +1203,26 @@ def _emit_tree(node: Any, alts: list[Alt], lets: Lets, body: list[str], notes: l
     fx, cx = lets.expr(f), lets.expr(c)
     body += lets.lines
     lets.lines.clear()
-    body.append(f"({node.label.upper()}?)")
+    siemens = lets.dialect == "siemens802"
+    body.append(f"; {node.label.upper()}?" if siemens else f"({node.label.upper()}?)")
     forks = []
-    if fanuc:
+    if siemens:  # IF cond GOTOF label: the 802 has no ELSE
+        l_no, l_end = labels[0] + 1, labels[0] + 2
+        labels[0] += 2
+        body.append(f"IF {fx}{_S802_OPS[_negate(node.cond)[0]]}{cx} GOTOF MD{l_no}")
+        at = len(body)
+        fy = lets.fork()
+        _emit_tree(node.yes, alts, fy, body, notes, counter, labels, fanuc)
+        body += [f"GOTOF MD{l_end}", f"MD{l_no}:"]
+        fn = lets.fork()
+        _emit_tree(node.no, alts, fn, body, notes, counter, labels, fanuc)
+        body.append(f"MD{l_end}:")
+        forks = [fy, fn]
+        if any(ln.startswith("%_N_") for ln in body[at:]):
+            raise PlanError("the 802 macro program decides at the control inside a "
+                            "subprogram (a contour the decision changes): a jump cannot "
+                            "leave its program; no macro is written")
+    elif fanuc:
         l_no, l_end = labels[0] + 1, labels[0] + 2
         labels[0] += 2
         body.append(f"IF [{fx} {ops[_negate(node.cond)[0]]} {cx}] GOTO {l_no}")
@@ -1164,6 +1263,36 @@ class _Checks:
         self.checks = checks
 
 
+_S802_OPS = {"<": "<", "<=": "<=", ">": ">", ">=": ">="}
+
+
+def _s802_checks(checks: list[Check], lets: Lets, rows: int = 0) -> list[str]:
+    """The 802's checks before any motion: one ``IF <failing condition> GOTOF ERn`` per
+    condition (the 802's IF takes one comparison), then, jumped over when every check holds,
+    each check's label with a comment naming its parameters and ``M30`` (the 802S/C has no
+    program-generated alarm: the program ends with the comment on the screen)."""
+    neg = {"<": ">=", "<=": ">", ">": "<=", ">=": "<"}
+    out: list[str] = []
+    stops: list[str] = []
+    if rows:
+        first = f"R{S802_FIRST}"
+        out += [f"IF {first}<1 GOTOF ER0", f"IF {first}>{rows} GOTOF ER0"]
+        stops += ["ER0:", "; NO SUCH TABLE ROW", "M30"]
+    for i, ch in enumerate(checks, 1):
+        names = " ".join(n.upper() for n in ch.names) or "PARAMETERS"
+        for c in ch.conds:
+            if c[0] == "not":
+                op, a, b = c[1]
+            else:
+                op, a, b = neg[c[0]], c[1], c[2]
+            line = f"IF {lets.expr(a)}{op}{lets.expr(b)} GOTOF ER{i}"
+            out.extend(lets.lines)
+            lets.lines.clear()
+            out.append(line)
+        stops += [f"ER{i}:", f"; PARAMETER CHECK FAILED: {names}", "M30"]
+    return out + ["GOTOF CHECKED"] + stops + ["CHECKED:"]
+
+
 def _fanuc_checks(checks: list[Check], lets: Lets) -> list[str]:
     out = []
     ops = {"<": "LT", "<=": "LE", ">": "GT", ">=": "GE"}
@@ -1193,8 +1322,17 @@ def render_program(pieces_or_one: Piece, dialect: str = "hnc21t", values: dict |
     vals = dict(pc.nominal, **(values or {}))
     sub = 1000 + number if number < 9000 else number - 1000
     fanuc = dialect == "fanuc0it"
+    siemens = dialect == "siemens802"
     checks = list(pc.tr.checks) + _box_checks(pc)
-    if fanuc:
+    if siemens:
+        first = S802_FIRST + (1 if rows else 0)
+        var = {k: f"R{first + i}" for i, k in enumerate(fam.free)}
+        if first + len(fam.free) > S802_LAST:
+            raise PlanError(f"the family has {len(fam.free)} parameters: more than the "
+                            f"802's R{S802_FIRST}-R{S802_LAST} hold below the cycles' "
+                            f"R100-R249")
+        lets = Lets(var, dialect, first=first + len(fam.free), last=S802_LAST)
+    elif fanuc:
         letters = _letters(fam.free)
         var = {k: f"#{FANUC_ARGS[letters[k]]}" for k in fam.free}
         lets = Lets(var, dialect, first=100, last=199)
@@ -1219,7 +1357,22 @@ def render_program(pieces_or_one: Piece, dialect: str = "hnc21t", values: dict |
     if fixed:
         head.append("(FIXED " + " ".join(f"{k.upper()}={_fmt(fam.params[k])}" for k in fixed) + ")")
     main: list[str] = []
-    if fanuc:
+    if siemens:
+        name = pc.regions[0].alts[0].rep.text.splitlines()[0].strip()  # %_N_NAME_MPF
+        main += [name, ";$PATH=/_N_MPF_DIR"] + ["; " + h[1:-1] for h in head]
+        if rows:
+            rv_ = f"R{S802_FIRST}"
+            main.append(f"{rv_}={row} ; ROW: THE TABLE ROW TO MAKE, 1-{len(rows)}")
+            for i, r in enumerate(rows, 1):
+                rv = dict(vals, **r)
+                main.append(f"IF {rv_}<>{i} GOTOF RW{i}")
+                main += [f"{var[k]}={_num(float(rv[k]))} ; {k.upper()}" for k in fam.free]
+                main.append(f"RW{i}:")
+        else:
+            main += [f"{var[k]}={_num(float(vals[k]))} ; {k.upper()}" for k in fam.free]
+        main += _s802_checks(checks, lets, len(rows) if rows else 0)
+        check_lines = []
+    elif fanuc:
         main += ["%", f"O{number:04d}"] + head
         def argtext(p):
             return " ".join(f"{letters[k]}{_num(float(p[k]))}" + ("." if "." not in _num(float(p[k])) else "")
@@ -1270,6 +1423,13 @@ def render_program(pieces_or_one: Piece, dialect: str = "hnc21t", values: dict |
         else:
             _emit_tree(rg.tree, rg.alts, lets, body, notes, counter, labels, fanuc)
     body = [_resolve_labels(ln, counter, pc) if "\0" in ln else ln for ln in body]
+    if siemens:  # one main program, its contour subprograms after it
+        text = "\n".join(main + [f"; {n}" for n in dict.fromkeys(notes)] + pre + body) + "\n"
+        if number != 1:  # another program of the family: its own names
+            stem = name[len("%_N_"):-len("_MPF")]
+            text = text.replace(f"%_N_{stem}_", f"%_N_{stem}{number}_").replace(
+                f'"{stem}_', f'"{stem}{number}_')
+        return Rendered(text, var, dialect)
     sub_head = [f"%{sub}" if not fanuc else f"O{sub}"]
     sub_head += [f"({n})" for n in dict.fromkeys(notes)]
     text = "\n".join(main + sub_head + check_lines + pre + body) + "\n"
