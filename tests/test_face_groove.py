@@ -11,7 +11,9 @@ from hnc_cam.errors import ToolError
 from hnc_cam.tooling import load_machine, load_tools
 
 ROOT = Path(__file__).resolve().parents[1]
-LIB = (ROOT / "hnc_cam" / "data" / "tools.toml").read_text()
+#: the bundled library without its own face grooving blade (T16), which these tests replace
+LIB = "[[tool]]".join(b for b in (ROOT / "hnc_cam" / "data" / "tools.toml").read_text()
+                      .split("[[tool]]") if 'kind = "groove_face"' not in b)
 
 BLADE = '''
 [[tool]]

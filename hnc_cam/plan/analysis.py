@@ -114,6 +114,64 @@ def check_turnable(chain: Sequence[Segment], what: str) -> None:
             z_low = min(z_low, p[1])
 
 
+@dataclass(frozen=True)
+class FaceGroove:
+    """An axial ring groove in the right face: open toward +Z between radii ``r_in`` and
+    ``r_out`` (square walls along Z), its floor at ``z_floor``, its top at ``z_top``."""
+    r_in: float
+    r_out: float
+    z_floor: float
+    z_top: float
+
+    @property
+    def width(self) -> float:
+        return self.r_out - self.r_in
+
+    @property
+    def depth(self) -> float:
+        return self.z_top - self.z_floor
+
+
+def face_grooves(chain: Sequence[Segment], z_face: float = 0.0
+                 ) -> tuple[list[Segment], list[FaceGroove]]:
+    """The (OD-normalised) chain with each square ring groove in the face plane ``z_face``
+    bridged by a line along the face, and those grooves: a wall straight down along -Z at
+    one radius, a floor along +X, a wall straight back up to the face at a larger radius."""
+    segs = [s for s in chain if s.length > 1e-9]
+    out: list[Segment] = []
+    found: list[FaceGroove] = []
+
+    def along_z(s: Segment) -> bool:
+        return isinstance(s, Line) and abs(s.end[0] - s.start[0]) <= TOL
+
+    i = 0
+    while i < len(segs):
+        s = segs[i]
+        if i + 2 < len(segs) and along_z(s) and abs(s.start[1] - z_face) <= TOL \
+                and s.end[1] < s.start[1] - TOL:
+            fl, up = segs[i + 1], segs[i + 2]
+            if isinstance(fl, Line) and abs(fl.end[1] - fl.start[1]) <= TOL \
+                    and fl.end[0] > fl.start[0] + TOL and along_z(up) \
+                    and abs(up.end[1] - z_face) <= TOL and up.start[1] < up.end[1] - TOL:
+                found.append(FaceGroove(s.start[0], up.start[0], fl.start[1], z_face))
+                bridge: Segment = Line(s.start, up.end)
+                if out and isinstance(out[-1], Line) and abs(out[-1].start[1] - z_face) <= TOL \
+                        and abs(out[-1].end[1] - z_face) <= TOL:
+                    bridge = Line(out.pop().start, up.end)
+                out.append(bridge)
+                i += 3
+                continue
+        if out and found and isinstance(s, Line) and isinstance(out[-1], Line) \
+                and abs(s.start[1] - z_face) <= TOL and abs(s.end[1] - z_face) <= TOL \
+                and abs(out[-1].start[1] - z_face) <= TOL and abs(out[-1].end[1] - z_face) <= TOL \
+                and s.end[0] > s.start[0]:
+            out.append(Line(out.pop().start, s.end))  # the face on past a bridged groove
+        else:
+            out.append(s)
+        i += 1
+    return out, found
+
+
 def is_monotonic(chain: Sequence[Segment]) -> bool:
     """X never decreases along the (OD-normalised) chain."""
     return all(t[0] >= -1e-6 for s in chain if s.length > 1e-9 for t in tangents(s))

@@ -152,6 +152,26 @@ class GrooveCut:
 
 
 @dataclass
+class FaceGrooveCut:
+    """An axial groove in the right face: plunges along -Z at the X positions of the
+    operation's ``passes`` (radius of the blade's controlled point, the middle of its end) to
+    ``z_bottom``, back out along +Z to ``z_clear`` after each, a ``dwell`` (s) at the bottom;
+    where the groove is wider than the blade, one finishing pass: down at ``x_inner`` (the
+    inner wall), along the floor at ``z_floor`` to ``x_outer`` (the outer wall), back up
+    (``finish``)."""
+    z_bottom: float
+    z_clear: float
+    dwell: float
+    finish: bool = False
+    x_outer: float = 0.0
+    x_inner: float = 0.0
+    z_floor: float = 0.0
+    #: the groove (radii of its walls), for the operator's comment
+    r_in: float = 0.0
+    r_out: float = 0.0
+
+
+@dataclass
 class ThreadCut:
     """A thread from the start point to ``z_end`` at root ``x_root`` (radius).
 
@@ -246,6 +266,7 @@ class Operation:
     face: FaceCut | None = None
     rough: RoughCut | None = None
     groove: GrooveCut | None = None
+    face_groove: FaceGrooveCut | None = None
     thread: ThreadCut | None = None
     drill: DrillCut | None = None
     new_tool: bool = True
@@ -281,8 +302,8 @@ class Operation:
     @property
     def role(self) -> str:
         """What the post chooses the template by: face | rough_turn | rough_turn_pockets |
-        rough_face | rough_pattern | rough_bore | finish | groove | groove_id (inside) | thread |
-        thread_passes | part | drill."""
+        rough_face | rough_pattern | rough_bore | finish | groove | groove_id (inside) |
+        groove_face (axial, in the right face) | thread | thread_passes | part | drill."""
         if self.kind == "rough":
             r = self.rough
             if r.side == "id":
@@ -294,6 +315,8 @@ class Operation:
             return "thread_passes"
         if self.kind == "groove" and self.tool.kind == "groove_id":
             return "groove_id"
+        if self.kind == "groove" and self.face_groove is not None:
+            return "groove_face"
         return self.kind
 
     # -- labels: the HNC-21T code that does the work, kept as the operation's name in
@@ -355,6 +378,10 @@ class Operation:
         if self.name == "groove":
             return (f"{t} GROOVE Z{_n(self.start[1])} X{_n(2 * self.groove.x_bottom)} "
                     f"{len(self.passes)}X {f}")
+        if self.name == "groove_face":
+            g = self.face_groove
+            return (f"{t} FACE GROOVE X{_n(2 * g.r_in)}-{_n(2 * g.r_out)} Z{_n(g.z_floor)} "
+                    f"{len(self.passes)}X S{_n(self.speed)} {f}")
         if self.name == "thread":
             return f"{t} THREAD LEAD {_n(self.thread.lead)} S{_n(self.speed)}"
         if self.kind == "drill":

@@ -71,7 +71,7 @@ from ..geometry.intersect import horizontal_hits
 from ..tooling import Machine, Stock, Tool, ToolLibrary
 from . import analysis as an
 from . import contour as ct
-from .model import (Block, FaceCut, GrooveCut, GrooveFinish, Operation, Plan, RoughCut,
+from .model import (Block, FaceCut, FaceGrooveCut, GrooveCut, GrooveFinish, Operation, Plan, RoughCut,
                     RoughSplit, Spindle, ThreadCut)
 from .tools import (PARTIAL_PROFILE_PITCH, back_reach, can_square_shoulder, cuts_pitch, describe,
                     groove_plunges,
@@ -134,6 +134,9 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
     od = ct.trim_left(ct.orient(outside, 0.0), z_min)
     if not od:
         raise PlanError(f"part {name}: the outside contour is empty after trimming")
+    # square ring grooves in the right face: bridged (the face is faced and finished across
+    # them), cut afterwards with an axial grooving blade
+    od, face_grooves = an.face_grooves(od, 0.0)
     an.check_turnable(od, f"part {name} outside")
     r_max = max(max(s.bbox()[2] for s in od), 0.0)
     bore_chain = None
@@ -255,6 +258,8 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
         ops.extend(bore_ops)
         ops.extend(finish_od)
     ops.extend(grooves)
+    for g in face_grooves:
+        ops.append(_face_groove_op(g, tools, machine, name, z_a))
 
     # ---------------- threads ----------------
     for th in prof.threads:
@@ -1234,6 +1239,59 @@ def _groove_op(t: Tool, z_l: float, z_r: float, x_b: float, level: float,
                 + (", then one finishing pass on the walls and bottom" if fa > 0 else "")),
         start=(x_a, pos[0]), spindle="rpm" if capped else "css",
         speed=rpm if capped else t.vc_finish, feed=t.feed_finish, passes=pos, groove=cut)
+
+
+def _face_groove_op(g: an.FaceGroove, lib: ToolLibrary, machine: Machine, name: str,
+                    z_a: float) -> Operation:
+    """An axial ring groove in the right face, cut with the widest library ``groove_face``
+    blade no wider than the groove whose diameter range holds both walls (and whose
+    ``max_depth``, when given, reaches the floor): plunges along -Z (the controlled point the
+    middle of the blade's end) from the outer wall inward, stepping by at most the blade's
+    width less its corner radii, a dwell of ``dwell_rev`` revolutions at the floor, back out
+    along +Z to 0.6 mm in front of the face after each. G97 at the blade's finishing surface
+    speed at the groove's outer diameter, at most the spindle limit. A groove wider than the
+    blade is plunged leaving :data:`GROOVE_FINISH` on its walls and floor (where there is
+    room), then finished in one pass: down the inner wall, along the floor, up the outer."""
+    d_in, d_out = 2 * g.r_in, 2 * g.r_out
+    blades = [t for t in lib.tools if t.kind == "groove_face"]
+    fits = [t for t in blades if 0 < t.insert.width <= g.width + 1e-9
+            and t.min_diameter <= d_in + 1e-9 and t.max_diameter >= d_out - 1e-9
+            and (t.max_depth <= 0 or t.max_depth >= g.depth - 1e-9)]
+    if not fits:
+        have = ", ".join(f"T{t.number:02d} {t.insert.width:g} mm for diameters "
+                         f"{t.min_diameter:g}-{t.max_diameter:g}" for t in blades) or "none"
+        raise PlanError(f"part {name}: face groove between diameters {_fmt(d_in)} and "
+                        f"{_fmt(d_out)} ({_fmt(g.width)} mm wide, {_fmt(g.depth)} mm deep, floor "
+                        f"at Z{_fmt(g.z_floor)}) is unreachable: it needs a face grooving blade "
+                        f"(kind groove_face) at most {_fmt(g.width)} mm wide whose diameter range "
+                        f"holds {_fmt(d_in)}-{_fmt(d_out)} (face grooving blades in the library: "
+                        f"{have})")
+    t = max(fits, key=lambda t: (t.insert.width, -t.number))
+    w = t.insert.width
+    wide = g.width - w > 1e-6
+    fa = GROOVE_FINISH if wide and g.width - w > 2 * GROOVE_FINISH + 1e-6 else 0.0
+    first, last = g.r_out - w / 2 - fa, g.r_in + w / 2 + fa
+    step = max(0.1 * w, w - 2 * t.nose_radius - 0.05)
+    n = max(1, math.ceil((first - last) / step - 1e-9) + 1) if first - last > 1e-9 else 1
+    pos = [first - (first - last) * i / (n - 1) for i in range(n)] if n > 1 else [first]
+    lim = rpm_limit(t, machine)
+    rpm = t.vc_finish * 1000.0 / (math.pi * d_out)
+    capped = rpm > lim
+    rpm = float(min(lim, round(rpm)))
+    dwell = max(round(t.dwell_rev * 60.0 / rpm, 2), 0.05)
+    cut = FaceGrooveCut(z_bottom=g.z_floor + fa, z_clear=g.z_top + 0.6, dwell=dwell,
+                        finish=wide, x_outer=g.r_out - w / 2, x_inner=g.r_in + w / 2,
+                        z_floor=g.z_floor, r_in=g.r_in, r_out=g.r_out)
+    return Operation(
+        name="groove_face", kind="groove", tool=t,
+        reason=(f"face groove between diameters {_fmt(d_in)} and {_fmt(d_out)} to Z{_fmt(g.z_floor)}: "
+                f"open toward +Z, plunged along -Z with {describe(t)} in {n} plunge"
+                f"{'s' if n > 1 else ''} at G97 S{_fmt(rpm)} (its surface speed at diameter "
+                f"{_fmt(d_out)}" + (f", capped at {_fmt(lim)} rpm" if capped else "") + ")"
+                + (", then one finishing pass down the inner wall, along the floor, up the "
+                   "outer wall" if wide else "")),
+        start=(pos[0], z_a), spindle="rpm", speed=rpm, feed=t.feed_finish, passes=pos,
+        face_groove=cut)
 
 
 # ------------------------------------------------------------------------------------------

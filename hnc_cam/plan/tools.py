@@ -182,7 +182,7 @@ def apply_material(lib: ToolLibrary, material: dict) -> ToolLibrary:
                 kw["vc_rough"] = _clip(t.vc_rough, d["vc"])
             if "feed" in d:
                 kw["feed_rough"] = _clip(t.feed_rough, d["feed"])
-        elif t.kind in ("groove", "groove_id"):
+        elif t.kind in ("groove", "groove_id", "groove_face"):
             if "vc" in g:
                 kw["vc_finish"] = _clip(t.vc_finish, g["vc"])
             if "feed" in g:
