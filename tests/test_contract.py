@@ -117,7 +117,8 @@ def test_tool_library_not_a_file(tmp_path):
 
 def test_bundled_library_passes_its_own_schema():
     lib = load_tools(None)
-    assert [t.number for t in lib.tools] == list(range(1, 16))
+    assert [t.number for t in lib.tools] == list(range(1, 17))
+    assert lib.by_number(16).kind == "groove_face" and lib.by_number(16).max_diameter == 80.0
     assert lib.by_number(1).feed_finish == 0.15
     assert lib.by_number(8).kind == "part" and lib.by_number(8).max_depth == 26.0
 

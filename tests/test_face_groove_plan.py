@@ -174,3 +174,30 @@ def test_verify_finds_the_groove_left_in_a_program_without_the_blade(tmp_path):
                      "--json", str(js)]) == 0
         near = [u for u in json.loads(js.read_text())["unreachable"] if 34 < u["x"] < 46]
         assert (max(u["size_mm"] for u in near) > worst) == (prog == cut), (prog, near)
+
+
+@pytest.mark.parametrize("name,pts,stock,walls", [
+    # no face stock: the finisher finishes the face across the bridged groove (G72 roughing)
+    ("unfaced", _disc(18, 22, 3), "62x50", (18, 22)),
+    # a ring drilled from solid bar, the groove between the bore and the outside
+    ("ring", [(8, 0), (18, 0), (18, -3), (22, -3), (22, 0), (29, 0), (30, -1), (30, -20),
+              (8, -20)], "62x50+1", (18, 22)),
+    # a tube's ring
+    ("tube", [(10, 0), (18, 0), (18, -3), (22, -3), (22, 0), (29, 0), (30, -1), (30, -20),
+              (10, -20)], "62/16x30+1", (18, 22)),
+    # a 150 mm disc, the groove 6 mm wide between diameters 40 and 52
+    ("disc", [(0, 0), (20, 0), (20, -4), (26, -4), (26, 0), (74, 0), (75, -1), (75, -15),
+              (0, -15)], "152x30+1.5", (20, 26)),
+])
+def test_face_grooves_in_other_parts_are_cut_to_their_corners(tmp_path, name, pts, stock, walls):
+    f = _part(tmp_path, name, pts, stock)
+    for comp in ("cam", "control"):
+        prog = generate(f, comp=comp)
+        assert prog.report.passed, (name, comp, prog.report.summary())
+        pl = _plunges(prog)
+        # every plunge inside the walls, the last (the finishing pass) on the floor at the
+        # inner wall
+        assert all(walls[0] + 1.5 - 1e-9 <= x <= walls[1] - 1.5 + 1e-9 for x, _ in pl)
+        assert pl[-1][0] == pytest.approx(walls[0] + 1.5)
+        near = [u for u in prog.report.unreachable if walls[0] - 1 < u.x < walls[1] + 1]
+        assert len(near) == 2 and all(u.size_mm < 0.1 for u in near), near
