@@ -190,3 +190,35 @@ def test_a_split_family_names_each_programs_files(tmp_path, capsys):
         ref = run(_variant(part, stock, {"outer_diameter": od}), file="<variant>",
                   start="reference", dialect="siemens802")
         _same(got, ref)
+
+
+@pytest.mark.parametrize("node", [
+    ("f", "sin", ("p", "a")), ("f", "cos", ("*", ("p", "a"), ("p", "b"))),
+    ("f", "tan", ("p", "a")), ("f", "atan", ("p", "b")), ("atan2", ("p", "a"), ("p", "b")),
+    ("atan2", ("neg", ("p", "a")), ("p", "b")), ("f", "sqrt", ("+", ("p", "a"), ("c", 2.0))),
+    ("min", ("p", "a"), ("p", "b")), ("max", ("p", "a"), ("neg", ("p", "b"))),
+    ("-", ("c", -3.5), ("/", ("p", "a"), ("p", "b")))])
+def test_expressions_keep_their_value_through_the_802_reader(node):
+    """An expression as the 802 form writes it (degrees, ATAN2, ( ) brackets, R variables)
+    has, read by our 802 reader, the value of the traced expression (radians)."""
+    from hnc_cam.plan.macro import Lets, _ev
+    env = {"a": 0.7, "b": -1.3}
+    lets = Lets({"a": "R20", "b": "R21"}, "siemens802", first=30, last=99, inline=12)
+    e = lets.expr(node)
+    text = "\n".join(["%_N_T_MPF", "R20=0.7 R21=-1.3", *lets.lines, "G18 G23 G90",
+                      f"G0 X=({e})*10+100 Z0", "M30"]) + "\n"
+    tp = run(text, file="<t>", start="reference", dialect="siemens802")
+    x = tp.moves[-1].end[0] * 2  # G23: X is a diameter
+    assert (x - 100) / 10 == pytest.approx(_ev(node, env), abs=1e-9)
+
+
+def test_temporaries_beyond_r99_are_refused():
+    """The temporaries stay below the cycles' R100: more than the range holds is refused."""
+    from hnc_cam.errors import PlanError
+    from hnc_cam.plan.macro import Lets
+    lets = Lets({"a": "R20"}, "siemens802", first=98, last=99, inline=4)
+    node = ("p", "a")
+    for k in range(1, 5):
+        node = ("+", ("*", node, ("c", float(k))), ("f", "sqrt", node))
+    with pytest.raises(PlanError, match="R99"):
+        lets.expr(node)
