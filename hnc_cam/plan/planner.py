@@ -51,7 +51,10 @@ Rules (each operation records its reason, which the program prints as a comment)
   of the thread are at full form. A thread (outside or inside, G76 or G82) that runs into a
   shoulder with no relief (inside: also a bore going on at the minor diameter) ends one lead
   (plus the flank's clearance) before it and leaves along the cycle's R/E run-out; refused,
-  naming the thread length needed, when the run-out and two full leads do not fit. A taper
+  naming the thread length needed, when the run-out and two full leads do not fit. An inside
+  thread through to the left end of a part from bar runs out past that end, in a run-on of
+  the hole at the minor diameter (:func:`_run_out_length`), so its full depth reaches the
+  left face. A taper
   thread (:attr:`hnc_cam.geometry.Thread.taper`, outside only) is cut along its taper.
 * Roughing allowances: 0.4 mm on the diameter / 0.1 mm in Z by default (``--allowance``,
   the material table), increased where the roughing
@@ -239,9 +242,28 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
 
     # ---------------- bore ----------------
     bore_ops: list[Operation] = []
+    past = 0.0
     if bore_chain and stock.kind == "bar":
         from .drilling import plan_hole
-        hole = plan_hole(bore_chain, tools, machine, name, z_min, z_face, z_a, opts.drill_style)
+        run_on, past = _thread_run_out_past(bore_chain, prof.threads, stock, z_min)
+        hole = None
+        if past > 0:
+            hole = plan_hole(run_on, tools, machine, name, z_min - past, z_face, z_a,
+                             opts.drill_style)
+            more = _run_on_short(hole.ops, stock, machine, z_min - past)
+            if more > 0:
+                plan.warnings.append(
+                    f"the inside thread cannot run out past the part's left end: the hole "
+                    f"would run on {_fmt(past)} mm past Z{_fmt(z_min)}, the stock {stock.spec} "
+                    f"needs {_fmt(more)} mm more for that" + (
+                        " clear of the chuck's jaws" if _grip(machine) > 0 else "")
+                    + "; the thread's full depth stops short of the left end")
+                hole, past = None, 0.0
+            else:
+                bore_chain = run_on
+        if hole is None:
+            hole = plan_hole(bore_chain, tools, machine, name, z_min, z_face, z_a,
+                             opts.drill_style)
         bore_ops = list(hole.ops)
         if hole.bar_chain:
             bore_ops += _plan_bore(hole.bar_chain, stock, tools, opts, name, z_a,
@@ -264,7 +286,7 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
     # ---------------- threads ----------------
     for th in prof.threads:
         ops.append(_plan_thread(th, od, bore_chain, stock, tools, machine, opts, r_stock,
-                                params=dict(params or {})))
+                                params=dict(params or {}), past=past, z_part=z_min))
 
     # ---------------- part-off ----------------
     if blade is not None:
@@ -1432,9 +1454,59 @@ def _pitch_text(t: Tool) -> str:
     return f"pitch {_fmt(r[0])}" if r[0] == r[1] else f"pitch {_fmt(r[0])}-{_fmt(r[1])}"
 
 
+def _run_out_length(th: Thread) -> float:
+    """How far past the part's left end a through inside thread's hole runs on at the minor
+    diameter: one lead at full depth past the end, one lead for the cycle's run-out (R/E),
+    and the insert's leading flank's clearance (0.2 mm at the crest, as far as the simulator
+    draws the flank, 6 mm) off the drilled hole's shoulder after it; rounded up to 0.1 mm."""
+    half = math.radians(th.angle / 2)
+    gap = 0.2 + (6.0 * math.cos(half) + th.depth) * math.tan(half)
+    return math.ceil((2 * th.lead + gap) * 10 - 1e-6) / 10
+
+
+def _thread_run_out_past(chain: list[Segment], threads: Sequence[Thread], stock: Stock,
+                         z_min: float) -> tuple[list[Segment], float]:
+    """A through bore of a part from bar whose inside thread reaches the part's left end: the
+    material past that end is not the part's (parted off or cut off), so the hole runs on
+    past it at the thread's minor diameter by :func:`_run_out_length`, and the thread's full
+    depth reaches the left face. Returns the extended chain and how far it runs past (the
+    chain as it is and 0 where no thread needs it)."""
+    end = chain[-1].end
+    if end[0] <= 1e-6 or abs(end[1] - z_min) > 1e-6 or stock.z_left >= z_min - 1e-6:
+        return chain, 0.0
+    past = 0.0
+    for th in threads:
+        if th.internal and not th.taper and min(th.z_start, th.z_end) <= z_min + 1e-6 \
+                and abs(end[0] - (th.diameter / 2 - th.depth)) <= 0.02:
+            past = max(past, _run_out_length(th))
+    if past <= 0:
+        return chain, 0.0
+    return list(chain) + [Line(end, (end[0], z_min - past))], past
+
+
+def _grip(machine: Machine) -> float:
+    return float(getattr(machine, "grip", 0.0) or 0.0)
+
+
+def _run_on_short(hole_ops: Sequence[Operation], stock: Stock, machine: Machine,
+                  z_run: float) -> float:
+    """How much more stock a hole run on to ``z_run`` needs (0: it fits): the run-on within
+    the stock, and, held in the chuck, the drills' points :data:`CHUCK_CLEARANCE` clear of
+    the jaws' front face."""
+    more = stock.z_left - z_run
+    grip = _grip(machine)
+    if grip > 0:
+        z_jaw = stock.z_left + grip
+        tips = [op.drill.z_end for op in hole_ops if op.drill is not None]
+        more = max([more, z_jaw + CHUCK_CLEARANCE - z_run]
+                   + [z_jaw + CHUCK_CLEARANCE - z for z in tips])
+    return max(0.0, math.ceil(more * 1000 - 1e-6) / 1000)
+
+
 def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stock: Stock,
                  lib: ToolLibrary, machine: Machine, opts: Options, r_stock: float,
-                 params: dict[str, Any] | None = None) -> Operation:
+                 params: dict[str, Any] | None = None, past: float = 0.0,
+                 z_part: float | None = None) -> Operation:
     label = (f"{'internal' if th.internal else 'external'} thread M{_fmt(th.diameter)}x"
              f"{_fmt(th.pitch)}" + (f" {th.starts}-start" if th.starts > 1 else "")
              + f" from Z{_fmt(th.z_start)} to Z{_fmt(th.z_end)}")
@@ -1534,12 +1606,15 @@ def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stoc
         return None
 
     z_end = z_lo
-    z_wall = wall_after(z_lo)
+    # an inside thread run out past the part's left end, in the hole's run-on at the minor
+    # diameter: the shoulder is where the run-on ends (the drilled hole beyond is narrower)
+    run_past = th.internal and past > 0 and z_part is not None and z_lo <= z_part + 1e-6
+    z_wall = part_left if run_past else wall_after(z_lo)
     # past the end, the insert's flanks (6 mm long, as the simulator draws them) must clear
     # everything the thread ends in front of
     reach = need + 6.0 * math.sin(math.radians(th.angle / 2))
     ran_on = False
-    for frac in (1.0, 0.75, 0.5, 0.25):
+    for frac in (1.0, 0.75, 0.5, 0.25) if not run_past else ():
         ze = z_lo - frac * lead
         if ze < part_left + 1e-9 and stock.kind == "offset":
             continue
@@ -1563,6 +1638,8 @@ def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stoc
         r_sh = [r for r in (an.radius_at(chain, z_wall - d, th.internal) for d in (0.05, 0.5, 2.0))
                 if r is not None]
         rise = max((sgn * (r - r_crest - dr(z_wall)) for r in r_sh), default=0.0)
+        if run_past:
+            rise = 6.0 * math.cos(half)  # the drilled hole's shoulder, as high as the flank
         # (G76 shifts each pass's end by its depth along the flank, toward the wall)
         gap = 0.2 + (min(max(rise, 0.0), 6.0 * math.cos(half)) + depth) * math.tan(half)
         z_full = z_wall + gap + lead
