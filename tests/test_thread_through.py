@@ -69,6 +69,20 @@ def test_through_inside_thread_reaches_the_left_face(dialect, comp, grip):
         <= -20.0 - PAST + 1e-6
 
 
+@pytest.mark.parametrize("grip", [None, 20.0])
+def test_through_inside_thread_from_tube(grip):
+    # a 20 mm bore tube: no drill, the boring bar bores the run-on past the left end
+    prog = generate(NUT, stock="38/20x70+1", grip=grip)
+    assert prog.report.passed, prog.report.summary()
+    ops = {op.name: op for op in prog.plan.operations}
+    assert "drill" not in ops and ops["thread"].thread.z_end <= -20.0 - LEAD + 1e-6
+    (th,) = prog.report.threads
+    assert th.ok and th.achieved_diameter == pytest.approx(24.0, abs=0.05)
+    bore = [s for op in prog.plan.operations if op.name == "bore_finish" for s in op.contour
+            if abs(s.start[0] - MINOR / 2) < 0.01 and abs(s.end[0] - MINOR / 2) < 0.01]
+    assert bore and min(s.end[1] for s in bore) <= -20.0 - PAST + 1e-6
+
+
 def test_through_inside_thread_in_single_passes():
     prog = generate(NUT, thread_cycle="g82", grip=20.0)
     assert prog.report.passed, prog.report.summary()

@@ -269,6 +269,18 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
             bore_ops += _plan_bore(hole.bar_chain, stock, tools, opts, name, z_a,
                                    hole=hole.entry, x_hole=hole.radius, machine=machine)
     elif bore_chain:
+        run_on, past = _thread_run_out_past(bore_chain, prof.threads, stock, z_min)
+        more = _run_on_short([], stock, machine, z_min - past) if past > 0 else 0.0
+        if more > 0:
+            plan.warnings.append(
+                f"the inside thread cannot run out past the part's left end: the bore would "
+                f"run on {_fmt(past)} mm past Z{_fmt(z_min)}, the stock {stock.spec} needs "
+                f"{_fmt(more)} mm more for that" + (
+                    " clear of the chuck's jaws" if _grip(machine) > 0 else "")
+                + "; the thread's full depth stops short of the left end")
+            past = 0.0
+        elif past > 0:
+            bore_chain = run_on
         bore_ops = _plan_bore(bore_chain, stock, tools, opts, name, z_a, machine=machine)
 
     rough_od, finish_od = od_ops  # finish_od: the finisher's operations (a face, the contour)
@@ -1466,10 +1478,10 @@ def _run_out_length(th: Thread) -> float:
 
 def _thread_run_out_past(chain: list[Segment], threads: Sequence[Thread], stock: Stock,
                          z_min: float) -> tuple[list[Segment], float]:
-    """A through bore of a part from bar whose inside thread reaches the part's left end: the
-    material past that end is not the part's (parted off or cut off), so the hole runs on
-    past it at the thread's minor diameter by :func:`_run_out_length`, and the thread's full
-    depth reaches the left face. Returns the extended chain and how far it runs past (the
+    """A through bore of a part from bar or tube whose inside thread reaches the part's left
+    end: the material past that end is not the part's (parted off or cut off), so the hole
+    runs on past it at the thread's minor diameter by :func:`_run_out_length`, and the
+    thread's full depth reaches the left face. Returns the extended chain and how far it runs past (the
     chain as it is and 0 where no thread needs it)."""
     end = chain[-1].end
     if end[0] <= 1e-6 or abs(end[1] - z_min) > 1e-6 or stock.z_left >= z_min - 1e-6:
