@@ -273,6 +273,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         return int(func(args) or 0)
     except HncError as e:
         print(e.one_line(), file=sys.stderr)
+        # a program that failed verification: the planner's warnings often say why
+        for w in getattr(getattr(e, "program", None), "warnings", None) or ():
+            print(f"warning: {w}", file=sys.stderr)
         return e.exit_code
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)

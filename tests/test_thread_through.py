@@ -118,7 +118,11 @@ def test_a_bar_too_short_for_the_run_on_keeps_the_thread_short(tmp_path, capsys,
     out = tmp_path / "o.nc"
     args = ["generate", str(f), "-o", str(out)] + (["--grip", "20"] if grip else [])
     assert main(args) == 1 and not out.exists()
-    capsys.readouterr()
+    err = capsys.readouterr().err.splitlines()
+    assert err[0].startswith("error: ") and "fails verification" in err[0]
+    # the planner's warning that says why follows the failure
+    assert any(line.startswith("warning: ") and f"needs {more:g} mm more" in line
+               for line in err[1:]), err
     # with that much more bar it is made
     longer = f"38x{int(stock.split('x')[1].split('+')[0]) + math.ceil(more)}+1"
     f.write_text(NUT.read_text().replace('STOCK = "38x70+1"', f'STOCK = "{longer}"'))
