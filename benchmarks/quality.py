@@ -39,7 +39,9 @@ HELD = [(REPO / "tests" / "data" / "turning_parts" / "pin_partoff.py", 20.0),
 #: holes from solid bar: drilled (spot, pilot, opener, pecks), then bored
 FROM_SOLID = [REPO / "tests" / "data" / "turning_parts" / "blind_bore.py",
               REPO / "tests" / "data" / "turning_parts" / "stepped_blind_bore.py",
-              REPO / "tests" / "data" / "turning_parts" / "nut_m24.py"]
+              REPO / "tests" / "data" / "turning_parts" / "nut_m24.py",
+              REPO / "tests" / "data" / "turning_parts" / "nut_through.py",
+              REPO / "tests" / "data" / "turning_parts" / "face_groove.py"]
 #: two-setup parts (generate --setups 2): (part file, grip mm, grip2 mm); a row per setup
 TWO_SETUPS = [(REPO / "tests" / "data" / "turning_parts" / "bush_chamfers.py", 20.0, 15.0),
               (REPO / "tests" / "data" / "turning_parts" / "pin_left_step.py", 20.0, 15.0)]
