@@ -116,8 +116,8 @@ def _generate_setups(args: argparse.Namespace, part: Any, params: dict) -> int:
     """``generate --setups 2 -o DIR/``: the two programs of a part turned around for its left
     end (:mod:`hnc_cam.plan.setups`), written as ``DIR/O<n>.nc`` and ``DIR/O<n+1>.nc`` (the
     802: ``NAME.MPF``, ``NAME_2.MPF`` and their subprogram files), all or none."""
-    from .export import is_folder_target
-    from .setups import generate_setups, write_folder
+    from .export import is_folder_target, write_files
+    from .setups import generate_setups
     if not args.output or not is_folder_target(args.output):
         raise PlanError("--setups 2 writes two programs: give -o DIR/ (a folder)")
     for opt in ("json", "report"):
@@ -135,7 +135,7 @@ def _generate_setups(args: argparse.Namespace, part: Any, params: dict) -> int:
         files = split_programs(res.first.text) + split_programs(res.second.text)
     else:
         files = [(f"O{n:04d}.nc", res.first.text), (f"O{n + 1:04d}.nc", res.second.text)]
-    write_folder(args.output, files)
+    write_files(args.output, files)
     if getattr(args, "explain", False):
         print(res.first.plan.explain(res.first.labels), file=sys.stderr)
         print(res.second.plan.explain(res.second.labels), file=sys.stderr)

@@ -131,8 +131,20 @@ def is_folder_target(path: str) -> bool:
 
 def write_program_folder(folder: str, text: str) -> list[str]:
     """Write each program of ``text`` (:func:`split_programs`) as its own file in ``folder``,
-    all of them or none: every target is checked first (an existing file must be a regular
-    file, not a symbolic link, a device or a folder, so nothing outside the folder is
+    all of them or none (:func:`write_files`). Returns the paths written. Errors are one line
+    (HncError)."""
+    from ..errors import HncError
+    try:
+        programs = split_programs(text)
+    except ValueError as e:
+        raise HncError(f"{folder}: cannot write the programs one per file: {e}") from None
+    return write_files(folder, programs)
+
+
+def write_files(folder: str, programs: list[tuple[str, str]]) -> list[str]:
+    """Write each ``(name, text)`` of ``programs`` as its own file in ``folder`` (created when
+    missing), all of them or none: every target is checked first (an existing file must be a
+    regular file, not a symbolic link, a device or a folder, so nothing outside the folder is
     replaced), every file is written to a temporary file beside its target, and only then are
     they renamed into place. Returns the paths written. Errors are one line (HncError)."""
     import os
@@ -140,10 +152,6 @@ def write_program_folder(folder: str, text: str) -> list[str]:
     import tempfile
     from ..errors import HncError
     from ..io import clean_stale_temporaries
-    try:
-        programs = split_programs(text)
-    except ValueError as e:
-        raise HncError(f"{folder}: cannot write the programs one per file: {e}") from None
     d = folder.rstrip("/" + os.sep) or folder
     try:
         os.makedirs(d, exist_ok=True)

@@ -25,11 +25,10 @@ wall no turning tool's trailing edge clears) makes the part a two-setup part:
 from __future__ import annotations
 
 import math
-import os
 from dataclasses import dataclass, field, replace
 from typing import Any, Sequence
 
-from ..errors import HncError, PlanError
+from ..errors import PlanError
 from ..geometry import Arc, Line, Segment, Thread, TurnedProfile
 from ..geometry.intersect import vertical_hits
 from ..tooling import Machine, Stock, ToolLibrary
@@ -288,7 +287,7 @@ def _radii_in(region: Any, z0: float, z1: float) -> tuple[float, float]:
     """(smallest inner radius, largest radius) of the material of ``region`` between Z ``z0``
     and ``z1``: the inner radius 0 where the material reaches the axis."""
     from shapely.geometry import box
-    from ..sim.region import inter, polygons
+    from ..sim.region import inter
     g = inter(region, box(z0, -1.0, z1, 1e9))
     if g.is_empty:
         return 0.0, 0.0
@@ -559,37 +558,3 @@ def verify_setups(tp1: Any, tp2: Any, stock: Any, machine1: Machine, machine2: M
         rep.reasons.insert(0, f"setup 1: {len(m1.issues)} collision(s)/check finding(s)")
         rep.passed = False
     return m1, m2, rep
-
-
-def write_folder(folder: str, files: Sequence[tuple[str, str]]) -> list[str]:
-    """Write ``files`` (name, text) into ``folder`` (created when missing), all of them or
-    none: each to a temporary file beside its target, then renamed into place."""
-    import stat
-    import tempfile
-    d = folder.rstrip("/" + os.sep) or folder
-    try:
-        os.makedirs(d, exist_ok=True)
-    except OSError as e:
-        raise HncError(f"{folder}: cannot create the folder: {e.strerror or e}") from None
-    if not os.path.isdir(d):
-        raise HncError(f"{folder}: cannot write: not a folder")
-    targets = [os.path.join(d, n) for n, _ in files]
-    for t in targets:
-        if os.path.lexists(t) and (os.path.islink(t) or not stat.S_ISREG(os.lstat(t).st_mode)):
-            raise HncError(f"{t}: cannot write: not a regular file (not replaced)")
-    staged: list[tuple[str, str]] = []
-    try:
-        for (n, body), t in zip(files, targets):
-            fd, tmp = tempfile.mkstemp(prefix=f".{n}.", suffix=".tmp", dir=d)
-            staged.append((tmp, t))
-            with os.fdopen(fd, "wb") as f:
-                f.write(body.encode("utf-8"))
-            os.chmod(tmp, 0o644)
-        for tmp, t in staged:
-            os.replace(tmp, t)
-    except OSError as e:
-        for tmp, _ in staged:
-            if os.path.exists(tmp):
-                os.unlink(tmp)
-        raise HncError(f"{folder}: cannot write: {e.strerror or e}") from None
-    return targets
