@@ -114,6 +114,22 @@ def _load_part(part: Any, params: Mapping[str, str] | None):
     return prof, getattr(loaded, "stock", None), name, dict(getattr(loaded, "params", {}) or {})
 
 
+def with_material(lib: ToolLibrary, mat_name: str | None, allowance: Any
+                  ) -> tuple[ToolLibrary, float, float]:
+    """The library with the material's speeds and feeds (``mat_name``, or none) and the
+    finishing allowance (X on the diameter, Z): ``allowance`` if given, else the material's,
+    else 0.4 and 0.1."""
+    ax, az = 0.4, 0.1
+    if mat_name is not None:
+        from .tools import apply_material, find_material
+        _key, mat = find_material(mat_name)
+        lib = apply_material(lib, mat)
+        ax, az = (float(v) for v in mat.get("allowance", (ax, az)))
+    if allowance is not None:
+        ax, az = _parse_allowance(allowance)
+    return lib, ax, az
+
+
 def _parse_allowance(value: Any) -> tuple[float, float]:
     """(X on diameter, Z) from ``"X,Z"`` or a pair; negative values are refused."""
     try:
@@ -297,14 +313,7 @@ def generate(part: Any, stock: str | Stock | None = None, *, params: Mapping[str
     if face_cycle not in ("g81", "g01"):
         raise PlanError(f"face cycle must be g81 or g01, got {face_cycle!r}")
     mat_name = material if material is not None else _PART_MATERIAL.pop(id(prof), None)
-    ax, az = 0.4, 0.1
-    if mat_name is not None:
-        from .tools import apply_material, find_material
-        _key, mat = find_material(mat_name)
-        lib = apply_material(lib, mat)
-        ax, az = (float(v) for v in mat.get("allowance", (ax, az)))
-    if allowance is not None:
-        ax, az = _parse_allowance(allowance)
+    lib, ax, az = with_material(lib, mat_name, allowance)
     opts = Options(comp=comp, program_number=int(program_number), thread_cycle=thread_cycle,
                    face_cycle=face_cycle, allowance_x=ax / 2, allowance_z=az,
                    partoff=bool(partoff),

@@ -481,15 +481,7 @@ def generate_setups(part: Any, stock: Any = None, *, params: Any = None, tools: 
     prof2 = setup2_profile(full2, z2)
     st2 = stock_from_region(region2, z2)
     mach2 = replace(mach, grip=g.offset)
-    lib2 = lib
-    ax, az = 0.4, 0.1
-    if mat_name is not None:
-        from .tools import apply_material, find_material
-        _key, mat = find_material(mat_name)
-        lib2 = apply_material(lib, mat)
-        ax, az = (float(v) for v in mat.get("allowance", (ax, az)))
-    if allowance is not None:
-        ax, az = api._parse_allowance(allowance)
+    lib2, ax, az = api.with_material(lib, mat_name, allowance)
     opts = Options(comp=comp, program_number=n1 + 1, thread_cycle=thread_cycle,
                    face_cycle=face_cycle, allowance_x=ax / 2, allowance_z=az, partoff=False,
                    drill_style=drill_style)
