@@ -252,12 +252,7 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
                              opts.drill_style)
             more = _run_on_short(hole.ops, stock, machine, z_min - past)
             if more > 0:
-                plan.warnings.append(
-                    f"the inside thread cannot run out past the part's left end: the hole "
-                    f"would run on {_fmt(past)} mm past Z{_fmt(z_min)}, the stock {stock.spec} "
-                    f"needs {_fmt(more)} mm more for that" + (
-                        " clear of the chuck's jaws" if _grip(machine) > 0 else "")
-                    + "; the thread's full depth stops short of the left end")
+                plan.warnings.append(_run_on_warning("hole", past, z_min, stock, machine, more))
                 hole, past = None, 0.0
             else:
                 bore_chain = run_on
@@ -272,12 +267,7 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
         run_on, past = _thread_run_out_past(bore_chain, prof.threads, stock, z_min)
         more = _run_on_short([], stock, machine, z_min - past) if past > 0 else 0.0
         if more > 0:
-            plan.warnings.append(
-                f"the inside thread cannot run out past the part's left end: the bore would "
-                f"run on {_fmt(past)} mm past Z{_fmt(z_min)}, the stock {stock.spec} needs "
-                f"{_fmt(more)} mm more for that" + (
-                    " clear of the chuck's jaws" if _grip(machine) > 0 else "")
-                + "; the thread's full depth stops short of the left end")
+            plan.warnings.append(_run_on_warning("bore", past, z_min, stock, machine, more))
             past = 0.0
         elif past > 0:
             bore_chain = run_on
@@ -1513,6 +1503,16 @@ def _run_on_short(hole_ops: Sequence[Operation], stock: Stock, machine: Machine,
         more = max([more, z_jaw + CHUCK_CLEARANCE - z_run]
                    + [z_jaw + CHUCK_CLEARANCE - z for z in tips])
     return max(0.0, math.ceil(more * 1000 - 1e-6) / 1000)
+
+
+def _run_on_warning(what: str, past: float, z_min: float, stock: Stock, machine: Machine,
+                    more: float) -> str:
+    """The warning of an inside thread kept short of the left end: the ``what`` (hole, bore)
+    would run on ``past`` mm past ``z_min`` and the stock needs ``more`` mm for that."""
+    return (f"the inside thread cannot run out past the part's left end: the {what} would run "
+            f"on {_fmt(past)} mm past Z{_fmt(z_min)}, the stock {stock.spec} needs {_fmt(more)} "
+            f"mm more for that" + (" clear of the chuck's jaws" if _grip(machine) > 0 else "")
+            + "; the thread's full depth stops short of the left end")
 
 
 def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stock: Stock,
