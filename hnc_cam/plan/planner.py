@@ -87,6 +87,11 @@ OVERRUN = 0.05
 CHUCK_CLEARANCE = 2.0
 #: stick-out over stock diameter above which a part held only in the chuck deflects and chatters
 STICKOUT_RATIO = 4.0
+#: a wall no steeper than a tool's reach by more than this (deg) is reached: the walls come
+#: from the solid's section with coordinates good to about 1e-7 mm, so a wall drawn at exactly
+#: the reach (a 30 deg thread run-out flank and a 55 deg insert's 30 deg) reads up to ~1e-7 deg
+#: steeper or shallower; the tool choice must not follow that noise
+REACH_TOL = 1e-4
 
 
 @dataclass
@@ -757,7 +762,7 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
     if k < len(od):
         tail = od[k:]
         tp = an._pocket(list(tail), tail[0].start[0], tail[0].start, None)
-        pt = [t for t in profilers if back_reach(t) >= tp.max_descent - 1e-9]
+        pt = [t for t in profilers if back_reach(t) >= tp.max_descent - REACH_TOL]
         if partoff:  # the parting blade's corner cuts it (_partoff_op)
             od = od[:k] + [Line(tail[0].start, (tail[0].start[0], tail[-1].end[1]))]
         elif pt:
@@ -790,10 +795,10 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
     groove_ops: list[Operation] = []
     bridged: set[int] = set()
     for p in pockets:
-        if stock.kind != "offset" and p.max_descent <= best_reach + 1e-9 \
-                and any(back_reach(t) >= p.max_descent - 1e-9 and t in roughers for t in finishers):
+        if stock.kind != "offset" and p.max_descent <= best_reach + REACH_TOL \
+                and any(back_reach(t) >= p.max_descent - REACH_TOL and t in roughers for t in finishers):
             continue  # turned: kept in the contour (G71 type II)
-        if stock.kind == "offset" and p.max_descent <= best_reach + 1e-9:
+        if stock.kind == "offset" and p.max_descent <= best_reach + REACH_TOL:
             continue
         sq = an.square_groove(p)
         if sq is None:
@@ -833,7 +838,7 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
     groove_ops = end_ops + groove_ops
     kept = [p for p in pockets if id(p) not in bridged]
     reach_needed = an.max_descent(contour)
-    fin = [t for t in finishers if back_reach(t) >= reach_needed - 1e-9]
+    fin = [t for t in finishers if back_reach(t) >= reach_needed - REACH_TOL]
     if not fin:
         raise PlanError(f"part {name}: no finishing tool reaches walls descending at "
                         f"{reach_needed:.0f} deg")
@@ -843,7 +848,7 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
         rougher = roughers[0]
     elif stock.kind == "offset":
         rr = _by_rigidity([t for t in lib.tools if t.kind == "turn" and "rough" in t.uses
-                           and can_square_shoulder(t) and back_reach(t) >= reach_needed - 1e-9])
+                           and can_square_shoulder(t) and back_reach(t) >= reach_needed - REACH_TOL])
         if not rr:
             raise PlanError(f"part {name}: no roughing tool reaches walls descending at "
                             f"{reach_needed:.0f} deg")
@@ -938,7 +943,7 @@ def _plan_od(od: list[Segment], prof: TurnedProfile, stock: Stock, lib: ToolLibr
             tools = _by_rigidity([t for t in lib.tools if t.kind == "turn"
                                   and ("rough" in t.uses or "profile" in t.uses)
                                   and can_square_shoulder(t)
-                                  and back_reach(t) >= p.max_descent - 1e-9])
+                                  and back_reach(t) >= p.max_descent - REACH_TOL])
             if not tools:
                 raise PlanError(f"part {name}: {_pocket_text(p)}: no roughing tool in the library "
                                 f"reaches it; it needs a turning tool whose trailing edge clears "
@@ -1370,7 +1375,7 @@ def _plan_bore(chain: list[Segment], stock: Stock, lib: ToolLibrary, opts: Optio
     if k < len(norm):
         tail = norm[k:]
         tp = an._pocket(list(tail), tail[0].start[0], tail[0].start, None)
-        if not any(back_reach(t) >= tp.max_descent - 1e-9 for t in fits):
+        if not any(back_reach(t) >= tp.max_descent - REACH_TOL for t in fits):
             z0, z1 = tail[0].start[1], tail[-1].end[1]
             raise PlanError(f"part {name}: the bore's chamfer from Z{_fmt(z0)} to Z{_fmt(z1)} "
                             f"(diameter {_fmt(-2 * tail[0].start[0])} to "
@@ -1388,7 +1393,7 @@ def _plan_bore(chain: list[Segment], stock: Stock, lib: ToolLibrary, opts: Optio
     pockets = [it for it in items if isinstance(it, an.Pocket)]
     monotonic = not pockets
     need = an.max_descent(norm)
-    ok = [t for t in fits if back_reach(t) >= need - 1e-9]
+    ok = [t for t in fits if back_reach(t) >= need - REACH_TOL]
     if not ok:
         p = max(pockets, key=lambda p: p.max_descent)
         q = an.Pocket([an.mirror_x(s) for s in p.segments], -p.level, (-p.entry[0], p.entry[1]),
