@@ -82,6 +82,21 @@ def profile(obj: Any, axis: Any = "Z", zero: str | float = "right", envelope: bo
     """
     if not fit_tol > 0:
         raise ProfileError(f"fit_tol must be positive, got {fit_tol!r}")
+    if isinstance(axis, str) and axis.strip().upper().lstrip("+") == "Z":
+        from .sketch import revolved_outline
+        segs = revolved_outline(obj)
+        main = outline_chain(segs) if segs is not None else None
+        if main is not None:  # the solid as revolve() made it: its exact outline
+            return _finish(main, [], zero, name)
+    return extract(obj, axis=axis, zero=zero, envelope=envelope, fit_tol=fit_tol, name=name)
+
+
+def extract(obj: Any, axis: Any = "Z", zero: str | float = "right", envelope: bool = False,
+            fit_tol: float = 0.001, name: str | None = None) -> TurnedProfile:
+    """:func:`profile` taken from the solid itself, always (the section of its boundary),
+    never from the outline :func:`hnc_cam.cad.sketch.revolve` noted."""
+    if not fit_tol > 0:
+        raise ProfileError(f"fit_tol must be positive, got {fit_tol!r}")
     obj_shape = occ.to_shape(obj)
     shape = occ.axis_transform(obj_shape, axis)
     if shape.IsNull():
@@ -128,12 +143,22 @@ def profile(obj: Any, axis: Any = "Z", zero: str | float = "right", envelope: bo
         main = chains[0]
     else:
         main = _clean_section(solid, bb, vol, fit_tol)
-    notes += main.notes
+    return _finish(main, notes, zero, name)
+
+
+def _finish(main: "_Chain", notes: list[str], zero: str | float,
+            name: str | None) -> TurnedProfile:
+    """The profile of a section boundary: split into outside and bore, merged, placed on
+    program zero and rounded (steps 4 to 6 of the module docstring)."""
+    notes = notes + main.notes
     outside, bore, left = _split(main.segs)
     if left:
         notes.append(f"a cavity opening on the left face ({len(left)} segment(s), down to "
                      f"z={min(min(s.start[1], s.end[1]) for s in left):.3f} model) is not part "
                      f"of the outside or bore chain")
+    if not outside:
+        raise ProfileError("cannot find the outside contour between the end faces: the "
+                           "section has no extent along the axis at its ends (a ring?)")
     outside = merge_segments(outside)
     bore = merge_segments(bore) if bore else None
     if isinstance(zero, str):
@@ -369,6 +394,93 @@ def _clean_section(solid, bb, vol: float, fit_tol: float) -> "_Chain":
             first = first or e
     assert first is not None
     raise first
+
+
+def outline_chain(segs: Any) -> "_Chain | None":
+    """The section boundary of the solid :func:`hnc_cam.cad.sketch.revolve` makes of the
+    outline ``segs`` (radius, Z), as the solid's section gives it (ends near the axis put on
+    it, each segment starting where the one before ends), when the outline is one whose
+    revolution is a valid turned solid: contiguous lines and arcs; simple (neighbours meet
+    only at their shared end, no other two segments meet); in r >= 0, touching the axis only
+    at the ends of an open outline or with one line along it closing the loop (a segment
+    there an arc about a point of the axis: a sphere); enclosing a volume. None for any other
+    outline: its solid is then profiled from its section, which says what is wrong with it.
+    Neighbours that merge (collinear lines, co-circular arcs) are left to the section too:
+    the kernel unifies their faces, and the chain's pieces decide where its ends are found."""
+    from ..geometry.intersect import intersect
+    try:
+        segs = list(segs)
+    except TypeError:
+        return None
+    if not segs or not all(type(sg) in (Line, Arc) for sg in segs):
+        return None
+
+    def snap(p: Point) -> Point:
+        return (0.0 if abs(p[0]) < AXIS_SNAP else p[0], p[1])
+
+    chain: list[Segment] = []
+    for sg in segs:
+        a = snap(sg.start) if not chain else chain[-1].end
+        if chain and dist(sg.start, chain[-1].end) > 1e-9:
+            return None  # not contiguous: the wire's own business
+        b = snap(sg.end)
+        if dist(a, b) < 1e-9 or not all(map(math.isfinite, (*a, *b))):
+            return None
+        chain.append(Line(a, b) if isinstance(sg, Line) else Arc(a, b, sg.center, sg.cw))
+    on_axis = [isinstance(sg, Line) and sg.start[0] == 0.0 and sg.end[0] == 0.0
+               for sg in chain]
+    closed = dist(chain[-1].end, chain[0].start) <= 1e-9
+    if closed:
+        chain[-1] = _with_end(chain[-1], chain[0].start)
+        if sum(on_axis) == 1:  # closed along the axis by the outline itself: open it there
+            k = on_axis.index(True)
+            chain = chain[k + 1:] + chain[:k]
+            closed = False
+        elif any(on_axis):
+            return None
+    elif any(on_axis) or chain[0].start[0] != 0.0 or chain[-1].end[0] != 0.0:
+        return None
+    if not chain:
+        return None
+    n = len(chain)
+    for i in range(0 if closed else 1, n):
+        if len(merge_segments([chain[i - 1], chain[i]])) == 1:
+            return None  # pieces the kernel may unify (and split where it likes)
+    boxes = [sg.bbox() for sg in chain]
+    for i, (sg, bx) in enumerate(zip(chain, boxes)):
+        if bx[0] < -1e-12:
+            return None  # crosses the axis
+        if bx[0] >= AXIS_SNAP:
+            continue
+        if closed or not ((i == 0 and sg.start[0] == 0.0) or (i == n - 1 and sg.end[0] == 0.0)):
+            return None  # touches the axis between its ends
+        if isinstance(sg, Arc) and (abs(sg.center[0]) > AXIS_SNAP
+                                    or abs(sg.sweep) > math.pi + 1e-12):
+            return None  # an arc from the axis not about it: a self-intersecting torus
+        if isinstance(sg, Arc) and n > 1 and sg.start[0] == 0.0 and sg.end[0] == 0.0:
+            return None
+    for i in range(n):
+        for j in range(i + 1, n):
+            bi, bj = boxes[i], boxes[j]
+            if bi[0] > bj[2] + 1e-6 or bj[0] > bi[2] + 1e-6 or bi[1] > bj[3] + 1e-6 \
+                    or bj[1] > bi[3] + 1e-6:
+                continue
+            hits = intersect(chain[i], chain[j])
+            shared = ([chain[i].end] if j == i + 1 else []) \
+                + ([chain[j].end] if closed and i == 0 and j == n - 1 else [])
+            if shared:
+                if any(min(dist(p, q) for q in shared) > JOIN_TOL for p in hits):
+                    return None  # folds back or crosses its neighbour
+            elif hits:
+                return None  # the outline meets itself
+    zmin, zmax = min(b[1] for b in boxes), max(b[3] for b in boxes)
+    if zmax - zmin < 1e-6 or max(b[2] for b in boxes) < 1e-6 or revolved_volume(chain) < 1e-9:
+        return None
+    return _Chain(chain, [], zmin, zmax)
+
+
+def _with_end(s: Segment, p: Point) -> Segment:
+    return Line(s.start, p) if isinstance(s, Line) else Arc(s.start, p, s.center, s.cw)
 
 
 def revolved_volume(segs: list[Segment]) -> float:

@@ -173,11 +173,57 @@ def closed_outline(segs: Sequence[Segment]) -> list[Segment]:
     return segs
 
 
+#: the outline each solid made by :func:`revolve` was revolved from, by ``id`` of the
+#: build123d object: (a weak reference to it, a copy of its ``TopoDS_Shape`` as made, the
+#: segments); an entry leaves with its object
+_REVOLVED: dict[int, tuple[Any, Any, tuple[Segment, ...]]] = {}
+
+
+def _forget(key: int, ref: Any) -> None:
+    entry = _REVOLVED.get(key)
+    if entry is not None and entry[0] is ref:
+        del _REVOLVED[key]
+
+
+def _record(obj: Any, segs: Sequence[Segment]) -> None:
+    """Note on ``obj`` (the solid :func:`revolve` returns) the exact segments it was revolved
+    from, with a copy of its shape handle as made: same TShape, location and orientation."""
+    import weakref
+    try:
+        w = obj.wrapped
+        made = w.Located(w.Location())
+        key = id(obj)
+        ref = weakref.ref(obj, lambda r, k=key: _forget(k, r))
+    except (AttributeError, TypeError):  # pragma: no cover - not a build123d shape
+        return
+    _REVOLVED[key] = (ref, made, tuple(segs))
+
+
+def revolved_outline(obj: Any) -> list[Segment] | None:
+    """The exact segments :func:`revolve` revolved into ``obj``, when ``obj`` is the very
+    object it returned and its shape is still the one it made (``TopoDS_Shape.IsEqual``: the
+    same TShape, location and orientation); None otherwise (a solid moved, located or
+    reoriented in place, a copy, a boolean, a mirror, any other object: profile those from
+    the solid)."""
+    entry = _REVOLVED.get(id(obj))
+    if entry is None or entry[0]() is not obj:
+        return None
+    try:
+        same = bool(entry[1].IsEqual(obj.wrapped))
+    except Exception:  # noqa: BLE001 - a replaced or null shape: not the one made
+        return None
+    return list(entry[2]) if same else None
+
+
 def revolve(segs: Sequence[Segment]) -> Any:
     """build123d Solid: the outline (radius, Z) placed in the XZ plane (X = radius) and
-    revolved a full turn about the Z axis."""
+    revolved a full turn about the Z axis. The solid keeps a note of the exact segments
+    (:func:`revolved_outline`), from which its profile is taken without cutting the solid
+    again while it stays the shape made here."""
     from build123d import Axis, Edge, Face, Wire
     from build123d import revolve as b3d_revolve
+
+    segs = list(segs)
 
     def p3(p: Point) -> tuple[float, float, float]:
         return (p[0], 0.0, p[1])
@@ -191,7 +237,10 @@ def revolve(segs: Sequence[Segment]) -> Any:
     face = Face(Wire(edges))
     part = b3d_revolve(face, Axis.Z)
     solids = part.solids()
-    return solids[0] if len(solids) == 1 else part
+    if len(solids) != 1:
+        return part
+    _record(solids[0], segs)
+    return solids[0]
 
 
 #: standard bright/hot-rolled round bar diameters (mm) used for default stock
