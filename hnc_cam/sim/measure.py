@@ -19,18 +19,102 @@ from ..geometry import Arc, Segment
 BLOCK = 512
 
 
-def distances(points: np.ndarray, segs: Sequence[Segment]) -> tuple[np.ndarray, np.ndarray]:
+class SegmentTable:
+    """Segments as arrays, built once for many :func:`distances` queries: their boxes
+    (z0, x0, z1, x1), the lines' ends and the arcs' centres, radii, start angles, sweeps and
+    ends, each in the kernel's (x, z)."""
+
+    def __init__(self, segs: Sequence[Segment]):
+        self.segs = list(segs)
+        m = len(self.segs)
+        self.boxes = np.array([(b[1], b[0], b[3], b[2]) for b in (s.bbox() for s in self.segs)],
+                              dtype=float).reshape(m, 4)
+        self.is_arc = np.array([isinstance(s, Arc) for s in self.segs], dtype=bool)
+        self.start = np.array([s.start for s in self.segs], dtype=float).reshape(m, 2)
+        self.end = np.array([s.end for s in self.segs], dtype=float).reshape(m, 2)
+        self.center = np.full((m, 2), np.nan)
+        self.radius = np.full(m, np.nan)
+        self.a0 = np.full(m, np.nan)
+        self.sweep = np.full(m, np.nan)
+        for k in np.flatnonzero(self.is_arc).tolist():
+            s = self.segs[k]
+            self.center[k], self.radius[k] = s.center, s.radius
+            self.a0[k], self.sweep[k] = s.start_angle, s.sweep
+
+    def __len__(self) -> int:
+        return len(self.segs)
+
+    def pairs(self, pts: np.ndarray, cols: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """:func:`_all_pairs` of the (z, x) points against the segments ``cols`` (indices,
+        default all): the distance and the position in ``cols`` of the nearest, the first on a
+        tie."""
+        if cols is None:
+            cols = np.arange(len(self.segs))
+        n, m = len(pts), len(cols)
+        best = np.full(n, np.inf)
+        which = np.full(n, -1, dtype=int)
+        if m == 0 or n == 0:
+            return best, which
+        arc = self.is_arc[cols]
+        li, ai = np.flatnonzero(~arc), np.flatnonzero(arc)
+        if len(li):
+            a = self.start[cols[li]]
+            b = self.end[cols[li]]
+            dx, dz = b[:, 0] - a[:, 0], b[:, 1] - a[:, 1]
+            L2 = dx * dx + dz * dz
+            point = L2 < 1e-18
+            L2s = np.where(point, 1.0, L2)
+            any_point = bool(point.any())
+        if len(ai):
+            k = cols[ai]
+            cx, cz = self.center[k, 0], self.center[k, 1]
+            r, a0, sw = self.radius[k], self.a0[k], self.sweep[k]
+            sx, sz = self.start[k, 0], self.start[k, 1]
+            ex, ez = self.end[k, 0], self.end[k, 1]
+            ccw = sw > 0
+        step = max(1, (1 << 16) // m)
+        for i0 in range(0, n, step):
+            pz, px = pts[i0:i0 + step, 0, None], pts[i0:i0 + step, 1, None]
+            D = np.empty((len(pz), m))
+            if len(li):
+                ex_ = px - a[:, 0]
+                ez_ = pz - a[:, 1]
+                t = np.clip((ex_ * dx + ez_ * dz) / L2s, 0.0, 1.0)
+                d = np.hypot(px - (a[:, 0] + t * dx), pz - (a[:, 1] + t * dz))
+                if any_point:
+                    d[:, point] = np.hypot(ex_[:, point], ez_[:, point])
+                D[:, li] = d
+            if len(ai):  # as :func:`_arc_dist`, every arc at once
+                ang = np.arctan2(px - cx, pz - cz)
+                inside = np.where(ccw, np.mod(ang - a0, 2 * math.pi) <= sw + 1e-12,
+                                  np.mod(a0 - ang, 2 * math.pi) <= -sw + 1e-12)
+                rc = np.hypot(px - cx, pz - cz)
+                d_on = np.abs(rc - r)
+                d_ends = np.minimum(np.hypot(px - sx, pz - sz), np.hypot(px - ex, pz - ez))
+                D[:, ai] = np.where(inside & (rc > 1e-12), d_on, d_ends)
+            w = np.argmin(D, axis=1)
+            best[i0:i0 + step] = D[np.arange(len(w)), w]
+            which[i0:i0 + step] = w
+        return best, which
+
+
+def distances(points: np.ndarray, segs: Sequence[Segment] | SegmentTable,
+              boxes: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """(distance, index of the nearest segment) for each (z, x) point of ``points``.
 
     Many points against many segments: a block of consecutive points (a boundary's, so near
     each other) is measured against the segments whose boxes come within the block's size of
     the block's box, then against those within the largest distance found (no segment farther
     from the box can be nearer to a point of it): the same distances and nearest segments as
-    every point against every segment, ties to the first segment as there."""
+    every point against every segment, ties to the first segment as there. ``segs``: the
+    segments or their :class:`SegmentTable` (built once for many queries); ``boxes``: the
+    segments' boxes (z0, x0, z1, x1) if known."""
+    tab = segs if isinstance(segs, SegmentTable) else SegmentTable(segs)
     pts = np.asarray(points, dtype=float).reshape(-1, 2)
-    if len(segs) <= 16 or len(pts) * len(segs) <= 1 << 18:
-        return _all_pairs(pts, segs)
-    boxes = np.array([(b[1], b[0], b[3], b[2]) for b in (s.bbox() for s in segs)])  # z0 x0 z1 x1
+    if len(tab) <= 16 or len(pts) * len(tab) <= 1 << 18:
+        return tab.pairs(pts)
+    if boxes is None:
+        boxes = tab.boxes
     best = np.empty(len(pts))
     which = np.empty(len(pts), dtype=int)
     for i0 in range(0, len(pts), BLOCK):
@@ -42,11 +126,11 @@ def distances(points: np.ndarray, segs: Sequence[Segment]) -> tuple[np.ndarray, 
         cand = np.flatnonzero(gap <= math.hypot(z1 - z0, x1 - x0))
         if not len(cand):
             cand = np.argsort(gap, kind="stable")[:1]
-        d, w = _all_pairs(p, [segs[k] for k in cand.tolist()])
+        d, w = tab.pairs(p, cand)
         full = np.flatnonzero(gap <= float(d.max()))
         if not np.isin(full, cand).all():
             cand = full
-            d, w = _all_pairs(p, [segs[k] for k in cand.tolist()])
+            d, w = tab.pairs(p, cand)
         best[i0:i0 + BLOCK] = d
         which[i0:i0 + BLOCK] = cand[w]
     return best, which
@@ -54,48 +138,9 @@ def distances(points: np.ndarray, segs: Sequence[Segment]) -> tuple[np.ndarray, 
 
 def _all_pairs(pts: np.ndarray, segs: Sequence[Segment]) -> tuple[np.ndarray, np.ndarray]:
     """:func:`distances` of every point to every segment: a matrix of the distances of a
-    chunk of points to the segments (the lines at once, as :func:`_line_dist` computes them
-    one by one), its smallest entry per point, the first segment on a tie."""
-    n, m = len(pts), len(segs)
-    best = np.full(n, np.inf)
-    which = np.full(n, -1, dtype=int)
-    if m == 0 or n == 0:
-        return best, which
-    if m <= 8:  # a few segments: one after another costs less than the matrix
-        pz, px = pts[:, 0], pts[:, 1]
-        for k, s in enumerate(segs):
-            d = _arc_dist(px, pz, s) if isinstance(s, Arc) else _line_dist(px, pz, s.start, s.end)
-            better = d < best
-            best[better] = d[better]
-            which[better] = k
-        return best, which
-    li = [k for k, s in enumerate(segs) if not isinstance(s, Arc)]
-    arcs = [(k, s) for k, s in enumerate(segs) if isinstance(s, Arc)]
-    if li:
-        a = np.array([segs[k].start for k in li], dtype=float)
-        b = np.array([segs[k].end for k in li], dtype=float)
-        dx, dz = b[:, 0] - a[:, 0], b[:, 1] - a[:, 1]
-        L2 = dx * dx + dz * dz
-        point = L2 < 1e-18
-        L2s = np.where(point, 1.0, L2)
-    step = max(1, (1 << 16) // m)
-    for i0 in range(0, n, step):
-        pz, px = pts[i0:i0 + step, 0], pts[i0:i0 + step, 1]
-        D = np.empty((len(pz), m))
-        if li:
-            ex = px[:, None] - a[:, 0]
-            ez = pz[:, None] - a[:, 1]
-            t = np.clip((ex * dx + ez * dz) / L2s, 0.0, 1.0)
-            d = np.hypot(px[:, None] - (a[:, 0] + t * dx), pz[:, None] - (a[:, 1] + t * dz))
-            if point.any():
-                d[:, point] = np.hypot(ex[:, point], ez[:, point])
-            D[:, li] = d
-        for k, s in arcs:
-            D[:, k] = _arc_dist(px, pz, s)
-        w = np.argmin(D, axis=1)
-        best[i0:i0 + step] = D[np.arange(len(w)), w]
-        which[i0:i0 + step] = w
-    return best, which
+    chunk of points to the segments, its smallest entry per point, the first segment on a
+    tie."""
+    return SegmentTable(segs).pairs(np.asarray(pts, dtype=float).reshape(-1, 2))
 
 
 def _line_dist(px, pz, a, b) -> np.ndarray:

@@ -7,7 +7,9 @@ Choices (the issue leaves them open):
 * **Overcut** (gouge) = model minus remaining material; its depth at a point is the distance to
   the model's boundary (outside and bore chains and the closing faces, exact Line/Arc
   geometry), measured at every vertex of the region's boundary (segmentised every 0.002 mm, so the
-  maximum is found to 0.001 mm) and
+  maximum is found to 0.001 mm; the points of an edge are measured only where a bound on the
+  distance says they could be deeper than the deepest found, :func:`_depths`: the same maximum
+  to 1e-9 mm) and
   on an interior grid (a part that was cut off entirely has its deepest point inside).
 * **Undercut** = remaining material minus model, its size at a point the distance to the model;
   the maximum lies on the region's boundary. Components deeper than ``NOISE`` are split into what
@@ -70,7 +72,7 @@ from shapely.geometry.base import BaseGeometry
 
 from ..geometry import Line, Segment, Thread, TurnedProfile
 from ..geometry.tip import tip_direction
-from .measure import distances
+from .measure import SegmentTable, distances
 from .region import clean, diff, inter, polygons, profile_polygon, union as union_of
 from .simulate import Issue, Machined
 from ..tooling import BAR_CLEARANCE
@@ -225,78 +227,214 @@ def _grid_points(g: BaseGeometry, n: int = 60) -> np.ndarray:
     return np.vstack(out) if out else np.zeros((0, 2))
 
 
-def _edge_dist(pts: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Distance from each point to the nearest of the straight edges a_j -> b_j (all (n, 2))."""
-    best = np.full(len(pts), np.inf)
-    if not len(a):
-        return best
-    d = b - a
-    L2 = np.maximum(np.einsum("ij,ij->i", d, d), 1e-300)
-    for i0 in range(0, len(pts), 4096):
-        p = pts[i0:i0 + 4096, None, :]
-        t = np.clip(np.einsum("pij,ij->pi", p - a[None], d) / L2, 0.0, 1.0)
-        q = a[None] + t[:, :, None] * d[None]
-        best[i0:i0 + 4096] = np.sqrt(((p - q) ** 2).sum(axis=2)).min(axis=1)
-    return best
-
-
-def _seg_boxes(segs: Sequence[Segment]) -> np.ndarray:
-    """Boxes (z0, x0, z1, x1) of the model segments."""
-    return np.array([[b[1], b[0], b[3], b[2]] for b in (s.bbox() for s in segs)])
-
-
-def _deepest(g: BaseGeometry, segs: Sequence[Segment], interior: bool,
-             also: BaseGeometry | None = None, boxes: np.ndarray | None = None) -> Deviation | None:
-    """The point of ``g`` farthest from the model boundary ``segs`` and its distance.
+def _deepest(g: BaseGeometry, segs: Sequence[Segment] | SegmentTable, interior: bool,
+             also: BaseGeometry | None = None) -> Deviation | None:
+    """The point of ``g`` farthest from the model boundary ``segs`` and its distance (the
+    deepest of :func:`_depths` over ``g``'s polygons, the first on a tie).
 
     ``also``: a region that counts as model too (the unreachable leftover when measuring the
     reachable part: its depth is measured from what the tools could at best leave there).
-
-    Per component, only the segments whose boxes come within r of the component's box are
-    measured, r first its diameter (a component that touches the model boundary has all its
-    nearest segments there), then, if some point found no segment that near, the largest
-    distance found (no farther segment can be nearer to any point): exact, and fast for many
-    small slivers on a long boundary. ``boxes``: :func:`_seg_boxes` of ``segs`` if known."""
-    if boxes is None:
-        boxes = _seg_boxes(segs)
+    ``segs``: the model's segments or their :class:`SegmentTable`."""
     best: Deviation | None = None
-    for p in polygons(g):
-        pts = _boundary_points(p)
-        if interior:
-            pts = np.vstack([pts, _grid_points(p)])
-        if not len(pts):
-            continue
-        z0, x0, z1, x1 = p.bounds
-        r = math.hypot(z1 - z0, x1 - x0) + 1e-6
-        while True:
-            near = ((boxes[:, 0] <= z1 + r) & (boxes[:, 2] >= z0 - r)
-                    & (boxes[:, 1] <= x1 + r) & (boxes[:, 3] >= x0 - r))
-            cand = [s for s, k in zip(segs, near) if k] or list(segs)
-            d, _ = distances(pts, cand)
-            if len(cand) == len(segs) or d.max() <= r:
-                break
-            r = float(d.max()) + 1e-6
-        if also is not None and not also.is_empty and d.max() > 0:
-            dm = float(d.max())
-            # an overlay with the box (GEOS's rectangle clip can build a ring of 3 points)
-            near = inter(also, box(z0 - dm, x0 - dm, z1 + dm, x1 + dm))
-            if not near.is_empty:
-                a, b = _edges(near)
-                # deepest first: once the model distance of the rest is below the best
-                # combined distance found, no later point can beat it
-                order = np.argsort(-d)
-                top = 0.0
-                for i0 in range(0, len(order), 2048):
-                    ch = order[i0:i0 + 2048]
-                    if d[ch[0]] <= top:
-                        d[order[i0:]] = np.minimum(d[order[i0:]], top)
-                        break
-                    d[ch] = np.minimum(d[ch], _edge_dist(pts[ch], a, b))
-                    top = max(top, float(d[ch].max()))
-        i = int(np.argmax(d))
-        if best is None or d[i] > best.size_mm:
-            best = Deviation(z=float(pts[i, 0]), x=float(pts[i, 1]), size_mm=float(d[i]))
+    for d in _depths(polygons(g), segs, interior, also):
+        if d is not None and (best is None or d.size_mm > best.size_mm):
+            best = d
     return best
+
+
+#: an edge of a region is sampled only when the bound on its depth exceeds the deepest point
+#: found so far in its component by more than this (mm)
+PRUNE_EPS = 1e-9
+#: a run of an edge's sample points that :func:`_depths` cannot settle is cut into this many
+SPLIT = 8
+
+
+def _point_seg_dist(p: np.ndarray, s0: np.ndarray, s1: np.ndarray) -> np.ndarray:
+    """Distance from each point p_i to the straight segment s0_i -> s1_i (all (n, 2))."""
+    d = s1 - s0
+    L2 = np.einsum("ij,ij->i", d, d)
+    e = p - s0
+    t = np.clip(np.einsum("ij,ij->i", e, d) / np.where(L2 > 1e-300, L2, 1.0), 0.0, 1.0)
+    return np.hypot(*(e - t[:, None] * d).T)
+
+
+class _Depth:
+    """Depth of points (z, x): the distance to the nearest of the model boundary's exact lines
+    and arcs ``segs`` and of ``also``'s boundary edges; with, per point, that nearest piece
+    (model segments first, then ``also``'s edges), for :meth:`bound`."""
+
+    def __init__(self, segs: SegmentTable, also: BaseGeometry | None):
+        self.segs = segs
+        n = len(segs)
+        # per piece: 0 a straight segment p0 -> p1, 1 an arc of at most half a turn (centre,
+        # radius, start angle, sweep), 2 neither (no bound); a last row for the index -1
+        # that :func:`distances` gives when there is no segment
+        arc = np.r_[segs.is_arc, False]
+        self.kind = np.where(arc, 2, 0).astype(np.int8)
+        self.kind[-1] = 2
+        half = np.r_[np.abs(segs.sweep) <= math.pi, False]
+        self.kind[arc & half] = 1
+        self.p0 = np.vstack([segs.start[:, ::-1], [(np.nan, np.nan)]])
+        self.p1 = np.vstack([segs.end[:, ::-1], [(np.nan, np.nan)]])
+        self.arc = np.vstack([np.column_stack([segs.center[:, 1], segs.center[:, 0], segs.radius,
+                                               segs.a0, segs.sweep]), np.full((1, 5), np.nan)])
+        self.tree = None
+        if also is not None and not also.is_empty:
+            a, b = _edges(also)
+            if len(a):
+                self.tree = shapely.STRtree(shapely.linestrings(np.stack([a, b], axis=1)))
+                k = len(a)
+                self.kind = np.concatenate([self.kind[:n], np.zeros(k, np.int8), self.kind[n:]])
+                self.p0 = np.concatenate([self.p0[:n], a, self.p0[n:]])
+                self.p1 = np.concatenate([self.p1[:n], b, self.p1[n:]])
+                self.arc = np.concatenate([self.arc[:n], np.full((k, 5), np.nan), self.arc[n:]])
+
+    def __call__(self, pts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(depth, index of the nearest piece) per point."""
+        d, w = distances(pts, self.segs)
+        if self.tree is not None and len(pts):
+            w = np.where(w < 0, len(self.kind) - 1, w)
+            (i, k), da = self.tree.query_nearest(shapely.points(pts), return_distance=True,
+                                                 all_matches=False)
+            nearer = da < d[i]
+            d[i[nearer]] = da[nearer]
+            w[i[nearer]] = len(self.segs) + k[nearer]
+        return d, w
+
+    def bound(self, k: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        """An upper bound of the distance to piece k_i over the straight edge a_i -> b_i
+        (inf where none is known): for a straight piece the larger of the ends' distances (the
+        distance to a convex set is convex along a line); for an arc of at most half a turn with
+        both ends in its sector (a convex cone, so the whole edge is in it, where the distance
+        is | |q - c| - r |), the largest of |a - c| - r, |b - c| - r and r - d(c, ab)."""
+        ub = np.full(len(k), np.inf)
+        kind = self.kind[k]
+        li = np.flatnonzero(kind == 0)
+        if len(li):
+            s0, s1 = self.p0[k[li]], self.p1[k[li]]
+            ub[li] = np.maximum(_point_seg_dist(a[li], s0, s1), _point_seg_dist(b[li], s0, s1))
+        ar = np.flatnonzero(kind == 1)
+        if len(ar):
+            cz, cx, r, a0, sw = self.arc[k[ar]].T
+            c = np.column_stack([cz, cx])
+            aa, bb = a[ar], b[ar]
+
+            def in_sector(p: np.ndarray) -> np.ndarray:
+                ang = np.arctan2(p[:, 1] - cx, p[:, 0] - cz)
+                return np.where(sw > 0, np.mod(ang - a0, 2 * math.pi) <= sw,
+                                np.mod(a0 - ang, 2 * math.pi) <= -sw)
+            ok = in_sector(aa) & in_sector(bb)
+            v = np.maximum(np.maximum(np.hypot(*(aa - c).T), np.hypot(*(bb - c).T)) - r,
+                           r - _point_seg_dist(c, aa, bb))
+            ub[ar[ok]] = v[ok]
+        return ub
+
+
+def _depths(polys: Sequence[Polygon], segs: Sequence[Segment] | SegmentTable,
+            interior: bool = False, also: BaseGeometry | None = None) -> list[Deviation | None]:
+    """:func:`_deepest` of each polygon of ``polys`` (None for an empty one), all measured
+    together.
+
+    The points that count are those of :func:`_boundary_points` (each boundary edge cut into
+    equal pieces of at most the step; with ``interior``, the grid of :func:`_grid_points`
+    too), but a run of an edge's points is measured only where it could beat the deepest point
+    found in its polygon. The depth f (the distance to the nearest of the model's segments and
+    ``also``'s edges) is 1-Lipschitz, so over a run from a to b of length L,
+    f <= (f(a) + f(b) + L) / 2; and f is at most the distance to any one piece, bounded over
+    the run by :meth:`_Depth.bound` for the pieces nearest to a and to b. A run whose bound is
+    no more than ``PRUNE_EPS`` above the deepest point found is skipped; a short one is
+    measured whole, a long one measured at ``SPLIT - 1`` of its points and its ``SPLIT`` parts
+    bounded again. So the maximum is that of every point to within ``PRUNE_EPS``, where it
+    lies the first of the points measured (vertices in the boundary's order before inner
+    points), and a long sliver along a line or an arc of the model costs its vertices."""
+    out: list[Deviation | None] = [None] * len(polys)
+    if not polys:
+        return out
+    depth = _Depth(segs if isinstance(segs, SegmentTable) else SegmentTable(segs), also)
+    rings, rp = shapely.get_rings(np.array(polys, dtype=object), return_index=True)
+    v, ri = shapely.get_coordinates(rings, return_index=True)
+    vp = rp[ri]  # polygon of each vertex
+    e = np.flatnonzero(ri[:-1] == ri[1:])  # edge e: vertex e -> e + 1 in one ring
+    a, b = v[e], v[e + 1]
+    L = np.hypot(*(b - a).T)
+    ep = vp[e]
+    per = np.bincount(ep, weights=L, minlength=len(polys))
+    step = np.maximum(SEGMENTIZE, per / MAX_POINTS)
+    cnt = np.maximum(np.ceil(L / step[ep]).astype(np.int64) - 1, 0)  # inner points per edge
+    pts, pp = [v], [vp]
+    if interior:
+        for k, p in enumerate(polys):
+            g = _grid_points(p)
+            pts.append(g)
+            pp.append(np.full(len(g), k))
+    pts, pp = np.concatenate(pts), np.concatenate(pp)
+    f, w = depth(pts)
+    lower = np.full(len(polys), -np.inf)
+    np.maximum.at(lower, pp, f)
+    # branch and bound over runs j0..j1 of an edge's sample points (point j of edge e at
+    # a + j / n (b - a), n = cnt + 1 pieces; 0 and n its vertices)
+    ie = np.flatnonzero(cnt > 0)
+    j0, j1 = np.zeros(len(ie), np.int64), cnt[ie] + 1
+    f0, f1, w0, w1 = f[e[ie]], f[e[ie] + 1], w[e[ie]], w[e[ie] + 1]
+    n_of = cnt + 1
+
+    def at(ee: np.ndarray, j: np.ndarray) -> np.ndarray:
+        n = n_of[ee]
+        q = a[ee] + (j / n)[:, None] * (b[ee] - a[ee])
+        q[j == n] = b[ee[j == n]]
+        return q
+
+    more_p, more_f, more_pp = [], [], []
+
+    def measure(ee: np.ndarray, j: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        q = at(ee, j)
+        fq, wq = depth(q)
+        more_p.append(q)
+        more_f.append(fq)
+        more_pp.append(ep[ee])
+        np.maximum.at(lower, ep[ee], fq)
+        return fq, wq
+
+    while len(ie):
+        pa, pb = at(ie, j0), at(ie, j1)
+        ub = np.minimum.reduce([0.5 * (f0 + f1 + L[ie] * (j1 - j0) / n_of[ie]),
+                                depth.bound(w0, pa, pb), depth.bound(w1, pa, pb)])
+        go = ub > lower[ep[ie]] + PRUNE_EPS
+        ie, j0, j1, f0, f1, w0, w1 = (x[go] for x in (ie, j0, j1, f0, f1, w0, w1))
+        m = j1 - j0
+        small = m <= 2 * SPLIT
+        if small.any():  # a short run: all its inner points
+            k = m[small] - 1
+            se = np.repeat(ie[small], k)
+            sj = (np.repeat(j0[small], k) + np.arange(len(se))
+                  - np.repeat(np.cumsum(k) - k, k) + 1)
+            measure(se, sj)
+        big = ~small
+        if not big.any():
+            break
+        ie, j0, j1, f0, f1, w0, w1 = (x[big] for x in (ie, j0, j1, f0, f1, w0, w1))
+        # a long run: SPLIT - 1 points cut it into SPLIT runs
+        kj = j0[:, None] + (np.arange(SPLIT + 1)[None, :] * (j1 - j0)[:, None]) // SPLIT
+        inner = kj[:, 1:-1].ravel()
+        fi, wi = measure(np.repeat(ie, SPLIT - 1), inner)
+        kf = np.column_stack([f0, fi.reshape(-1, SPLIT - 1), f1])
+        kw = np.column_stack([w0, wi.reshape(-1, SPLIT - 1), w1])
+        ie = np.repeat(ie, SPLIT)
+        j0, j1 = kj[:, :-1].ravel(), kj[:, 1:].ravel()
+        f0, f1 = kf[:, :-1].ravel(), kf[:, 1:].ravel()
+        w0, w1 = kw[:, :-1].ravel(), kw[:, 1:].ravel()
+        keep = j1 - j0 >= 2
+        ie, j0, j1, f0, f1, w0, w1 = (x[keep] for x in (ie, j0, j1, f0, f1, w0, w1))
+    if more_p:
+        pts = np.concatenate([pts, *more_p])
+        f = np.concatenate([f, *more_f])
+        pp = np.concatenate([pp, *more_pp])
+    # per polygon the deepest point, the first measured on a tie
+    order = np.lexsort((-f, pp))
+    first = np.flatnonzero(np.r_[True, pp[order][1:] != pp[order][:-1]])
+    for i in order[first]:
+        out[int(pp[i])] = Deviation(z=float(pts[i, 0]), x=float(pts[i, 1]), size_mm=float(f[i]))
+    return out
 
 
 # --- reachability -------------------------------------------------------------------------
@@ -376,10 +514,11 @@ def reachable(model_poly: BaseGeometry, shapes: Sequence[ToolShape], where: Base
     a boring bar from the right along the bore; neither through the part.
 
     Computed locally: a point q is covered by a placement P of the controlled point with q in
-    P + K, so P lies within K's extent of q: the placements are looked for in the boxes of
-    ``where``'s components grown by the insert's extent, and only the obstacles within those
-    boxes plus B's extent matter. Of the swept edges only those that meet the placement window
-    (first sum, with B) or the leftover still unclassified (second sum, with K) are united.
+    P + K, so P lies in q - K: the placements are looked for, tool by tool, in the boxes of the
+    components of the leftover no tool before covered, less the insert's extent, and only the
+    obstacles within those boxes plus B's extent matter. Of the swept edges only those that
+    meet the placement window (first sum, with B) or the leftover still unclassified (second
+    sum, with K) are united.
     """
     comps = [p for p in polygons(where) if not p.is_empty]
     if not comps or not shapes:
@@ -389,7 +528,6 @@ def reachable(model_poly: BaseGeometry, shapes: Sequence[ToolShape], where: Base
     if keep is not None and not keep.is_empty:
         solids += [keep, shapely.affinity.scale(keep, xfact=1.0, yfact=-1.0, origin=(0, 0))]
     solid = shapely.union_all(solids)
-    bounds = shapely.bounds(np.array(comps, dtype=object))
     sb = solid.bounds
     left = clean(where)
     for s in shapes:
@@ -398,11 +536,14 @@ def reachable(model_poly: BaseGeometry, shapes: Sequence[ToolShape], where: Base
         ext = float(np.ptp(s.outline, axis=0).max()) + 1.0
         body = tool_body(s, 2 * max(sb[2] - sb[0], sb[3] - sb[1]) + 2 * ext)
         b0, b1 = body.min(axis=0), body.max(axis=0)
-        window = clean(shapely.union_all(shapely.box(bounds[:, 0] - ext, bounds[:, 1] - ext,
-                                                     bounds[:, 2] + ext, bounds[:, 3] + ext)))
-        reach_zone = clean(shapely.union_all(shapely.box(
-            bounds[:, 0] - ext + b0[0], bounds[:, 1] - ext + b0[1],
-            bounds[:, 2] + ext + b1[0], bounds[:, 3] + ext + b1[1])))
+        # the placements P with P + K meeting the leftover not yet covered lie in the boxes
+        # of its components less K's extent (a millimetre more all round)
+        bounds = shapely.bounds(np.array(polygons(left), dtype=object))
+        k0, k1 = s.outline.min(axis=0), s.outline.max(axis=0)
+        lo, hi = bounds[:, :2] - k1 - 1.0, bounds[:, 2:] - k0 + 1.0
+        window = clean(shapely.union_all(shapely.box(lo[:, 0], lo[:, 1], hi[:, 0], hi[:, 1])))
+        reach_zone = clean(shapely.union_all(shapely.box(lo[:, 0] + b0[0], lo[:, 1] + b0[1],
+                                                         hi[:, 0] + b1[0], hi[:, 1] + b1[1])))
         obst = inter(solid, reach_zone)
         # placements P of the controlled point with P + B inside the free space
         blocked = _minkowski_parts(obst, -body, near=window)
@@ -729,7 +870,7 @@ def verify(machined: Machined, model: TurnedProfile, tol: float = 0.01,
         from dataclasses import replace
         machined = replace(machined, material=part)
     segs = model_segments(model)
-    boxes = _seg_boxes(segs)
+    table = SegmentTable(segs)
     material = machined.material
     zones = _zones(model, machined, threads)
     # the zone, widened by half a pitch at each end for the insert's flanks at the run-out
@@ -739,7 +880,7 @@ def verify(machined: Machined, model: TurnedProfile, tol: float = 0.01,
     over = diff(diff(model_poly, material), excl)
     under = diff(diff(inter(material, domain), model_poly), excl)
 
-    over_at = _deepest(over, segs, interior=True, boxes=boxes) if not over.is_empty else None
+    over_at = _deepest(over, table, interior=True) if not over.is_empty else None
     max_over = over_at.size_mm if over_at else 0.0
 
     # undercut: per component its depth; the components deeper than NOISE are classified into
@@ -748,8 +889,8 @@ def verify(machined: Machined, model: TurnedProfile, tol: float = 0.01,
     unreach_region: BaseGeometry = Polygon()
     under_at: Deviation | None = None
     deep = []
-    for p in polygons(under):
-        d = _deepest(p, segs, interior=False, boxes=boxes)
+    parts = polygons(under)
+    for p, d in zip(parts, _depths(parts, table)):
         if d is None:
             continue
         if d.size_mm > NOISE:
@@ -771,11 +912,10 @@ def verify(machined: Machined, model: TurnedProfile, tol: float = 0.01,
         # reachable leftover: its depth beyond what the tools could at best leave (the model,
         # and the unreachable leftover next to it), so a sliver the pass left on top of an
         # unreachable corner counts by its own thickness, not by the corner's depth
-        d = _deepest(reach_part, segs, interior=False, also=unreach_region, boxes=boxes)
+        d = _deepest(reach_part, table, interior=False, also=unreach_region)
         if d is not None and (under_at is None or d.size_mm > under_at.size_mm):
             under_at = d
-        for p in polygons(unreach_region):
-            d = _deepest(p, segs, interior=False, boxes=boxes)
+        for d in _depths(polygons(unreach_region), table):
             if d is not None and d.size_mm > NOISE:
                 unreach_list.append(d)
         unreach_list.sort(key=lambda d: -d.z)
