@@ -494,6 +494,58 @@ class _Sweeper:
         return run
 
 
+def _path_sweep(K: np.ndarray, P: np.ndarray, Q: np.ndarray) -> BaseGeometry:
+    """The region the convex outline K sweeps along the connected pieces P[i] -> Q[i] of a
+    sampled arc: the union of the pieces' hulls (:func:`hnc_cam.sim.tool.sweep_hulls`), built
+    as one polygon.
+
+    The ring is the convolution of K with the path traced forward and back: each piece
+    translates the vertex of K extreme to the right of its motion (forward) or to its left
+    (back); where that vertex changes between pieces, K's vertices between the two are
+    inserted in the direction the path turns, and K's chain facing the motion closes the ring
+    at the end, the chain behind it at the start. On the inner side of the turn these
+    insertions run backwards and make the ring cross itself; the region is the set of points
+    it winds round positively, which GEOS's zero-distance buffer returns. A path with a
+    zero-length piece, or a result that is not one polygon, takes the union of the hulls."""
+    K = np.asarray(K, dtype=float)
+    if float(np.sum(K[:, 0] * np.roll(K[:, 1], -1) - np.roll(K[:, 0], -1) * K[:, 1])) < 0:
+        K = K[::-1]
+    if len(P) > 1 and np.all(np.any(P != Q, axis=1)):
+        i_min, i_max = extremes(K, P, Q)
+        m = len(K)
+        front = K[(i_min[-1] + np.arange((i_max[-1] - i_min[-1]) % m + 1)) % m] + Q[-1]
+        back = K[(i_max[0] + np.arange((i_min[0] - i_max[0]) % m + 1)) % m] + P[0]
+        ring = np.concatenate([_side(K, i_min, P, Q), front,
+                               _side(K, i_max[::-1], Q[::-1], P[::-1]), back])
+        try:
+            g = shapely.buffer(shapely.Polygon(ring), 0)
+        except shapely.errors.GEOSException:
+            g = None
+        if g is not None and g.geom_type == "Polygon" and not g.is_empty:
+            return g
+    return union_of(sweep_hulls(K, P, Q))
+
+
+def _side(K: np.ndarray, ext: np.ndarray, P: np.ndarray, Q: np.ndarray) -> np.ndarray:
+    """One side of :func:`_path_sweep`'s ring: for each piece P[i] -> Q[i], the outline's
+    vertex ``ext[i]`` at both ends, then the outline's vertices on to ``ext[i + 1]`` at Q[i]
+    in the direction the path turns there."""
+    n, m = len(P), len(K)
+    d = Q - P
+    cr = d[:-1, 0] * d[1:, 1] - d[:-1, 1] * d[1:, 0]
+    nxt = ext[1:]
+    sgn = np.ones(n, dtype=np.int64)
+    cnt = np.zeros(n, dtype=np.int64)
+    sgn[:-1] = np.where(cr >= 0, 1, -1)
+    cnt[:-1] = np.where(cr >= 0, (nxt - ext[:-1]) % m, (ext[:-1] - nxt) % m)
+    L = 2 + cnt
+    off = np.cumsum(L) - L
+    owner = np.repeat(np.arange(n), L)
+    j = np.arange(int(L.sum())) - off[owner]
+    kidx = (ext[owner] + sgn[owner] * np.maximum(j - 1, 0)) % m
+    return K[kidx] + np.where((j == 0)[:, None], P[owner], Q[owner])
+
+
 def _ccw_outline(shape: ToolShape) -> np.ndarray:
     K = np.asarray(shape.outline, dtype=float)
     if float(np.sum(K[:, 0] * np.roll(K[:, 1], -1) - np.roll(K[:, 0], -1) * K[:, 1])) < 0:
@@ -556,13 +608,10 @@ class _Run:
                 K, P, Q = self.pieces[gi]
                 p0, p1 = self.move_p0[ks], self.move_p1[ks]
                 cnt = p1 - p0
-                sel = np.repeat(p0 - np.cumsum(cnt) + cnt, cnt) + np.arange(int(cnt.sum()))
-                hulls = sweep_hulls(K, P[sel], Q[sel])
                 one = cnt == 1
-                pos = np.cumsum(cnt) - cnt
-                sw[ks[one]] = hulls[pos[one]]
-                for k, a, c in zip(ks[~one].tolist(), pos[~one].tolist(), cnt[~one].tolist()):
-                    sw[k] = union_of(hulls[a:a + c])
+                sw[ks[one]] = sweep_hulls(K, P[p0[one]], Q[p0[one]])
+                for k, a, c in zip(ks[~one].tolist(), p0[~one].tolist(), cnt[~one].tolist()):
+                    sw[k] = _path_sweep(K, P[a:a + c], Q[a:a + c])
         return sw[idx]
 
     def sweep(self, k: int) -> BaseGeometry | None:
@@ -699,6 +748,9 @@ class _Run:
 
 #: margin (mm) of a batch's zone round the convex hull of its sweeps
 SEAM = 0.01
+#: a material of at most this many vertices is taken move by move whole: the overlays of a
+#: zone (cutting it out and putting the material back together) cost more than they save
+SMALL_MATERIAL = 1000
 #: moves whose sweeps are built together (bounds the memory held for sweeps)
 CHUNK = 4096
 #: a run of at most this many moves has its sweeps built at once; a longer one builds them for
@@ -978,14 +1030,19 @@ def _local_before(material: BaseGeometry, g: BaseGeometry, before: list) -> Base
 def _batch_by_moves(material, run: "_Run", c0, b0, b1, idx, geoms, removed_area, sweeper,
                     toolpath, issues, notes):
     """Take a batch out of the material move after move (one overlay per move that meets the
-    material, within the batch's zone). Returns the material after it (``material`` itself
+    material, within the batch's zone, or in the whole material when it is small:
+    :data:`SMALL_MATERIAL`). Returns the material after it (``material`` itself
     when the batch removed nothing)."""
     # the material the batch can meet: inside the convex hull of its sweeps, grown by SEAM so
     # that the zone's boundary lies off every sweep (an overlay, not GEOS's rectangle clip,
     # which can return a wrong region for a valid polygon)
-    hull = shapely.convex_hull(shapely.geometrycollections(geoms))
-    zone = shapely.buffer(hull, SEAM, join_style="mitre")
-    local0 = inter(material, zone)
+    if shapely.get_num_coordinates(material) <= SMALL_MATERIAL:
+        zone = None  # a small material: taken whole, without a zone's two overlays
+        local0 = material
+    else:
+        hull = shapely.convex_hull(shapely.geometrycollections(geoms))
+        zone = shapely.buffer(hull, SEAM, join_style="mitre")
+        local0 = inter(material, zone)
     if local0.is_empty:
         return material
     shapely.prepare(local0)
@@ -1000,7 +1057,7 @@ def _batch_by_moves(material, run: "_Run", c0, b0, b1, idx, geoms, removed_area,
         after = _difference(local, g)
         after_area = _lib_area(after)
         a = local_area - after_area
-        if a > 1e-12:
+        if a > 1e-12 + 1e-15 * local_area:  # more than the rounding of the areas
             removed_area[c0 + k] = a
             if a > TOUCH_AREA:
                 nc = k in nc_hit
@@ -1011,6 +1068,8 @@ def _batch_by_moves(material, run: "_Run", c0, b0, b1, idx, geoms, removed_area,
             local, local_area = after, after_area
     if local is local0:
         return material
+    if zone is None:
+        return local
     # the material outside the zone is untouched; both pieces meet on the zone's boundary at
     # the same nodes (one noding of the material with the zone for both overlays)
     return union_of([diff(material, zone), local])
