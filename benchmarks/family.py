@@ -133,7 +133,8 @@ def stage_line(last: dict) -> str:
 def counts_line(last: dict) -> str:
     ws = (last.get("workers") or {}).values()
     return "; ".join(f"pid {w['pid']}: {w['inits']} init, kernel "
-                     f"{'inherited' if w['kernel_inherited'] else 'imported'}, "
+                     f"{'inherited' if w['kernel_inherited'] else 'imported'}"
+                     f"{', warmed up by the fork server' if w.get('warmed') else ''}, "
                      f"{w['tools']} tool library, {w['machines']} machine, "
                      f"{w['environments']} template environment(s) loaded"
                      for w in ws) or "n/a"

@@ -46,6 +46,7 @@ def test_workers_load_nothing_again_per_row():
         assert all(c["inits"] == 1 for c in counts)
         if LINUX:
             assert all(c["kernel_inherited"] for c in counts)
+            assert all(c["warmed"] for c in counts)
         assert first["tools"] == last["tools"] == 1
         assert first["machines"] == last["machines"] == 1
         assert first["environments"] == last["environments"] >= 1

@@ -353,7 +353,8 @@ _KERNEL_INHERITED: list[bool] = [False]
 def worker_counts() -> dict[str, Any]:
     """What this process has loaded so far, to show that a worker loads each thing once
     however many rows it runs: pid, initializer runs, whether the CAD kernel came with the
-    fork, tool libraries and machine files parsed, template environments built, and its
+    fork, whether the fork server's warm-up program did (``warmed``: the modules the
+    generator imports on first use and the compiled templates), tool libraries and machine files parsed, template environments built, and its
     peak resident memory (MB)."""
     from .api import LOADS
     from ..post import environment
@@ -362,7 +363,9 @@ def worker_counts() -> dict[str, Any]:
         peak: float | None = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
     except ImportError:  # pragma: no cover - Windows
         peak = None
+    pool = sys.modules.get(POOL_PRELOAD)
     return {"pid": os.getpid(), "inits": _inits(), "kernel_inherited": _KERNEL_INHERITED[0],
+            "warmed": bool(pool is not None and pool.WARMED[0]),
             "tools": LOADS["tools"], "machines": LOADS["machines"],
             "environments": environment.cache_info().misses,
             "peak_rss_mb": (None if peak is None else

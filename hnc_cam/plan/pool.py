@@ -22,13 +22,18 @@ import gc
 import os
 
 
+#: whether this process generated the warm-up program (:func:`_first_program`): true in the
+#: fork server and in every worker forked from it
+WARMED: list[bool] = [False]
+
+
 def _preload() -> None:
     try:
         import build123d  # noqa: F401
     except Exception:  # noqa: BLE001 - no CAD kernel: the rows say so
         pass
-    for name in ("hnc_cam.cad.extract", "hnc_cam.nc", "hnc_cam.sim", "hnc_cam.post",
-                 "hnc_cam.plan.api", "hnc_cam.plan.command"):
+    for name in ("hnc_cam.cad.extract", "hnc_cam.cad.sketch", "hnc_cam.nc", "hnc_cam.sim",
+                 "hnc_cam.post", "hnc_cam.plan.api", "hnc_cam.plan.command"):
         try:
             __import__(name)
         except Exception:  # noqa: BLE001 - the worker's own import reports it
@@ -36,7 +41,35 @@ def _preload() -> None:
     try:
         from .api import warm
         warm()
+        _first_program()
+        WARMED[0] = True
     except Exception:  # noqa: BLE001 - the rows report a broken bundled table
+        pass
+
+
+def _first_program() -> None:
+    """A small shaft's program generated and read back once here (not verified), so that
+    what a worker's first row would otherwise do once each, in every worker (the modules the
+    generator and the interpreter import on first use, the templates compiled), is done once
+    and shared."""
+    from ..geometry import Line, TurnedProfile
+    from .api import generate
+    pts = [(0.0, 0.0), (8.0, 0.0), (8.0, -12.0), (11.0, -12.0), (11.0, -25.0), (0.0, -25.0)]
+    prof = TurnedProfile(outside=[Line(a, b) for a, b in zip(pts, pts[1:])], bore=None,
+                         name="warm-up")
+    generate(prof, verify=False)
+
+
+def _release_free_memory() -> None:
+    """Give the heap's free pages back to the system (glibc's ``malloc_trim``), so that the
+    workers forked from here do not start with them counted in their resident memory."""
+    import sys
+    if not sys.platform.startswith("linux"):
+        return
+    try:
+        import ctypes
+        ctypes.CDLL(None).malloc_trim(0)
+    except (OSError, AttributeError):  # another C library: nothing to release this way
         pass
 
 
@@ -56,6 +89,7 @@ _preload()
 if _in_fork_server():
     gc.collect()
     gc.freeze()
+    _release_free_memory()
     # the fork server's own exit: no finalisation of the kernel (its workers end with
     # os._exit and never run this)
     atexit.register(os._exit, 0)
