@@ -19,6 +19,9 @@ shared page counted by the share of each process mapping it; the workers' PSS ad
 memory they take) and unique set (USS: pages no other process maps). The fork server's pages
 are shared by the workers forked from it.
 
+The first row: the seconds from the command's start to its first row finished, cold (the
+fork server importing the CAD kernel, the first fork) and warm.
+
 Per-row stages: the seconds each written row spent loading the part (CAD kernel), planning,
 rendering, in the interpreter, simulating and verifying (in the workers) and writing its
 program (in the family process), summed over the rows of the warm run and divided by its rows,
@@ -130,6 +133,15 @@ def stage_line(last: dict) -> str:
             + f"; total {1000 * total / n:.1f} ms of work per row")
 
 
+def first_line(cold: dict, warm: dict) -> str:
+    """The seconds from the command's start to its first row finished: the cold start (the
+    fork server's imports) and, for comparison, the warm run's."""
+    def f(last: dict) -> str:
+        v = last.get("first_row_s")
+        return "n/a" if v is None else f"{v:.2f} s"
+    return f"first row after {f(cold)} (cold), {f(warm)} (warm)"
+
+
 def counts_line(last: dict) -> str:
     ws = (last.get("workers") or {}).values()
     return "; ".join(f"pid {w['pid']}: {w['inits']} init, kernel "
@@ -210,6 +222,7 @@ def main() -> None:
             report(f"local pool --jobs {jobs}", times, progs, mem_s,
                    base if jobs == 2 else None)
             print(f"  {'':32s}per row, ms: {stage_line(best)}")
+            print(f"  {'':32s}{first_line(lasts[0], best)}")
             print(f"  {'':32s}{counts_line(best)}")
         if a.no_cluster:
             return

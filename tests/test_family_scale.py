@@ -60,10 +60,13 @@ def test_verified_rows_report_every_stage(tmp_path):
     from hnc_cam.plan import command
     table = tmp_path / "t.csv"
     table.write_text("length,d1\n95,19\n100,20\n97,18.5\n")
+    t0 = time.perf_counter()
     rc = main(["family", str(PART), "--table", str(table), "--out", str(tmp_path / "o"),
                "--jobs", "2"])
+    wall = time.perf_counter() - t0
     assert rc == 0
     last = command.LAST_RUN
+    assert 0 < last["first_row_s"] < wall
     assert last["rows"] == 3
     assert set(last["stages"]) == {"load", "plan", "render", "interpret", "simulate", "verify",
                                    "write"}

@@ -455,6 +455,10 @@ def read_table(path: str) -> tuple[list[str], list[tuple[int, int, dict[str, str
 
 def family_command(args: argparse.Namespace) -> int:
     import signal
+    import time
+
+    started = time.perf_counter()
+    first: list[float] = []  # seconds from the start to the first row finished
 
     from ..cad import parse_set
     from ..cad.loader import profile_options
@@ -512,8 +516,9 @@ def family_command(args: argparse.Namespace) -> int:
     out_dir = _prepare_out(args.out)
 
     def done(r: dict[str, Any]) -> None:  # each program is written as soon as its row ends
+        if not first:
+            first.append(time.perf_counter() - started)
         if r.get("status") == "ok":
-            import time
             t0 = time.perf_counter()
             name = f"O{int(r['program_number']):04d}.nc"
             write_atomic(out_dir / name, r["text"])
@@ -535,7 +540,7 @@ def family_command(args: argparse.Namespace) -> int:
                                 "message": f"not finished: interrupted by "
                                            f"{signal.Signals(e.signum).name}"})
     results.sort(key=lambda r: r["row"])
-    _record_run(results)
+    _record_run(results, first[0] if first else None)
     worst = 0
     fields = ["row", "program_number", "file", "status", "operations", "cycle_time_s",
               "verified", "max_overcut_mm", "max_undercut_mm", "message"]
@@ -573,11 +578,12 @@ def family_command(args: argparse.Namespace) -> int:
 #: the last family run in this process (what ``benchmarks/family.py`` prints): ``stages``,
 #: the seconds of each stage (load, plan, render, interpret, simulate, verify, write) summed
 #: over the rows written; ``rows``, how many; ``workers``, each worker process's last
-#: :func:`worker_counts` by pid
+#: :func:`worker_counts` by pid; ``first_row_s``, the seconds from the command's start to
+#: its first row finished (the cold start: the fork server's imports, the first fork)
 LAST_RUN: dict[str, Any] = {}
 
 
-def _record_run(results: list[dict[str, Any]]) -> None:
+def _record_run(results: list[dict[str, Any]], first_row_s: float | None = None) -> None:
     stages: dict[str, float] = {}
     workers: dict[int, dict[str, Any]] = {}
     rows = 0
@@ -593,7 +599,7 @@ def _record_run(results: list[dict[str, Any]]) -> None:
                 if isinstance(v, (int, float)) and not isinstance(v, bool):
                     w[k] = max(w[k] or 0, v)
     LAST_RUN.clear()
-    LAST_RUN.update(stages=stages, rows=rows, workers=workers)
+    LAST_RUN.update(stages=stages, rows=rows, workers=workers, first_row_s=first_row_s)
 
 
 def _run_jobs(jobs: list[tuple], n_jobs: int, opts: dict[str, Any] | None = None,
