@@ -3,11 +3,18 @@ variants of family 1 (stepped_shaft), STEP files, the turned envelope (keyway, h
 cold import time of build123d (in a fresh subprocess, so it is not hidden by this process's
 own import).
 
+A solid made by ``revolve()`` is profiled from the outline it was revolved from
+(``profile``); ``extract`` is the same profile cut from the solid, measured in the same run,
+and the ratio of the two is printed. The 200 variants through ``load_part`` are split into
+``revolve()`` (building the OpenCascade solid, which a lazy solid would leave unbuilt) and the
+rest of the load.
+
     /work/venv/bin/python benchmarks/profile.py [--variants N]
 """
 from __future__ import annotations
 
 import argparse
+import os
 import subprocess
 import sys
 import time
@@ -45,12 +52,15 @@ def main() -> None:
 
     print(f"in-process import of hnc_cam.cad + build123d + cadquery: {t_import:.2f} s")
     print()
-    print(f"{'family':<16}{'build ms':>10}{'profile ms':>12}{'total ms':>10}{'segments':>10}")
+    from hnc_cam.cad.extract import extract
+    print(f"load average {os.getloadavg()[0]:.2f}")
+    print(f"{'family':<16}{'build ms':>10}{'profile ms':>12}{'total ms':>10}{'segments':>10}"
+          f"{'extract ms':>12}{'ratio':>8}")
     for fam in FAMILIES:
         mod = load_module(ROOT / "parts" / f"{fam}.py")
-        mod.part(); profile(mod.part())  # warm
+        mod.part(); profile(mod.part()); extract(mod.part())  # warm
         n = 10
-        tb = tp = 0.0
+        tb = tp = te = 0.0
         for _ in range(n):
             t = time.perf_counter()
             solid = mod.part()
@@ -58,8 +68,12 @@ def main() -> None:
             t = time.perf_counter()
             prof = profile(solid)
             tp += time.perf_counter() - t
+            t = time.perf_counter()
+            extract(solid)
+            te += time.perf_counter() - t
         segs = len(prof.outside) + len(prof.bore or [])
-        print(f"{fam:<16}{tb / n * 1e3:>10.1f}{tp / n * 1e3:>12.1f}{(tb + tp) / n * 1e3:>10.1f}{segs:>10}")
+        print(f"{fam:<16}{tb / n * 1e3:>10.1f}{tp / n * 1e3:>12.1f}{(tb + tp) / n * 1e3:>10.1f}"
+              f"{segs:>10}{te / n * 1e3:>12.1f}{te / tp:>7.1f}x")
 
     print()
     data = ROOT / "tests" / "data"
@@ -78,18 +92,37 @@ def main() -> None:
             fn()
         print(f"{label:<40}{(time.perf_counter() - t) / 5 * 1e3:>8.1f} ms")
 
+    from hnc_cam.cad import sketch
     n = args.variants
-    t = time.perf_counter()
-    for i in range(n):
-        k = i / max(1, n - 1)
-        load_part(ROOT / "parts" / "stepped_shaft.py",
-                  {"length": str(90 + 40 * k), "d1": str(16 + 4 * k), "d2": str(26 + 6 * k),
-                   "d3": str(38 + 10 * k), "fillet": str(0.8 + 0.8 * k),
-                   "dome_radius": str(12 + 20 * k)})
-    dt = time.perf_counter() - t
+    spent = [0.0]
+    real = sketch.revolve
+
+    def timed(segs):
+        t0 = time.perf_counter()
+        try:
+            return real(segs)
+        finally:
+            spent[0] += time.perf_counter() - t0
+    sketch.revolve = timed
+    shaft = load_module(ROOT / "parts" / "stepped_shaft.py")
+    shaft.revolve = timed  # the name the part file imported
+    try:
+        t = time.perf_counter()
+        for i in range(n):
+            k = i / max(1, n - 1)
+            load_part(ROOT / "parts" / "stepped_shaft.py",
+                      {"length": str(90 + 40 * k), "d1": str(16 + 4 * k), "d2": str(26 + 6 * k),
+                       "d3": str(38 + 10 * k), "fillet": str(0.8 + 0.8 * k),
+                       "dome_radius": str(12 + 20 * k)})
+        dt = time.perf_counter() - t
+    finally:
+        sketch.revolve = real
+        shaft.revolve = real
     print()
     print(f"stepped_shaft, {n} variants through load_part (build + profile): "
-          f"{dt:.2f} s total, {dt / n * 1e3:.1f} ms per part")
+          f"{dt:.2f} s total, {dt / n * 1e3:.1f} ms per part, of which revolve() "
+          f"{spent[0] / n * 1e3:.1f} ms ({100 * spent[0] / dt:.0f} %), the rest "
+          f"{(dt - spent[0]) / n * 1e3:.1f} ms")
 
     print()
     print(f"cold import of build123d (fresh interpreter): {cold_import('build123d'):.2f} s")
