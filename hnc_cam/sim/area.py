@@ -175,14 +175,25 @@ def clip_below(rings: np.ndarray, X) -> np.ndarray:
         t = np.where(cross, (X - p[:, :, 1]) / np.where(cross, dx, 1.0), 0.0)
     cut = p + t[:, :, None] * (q - p)
     cut[:, :, 1] = np.where(cross, X, cut[:, :, 1])
-    slots = np.stack([p, cut], axis=2).reshape(n, 2 * (W - 1), 2)
-    valid = np.stack([ip, cross], axis=2).reshape(n, 2 * (W - 1))
-    pos = np.where(valid, np.arange(2 * (W - 1))[None, :], -1)
-    pos = np.maximum.accumulate(pos, axis=1)
+    S = 2 * (W - 1)
+    # each edge's start (if inside) and its crossing (if it crosses), in ring order
+    slots = np.empty((n, W - 1, 2, 2))
+    slots[:, :, 0] = p
+    slots[:, :, 1] = cut
+    valid = np.empty((n, W - 1, 2), dtype=bool)
+    valid[:, :, 0] = ip
+    valid[:, :, 1] = cross
+    valid = valid.reshape(n, S)
+    # every slot takes the last valid one up to it (the first valid one before any), and the
+    # ring is closed with the first valid one: one gather from the flat slots
+    pos = np.empty((n, S + 1), dtype=np.int64)
+    pos[:, :S] = np.where(valid, np.arange(S)[None, :], -1)
+    np.maximum.accumulate(pos[:, :S], axis=1, out=pos[:, :S])
     first = np.argmax(valid, axis=1)
-    pos = np.where(pos < 0, first[:, None], pos)
-    out = np.take_along_axis(slots, pos[:, :, None], axis=1)
-    return np.concatenate([out, np.take_along_axis(slots, first[:, None, None], axis=1)], axis=1)
+    pos[:, S] = first
+    np.copyto(pos, first[:, None], where=pos < 0)
+    pos += (np.arange(n) * S)[:, None]
+    return slots.reshape(n * S, 2)[pos]
 
 
 def clip_outline(outline: np.ndarray, X: float) -> np.ndarray | None:

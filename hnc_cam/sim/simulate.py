@@ -546,6 +546,13 @@ def _side(K: np.ndarray, ext: np.ndarray, P: np.ndarray, Q: np.ndarray) -> np.nd
     return K[kidx] + np.where((j == 0)[:, None], P[owner], Q[owner])
 
 
+def _polygons(rings: list[np.ndarray]) -> np.ndarray:
+    """Polygons of closed rings (arrays (n_i, 2)) with one vectorised call."""
+    sizes = [len(r) for r in rings]
+    return shapely.polygons(shapely.linearrings(np.concatenate(rings),
+                                                indices=np.repeat(np.arange(len(rings)), sizes)))
+
+
 def _ccw_outline(shape: ToolShape) -> np.ndarray:
     K = np.asarray(shape.outline, dtype=float)
     if float(np.sum(K[:, 0] * np.roll(K[:, 1], -1) - np.roll(K[:, 0], -1) * K[:, 1])) < 0:
@@ -706,7 +713,7 @@ class _Run:
                 np.subtract.at(out, self.band_own[p0 + ss[nz]] - k0, sub)
         return out
 
-    def envelopes(self, k0: int, k1: int) -> list[BaseGeometry] | None:
+    def envelopes(self, k0: int, k1: int) -> np.ndarray | list | None:
         """Polygons inside the union of the sweeps of the moves k0 <= k < k1 (where
         band_ok): per run of pieces with one outline, continuous, with the same extreme
         vertices, its :func:`hnc_cam.sim.area.envelope`, and the outline where a run starts
@@ -730,10 +737,10 @@ class _Run:
                 # the whole outline where a run starts: the envelopes on either side hold
                 # only its parts behind and ahead of their own chords
                 extra.append(np.concatenate([K, K[:1]]) + A[r0])
-        polys = [shapely.Polygon(r) for r in rings]
-        if not all(shapely.is_valid(polys)):
+        polys = _polygons(rings)
+        if not shapely.is_valid(polys).all():
             return None
-        return polys + [shapely.Polygon(r) for r in extra]
+        return np.concatenate([polys, _polygons(extra)]) if extra else polys
 
     def non_cutting_candidates(self, local: BaseGeometry, k0: int, k1: int) -> set[int]:
         """Moves k0 <= k < k1 whose leading non-cutting sides pass through ``local`` (prepared;
