@@ -41,37 +41,49 @@ class SegmentTable:
             self.center[k], self.radius[k] = s.center, s.radius
             self.a0[k], self.sweep[k] = s.start_angle, s.sweep
 
+        self._all = None  # :meth:`_columns` of every segment, built on first use
+
     def __len__(self) -> int:
         return len(self.segs)
 
-    def pairs(self, pts: np.ndarray, cols: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
-        """:func:`_all_pairs` of the (z, x) points against the segments ``cols`` (indices,
-        default all): the distance and the position in ``cols`` of the nearest, the first on a
-        tie."""
-        if cols is None:
-            cols = np.arange(len(self.segs))
-        n, m = len(pts), len(cols)
-        best = np.full(n, np.inf)
-        which = np.full(n, -1, dtype=int)
-        if m == 0 or n == 0:
-            return best, which
+    def _columns(self, cols: np.ndarray) -> tuple:
+        """The arrays :meth:`pairs` measures the segments ``cols`` with."""
         arc = self.is_arc[cols]
         li, ai = np.flatnonzero(~arc), np.flatnonzero(arc)
+        lines = arcs = None
         if len(li):
             a = self.start[cols[li]]
             b = self.end[cols[li]]
             dx, dz = b[:, 0] - a[:, 0], b[:, 1] - a[:, 1]
             L2 = dx * dx + dz * dz
             point = L2 < 1e-18
-            L2s = np.where(point, 1.0, L2)
-            any_point = bool(point.any())
+            lines = (a, dx, dz, point, np.where(point, 1.0, L2), bool(point.any()))
         if len(ai):
             k = cols[ai]
-            cx, cz = self.center[k, 0], self.center[k, 1]
-            r, a0, sw = self.radius[k], self.a0[k], self.sweep[k]
-            sx, sz = self.start[k, 0], self.start[k, 1]
-            ex, ez = self.end[k, 0], self.end[k, 1]
-            ccw = sw > 0
+            sw = self.sweep[k]
+            arcs = (self.center[k, 0], self.center[k, 1], self.radius[k], self.a0[k], sw,
+                    self.start[k, 0], self.start[k, 1], self.end[k, 0], self.end[k, 1], sw > 0)
+        return len(cols), li, ai, lines, arcs
+
+    def pairs(self, pts: np.ndarray, cols: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """:func:`_all_pairs` of the (z, x) points against the segments ``cols`` (indices,
+        default all): the distance and the position in ``cols`` of the nearest, the first on a
+        tie."""
+        n = len(pts)
+        if cols is None:
+            if self._all is None:
+                self._all = self._columns(np.arange(len(self.segs)))
+            m, li, ai, lines, arcs = self._all
+        else:
+            m, li, ai, lines, arcs = self._columns(cols)
+        best = np.full(n, np.inf)
+        which = np.full(n, -1, dtype=int)
+        if m == 0 or n == 0:
+            return best, which
+        if len(li):
+            a, dx, dz, point, L2s, any_point = lines
+        if len(ai):
+            cx, cz, r, a0, sw, sx, sz, ex, ez, ccw = arcs
         step = max(1, (1 << 16) // m)
         for i0 in range(0, n, step):
             pz, px = pts[i0:i0 + step, 0, None], pts[i0:i0 + step, 1, None]

@@ -236,7 +236,7 @@ def _deepest(g: BaseGeometry, segs: Sequence[Segment] | SegmentTable, interior: 
     reachable part: its depth is measured from what the tools could at best leave there).
     ``segs``: the model's segments or their :class:`SegmentTable`."""
     best: Deviation | None = None
-    for d in _depths(polygons(g), segs, interior, also):
+    for d in _depths(polygons(g), segs, interior, also, mode="max"):
         if d is not None and (best is None or d.size_mm > best.size_mm):
             best = d
     return best
@@ -331,7 +331,8 @@ class _Depth:
 
 
 def _depths(polys: Sequence[Polygon], segs: Sequence[Segment] | SegmentTable,
-            interior: bool = False, also: BaseGeometry | None = None) -> list[Deviation | None]:
+            interior: bool = False, also: BaseGeometry | None = None, mode: str = "each",
+            noise: float = NOISE) -> list[Deviation | None]:
     """:func:`_deepest` of each polygon of ``polys`` (None for an empty one), all measured
     together.
 
@@ -346,12 +347,20 @@ def _depths(polys: Sequence[Polygon], segs: Sequence[Segment] | SegmentTable,
     measured whole, a long one measured at ``SPLIT - 1`` of its points and its ``SPLIT`` parts
     bounded again. So the maximum is that of every point to within ``PRUNE_EPS``, where it
     lies the first of the points measured (vertices in the boundary's order before inner
-    points), and a long sliver along a line or an arc of the model costs its vertices."""
+    points), and a long sliver along a line or an arc of the model costs its vertices.
+
+    ``mode`` says which depths are wanted, so that fewer runs need measuring: ``each`` every
+    polygon's; ``max`` only the deepest of all (the others may come out shallower);
+    ``split`` whether each is deeper than ``noise`` and the deepest of those that are not
+    (a polygon deeper comes out with some point beyond ``noise``, one not with a depth that is
+    exact where it is the deepest of them); ``beyond`` the depth of each deeper than ``noise``
+    (the others come out no deeper than ``noise``)."""
     out: list[Deviation | None] = [None] * len(polys)
     if not polys:
         return out
     depth = _Depth(segs if isinstance(segs, SegmentTable) else SegmentTable(segs), also)
-    rings, rp = shapely.get_rings(np.array(polys, dtype=object), return_index=True)
+    parr = np.array(polys, dtype=object)
+    rings, rp = shapely.get_rings(parr, return_index=True)
     v, ri = shapely.get_coordinates(rings, return_index=True)
     vp = rp[ri]  # polygon of each vertex
     e = np.flatnonzero(ri[:-1] == ri[1:])  # edge e: vertex e -> e + 1 in one ring
@@ -362,9 +371,9 @@ def _depths(polys: Sequence[Polygon], segs: Sequence[Segment] | SegmentTable,
     step = np.maximum(SEGMENTIZE, per / MAX_POINTS)
     cnt = np.maximum(np.ceil(L / step[ep]).astype(np.int64) - 1, 0)  # inner points per edge
     pts, pp = [v], [vp]
-    if interior:
-        for k, p in enumerate(polys):
-            g = _grid_points(p)
+    if interior:  # (the grid is for polygons of 1e-4 mm^2 or more: see _grid_points)
+        for k in np.flatnonzero(shapely.area(parr) >= 1e-4).tolist():
+            g = _grid_points(polys[k])
             pts.append(g)
             pp.append(np.full(len(g), k))
     pts, pp = np.concatenate(pts), np.concatenate(pp)
@@ -395,28 +404,43 @@ def _depths(polys: Sequence[Polygon], segs: Sequence[Segment] | SegmentTable,
         np.maximum.at(lower, ep[ee], fq)
         return fq, wq
 
+    def need() -> np.ndarray:
+        """Per polygon the depth a run must be able to exceed to be measured."""
+        if mode == "max":
+            return np.full(len(lower), lower.max())
+        if mode == "split":
+            shallow = lower <= noise
+            top = lower[shallow].max() if shallow.any() else -np.inf
+            return np.where(shallow, top, np.inf)
+        if mode == "beyond":
+            return np.maximum(lower, noise)
+        return lower
+
     while len(ie):
+        t = need()[ep[ie]] + PRUNE_EPS
+        ub = 0.5 * (f0 + f1 + L[ie] * (j1 - j0) / n_of[ie])
+        go = ub > t
+        ie, j0, j1, f0, f1, w0, w1, t = (x[go] for x in (ie, j0, j1, f0, f1, w0, w1, t))
         pa, pb = at(ie, j0), at(ie, j1)
-        ub = np.minimum.reduce([0.5 * (f0 + f1 + L[ie] * (j1 - j0) / n_of[ie]),
-                                depth.bound(w0, pa, pb), depth.bound(w1, pa, pb)])
-        go = ub > lower[ep[ie]] + PRUNE_EPS
+        k2 = len(ie)
+        both = depth.bound(np.concatenate([w0, w1]), np.concatenate([pa, pa]),
+                           np.concatenate([pb, pb]))
+        go = np.minimum(both[:k2], both[k2:]) > t
         ie, j0, j1, f0, f1, w0, w1 = (x[go] for x in (ie, j0, j1, f0, f1, w0, w1))
+        if not len(ie):
+            break
         m = j1 - j0
         small = m <= 2 * SPLIT
-        if small.any():  # a short run: all its inner points
-            k = m[small] - 1
-            se = np.repeat(ie[small], k)
-            sj = (np.repeat(j0[small], k) + np.arange(len(se))
-                  - np.repeat(np.cumsum(k) - k, k) + 1)
-            measure(se, sj)
-        big = ~small
-        if not big.any():
-            break
-        ie, j0, j1, f0, f1, w0, w1 = (x[big] for x in (ie, j0, j1, f0, f1, w0, w1))
-        # a long run: SPLIT - 1 points cut it into SPLIT runs
+        # a short run: all its inner points; a long one: SPLIT - 1 points that cut it into
+        # SPLIT runs, bounded again in the next round; measured together
+        k = m[small] - 1
+        se = np.repeat(ie[small], k)
+        sj = np.repeat(j0[small], k) + np.arange(len(se)) - np.repeat(np.cumsum(k) - k, k) + 1
+        ie, j0, j1, f0, f1, w0, w1 = (x[~small] for x in (ie, j0, j1, f0, f1, w0, w1))
         kj = j0[:, None] + (np.arange(SPLIT + 1)[None, :] * (j1 - j0)[:, None]) // SPLIT
-        inner = kj[:, 1:-1].ravel()
-        fi, wi = measure(np.repeat(ie, SPLIT - 1), inner)
+        fi, wi = measure(np.concatenate([se, np.repeat(ie, SPLIT - 1)]),
+                         np.concatenate([sj, kj[:, 1:-1].ravel()]))
+        fi, wi = fi[len(se):], wi[len(se):]
         kf = np.column_stack([f0, fi.reshape(-1, SPLIT - 1), f1])
         kw = np.column_stack([w0, wi.reshape(-1, SPLIT - 1), w1])
         ie = np.repeat(ie, SPLIT)
@@ -848,6 +872,8 @@ def separated_part(machined: Machined, model_poly: BaseGeometry) -> BaseGeometry
     """The piece parted off from the bar: the fallen piece holding the most of the model, when
     it holds more of it than the material left in the chuck; else None (the part is still on
     the bar)."""
+    if not machined.fallen:
+        return None
     best, most = None, inter(machined.material, model_poly).area
     for p in machined.fallen:
         a = inter(p, model_poly).area
@@ -877,8 +903,10 @@ def verify(machined: Machined, model: TurnedProfile, tol: float = 0.01,
     excl = shapely.union_all([box(z.z0 - 0.5 * z.pitch, min(z.r_root, z.r_crest) - max(0.5 * z.pitch, 0.5),
                                   z.z1 + 0.5 * z.pitch, max(z.r_root, z.r_crest)) for z in zones]) if zones else Polygon()
     domain = box(model.z_min, -1.0, BIG, BIG)
-    over = diff(diff(model_poly, material), excl)
-    under = diff(diff(inter(material, domain), model_poly), excl)
+    over = diff(model_poly, material)
+    under = diff(inter(material, domain), model_poly)
+    if zones:
+        over, under = diff(over, excl), diff(under, excl)
 
     over_at = _deepest(over, table, interior=True) if not over.is_empty else None
     max_over = over_at.size_mm if over_at else 0.0
@@ -890,7 +918,7 @@ def verify(machined: Machined, model: TurnedProfile, tol: float = 0.01,
     under_at: Deviation | None = None
     deep = []
     parts = polygons(under)
-    for p, d in zip(parts, _depths(parts, table)):
+    for p, d in zip(parts, _depths(parts, table, mode="split")):
         if d is None:
             continue
         if d.size_mm > NOISE:
@@ -915,7 +943,7 @@ def verify(machined: Machined, model: TurnedProfile, tol: float = 0.01,
         d = _deepest(reach_part, table, interior=False, also=unreach_region)
         if d is not None and (under_at is None or d.size_mm > under_at.size_mm):
             under_at = d
-        for d in _depths(polygons(unreach_region), table):
+        for d in _depths(polygons(unreach_region), table, mode="beyond"):
             if d is not None and d.size_mm > NOISE:
                 unreach_list.append(d)
         unreach_list.sort(key=lambda d: -d.z)
