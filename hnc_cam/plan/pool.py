@@ -6,7 +6,10 @@ The CAD kernel (build123d, OpenCascade), the profile extractor, the planner, the
 environment, the interpreter, the simulator and the bundled tool library and machine are
 loaded here once; every worker is a fork of this process, so it starts with all of them
 (their pages shared with the other workers, copy on write) instead of importing the kernel
-itself (about 2 s and most of a worker's memory). In the fork server, the objects alive after
+itself (about 2 s and most of a worker's memory). One small program is generated here too,
+so that what a first row does once (modules imported on first use, templates compiled) is
+done once for all the workers. The cyclic collector is off while all this is imported (a
+tenth of the import's CPU). In the fork server, the objects alive after
 the imports are moved out of the cyclic garbage collector's reach (``gc.freeze``): a
 collection in a worker then neither walks them nor writes to their pages, which would copy
 the shared pages into each worker. The fork server itself leaves without tearing the kernel down (a second or more
@@ -85,7 +88,16 @@ def _in_fork_server() -> bool:
     return False
 
 
-_preload()
+# the cyclic collector is off while the kernel is imported: the imports make millions of
+# objects and almost no cyclic garbage, and its passes over them cost about a tenth of the
+# import's time (collected once below, or by the collector when it is on again)
+_collecting = gc.isenabled()
+gc.disable()
+try:
+    _preload()
+finally:
+    if _collecting:
+        gc.enable()
 if _in_fork_server():
     gc.collect()
     gc.freeze()
