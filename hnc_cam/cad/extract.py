@@ -40,6 +40,14 @@ How (and the choices made):
    ``axis="X"``, measured from the axis point for an explicit axis) at Z0.
 7. A part refused as not turned about the requested axis gets a hint when every round face
    of the model is about one other axis (``axis="X"``? or the axis through a point).
+
+A solid made by :func:`hnc_cam.cad.sketch.revolve` and still exactly as it made it (the same
+object, its shape ``IsEqual`` to the one made: TShape, location, orientation) is not cut:
+steps 1 to 4 are taken from the exact outline it was revolved from (:func:`outline_chain`,
+which accepts only an outline whose revolution is a valid turned solid and whose pieces the
+kernel keeps as they are), then steps 5 and 6 as for any solid, for the default axis. The
+result is the one the section gives (``tests/test_cad_revolved.py`` compares the two for every
+bundled part and test family), about 20 to 45 times faster than cutting the solid.
 """
 from __future__ import annotations
 
