@@ -252,9 +252,12 @@ def test_outlines_the_solid_is_made_of_are_trusted():
     closed_on_axis = _lines((0, 0), (10, 0), (10, -20), (0, -20), (0, 0))
     ch = outline_chain(closed_on_axis)
     assert ch is not None and len(ch.segs) == 3
+    axis_inside = _lines((10, 0), (10, -20), (0, -20), (0, 0), (10, 0))  # axis run mid-list
+    ch = outline_chain(axis_inside)
+    assert ch is not None and ch.segs[0].start == (0.0, 0.0) and ch.segs[-1].end == (0.0, -20.0)
     tube = _lines((5, 0), (10, 0), (10, -20), (5, -20), (5, 0))
     assert outline_chain(tube) is not None
-    for segs in (sphere, ring, closed_on_axis, tube):
+    for segs in (sphere, ring, closed_on_axis, axis_inside, tube):
         solid = revolve(segs)
         assert revolved_outline(solid) is not None
         for zero in ("right", "left"):
