@@ -114,37 +114,45 @@ def distances(points: np.ndarray, segs: Sequence[Segment] | SegmentTable,
               boxes: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """(distance, index of the nearest segment) for each (z, x) point of ``points``.
 
-    Many points against many segments: a block of consecutive points (a boundary's, so near
-    each other) is measured against the segments whose boxes come within the block's size of
-    the block's box, then against those within the largest distance found (no segment farther
+    Many points against many segments: the points sorted along Z and cut into blocks (at most
+    ``BLOCK`` points, within one of 64 equal slices of their Z range, 0.5 mm at least), a
+    block is measured against the segments whose boxes come within the block's size of the
+    block's box, then against those within the largest distance found (no segment farther
     from the box can be nearer to a point of it): the same distances and nearest segments as
     every point against every segment, ties to the first segment as there. ``segs``: the
     segments or their :class:`SegmentTable` (built once for many queries); ``boxes``: the
     segments' boxes (z0, x0, z1, x1) if known."""
     tab = segs if isinstance(segs, SegmentTable) else SegmentTable(segs)
     pts = np.asarray(points, dtype=float).reshape(-1, 2)
-    if len(tab) <= 16 or len(pts) * len(tab) <= 1 << 18:
+    if len(tab) <= 16 or len(pts) * len(tab) <= 1 << 14:
         return tab.pairs(pts)
     if boxes is None:
         boxes = tab.boxes
     best = np.empty(len(pts))
     which = np.empty(len(pts), dtype=int)
-    for i0 in range(0, len(pts), BLOCK):
-        p = pts[i0:i0 + BLOCK]
-        z0, x0 = p.min(axis=0)
-        z1, x1 = p.max(axis=0)
-        gap = np.hypot(np.maximum(0.0, np.maximum(boxes[:, 0] - z1, z0 - boxes[:, 2])),
-                       np.maximum(0.0, np.maximum(boxes[:, 1] - x1, x0 - boxes[:, 3])))
-        cand = np.flatnonzero(gap <= math.hypot(z1 - z0, x1 - x0))
-        if not len(cand):
-            cand = np.argsort(gap, kind="stable")[:1]
-        d, w = tab.pairs(p, cand)
-        full = np.flatnonzero(gap <= float(d.max()))
-        if not np.isin(full, cand).all():
-            cand = full
+    order = np.argsort(pts[:, 0], kind="stable")
+    zs = pts[order, 0]
+    span = max(0.5, float(zs[-1] - zs[0]) / 64)
+    bins = np.floor((zs - zs[0]) / span)
+    cuts = np.flatnonzero(np.r_[True, bins[1:] != bins[:-1], True]).tolist()
+    for s0, s1 in zip(cuts[:-1], cuts[1:]):
+        for i0 in range(s0, s1, BLOCK):
+            idx = order[i0:min(i0 + BLOCK, s1)]
+            p = pts[idx]
+            z0, x0 = p.min(axis=0)
+            z1, x1 = p.max(axis=0)
+            gap = np.hypot(np.maximum(0.0, np.maximum(boxes[:, 0] - z1, z0 - boxes[:, 2])),
+                           np.maximum(0.0, np.maximum(boxes[:, 1] - x1, x0 - boxes[:, 3])))
+            cand = np.flatnonzero(gap <= math.hypot(z1 - z0, x1 - x0))
+            if not len(cand):
+                cand = np.argsort(gap, kind="stable")[:1]
             d, w = tab.pairs(p, cand)
-        best[i0:i0 + BLOCK] = d
-        which[i0:i0 + BLOCK] = cand[w]
+            full = np.flatnonzero(gap <= float(d.max()))
+            if not np.isin(full, cand).all():
+                cand = full
+                d, w = tab.pairs(p, cand)
+            best[idx] = d
+            which[idx] = cand[w]
     return best, which
 
 

@@ -236,7 +236,7 @@ def _deepest(g: BaseGeometry, segs: Sequence[Segment] | SegmentTable, interior: 
     reachable part: its depth is measured from what the tools could at best leave there).
     ``segs``: the model's segments or their :class:`SegmentTable`."""
     best: Deviation | None = None
-    for d in _depths(polygons(g), segs, interior, also, mode="max"):
+    for d in _depths(_polys(g), segs, interior, also, mode="max"):
         if d is not None and (best is None or d.size_mm > best.size_mm):
             best = d
     return best
@@ -331,8 +331,8 @@ class _Depth:
 
 
 def _depths(polys: Sequence[Polygon], segs: Sequence[Segment] | SegmentTable,
-            interior: bool = False, also: BaseGeometry | None = None, mode: str = "each",
-            noise: float = NOISE) -> list[Deviation | None]:
+            interior: bool | Sequence[bool] = False, also: BaseGeometry | None = None,
+            mode: str | Sequence[str] = "each", noise: float = NOISE) -> list[Deviation | None]:
     """:func:`_deepest` of each polygon of ``polys`` (None for an empty one), all measured
     together.
 
@@ -354,7 +354,8 @@ def _depths(polys: Sequence[Polygon], segs: Sequence[Segment] | SegmentTable,
     ``split`` whether each is deeper than ``noise`` and the deepest of those that are not
     (a polygon deeper comes out with some point beyond ``noise``, one not with a depth that is
     exact where it is the deepest of them); ``beyond`` the depth of each deeper than ``noise``
-    (the others come out no deeper than ``noise``)."""
+    (the others come out no deeper than ``noise``). ``interior`` and ``mode`` may be given per
+    polygon (a ``max`` polygon then counts among those of its own mode only)."""
     out: list[Deviation | None] = [None] * len(polys)
     if not polys:
         return out
@@ -371,8 +372,9 @@ def _depths(polys: Sequence[Polygon], segs: Sequence[Segment] | SegmentTable,
     step = np.maximum(SEGMENTIZE, per / MAX_POINTS)
     cnt = np.maximum(np.ceil(L / step[ep]).astype(np.int64) - 1, 0)  # inner points per edge
     pts, pp = [v], [vp]
-    if interior:  # (the grid is for polygons of 1e-4 mm^2 or more: see _grid_points)
-        for k in np.flatnonzero(shapely.area(parr) >= 1e-4).tolist():
+    inside = np.broadcast_to(np.asarray(interior, dtype=bool), (len(polys),))
+    if inside.any():  # (the grid is for polygons of 1e-4 mm^2 or more: see _grid_points)
+        for k in np.flatnonzero(inside & (shapely.area(parr) >= 1e-4)).tolist():
             g = _grid_points(polys[k])
             pts.append(g)
             pp.append(np.full(len(g), k))
@@ -404,17 +406,22 @@ def _depths(polys: Sequence[Polygon], segs: Sequence[Segment] | SegmentTable,
         np.maximum.at(lower, ep[ee], fq)
         return fq, wq
 
+    modes = np.broadcast_to(np.asarray(mode, dtype=object), (len(polys),))
+    groups = [(m, modes == m) for m in dict.fromkeys(modes.tolist()) if m != "each"]
+
     def need() -> np.ndarray:
         """Per polygon the depth a run must be able to exceed to be measured."""
-        if mode == "max":
-            return np.full(len(lower), lower.max())
-        if mode == "split":
-            shallow = lower <= noise
-            top = lower[shallow].max() if shallow.any() else -np.inf
-            return np.where(shallow, top, np.inf)
-        if mode == "beyond":
-            return np.maximum(lower, noise)
-        return lower
+        out = lower.copy()
+        for m, g in groups:
+            if m == "max":
+                out[g] = lower[g].max()
+            elif m == "split":
+                shallow = g & (lower <= noise)
+                top = lower[shallow].max() if shallow.any() else -np.inf
+                out[g] = np.where(shallow[g], top, np.inf)
+            elif m == "beyond":
+                out[g] = np.maximum(lower[g], noise)
+        return out
 
     while len(ie):
         t = need()[ep[ie]] + PRUNE_EPS
@@ -463,17 +470,33 @@ def _depths(polys: Sequence[Polygon], segs: Sequence[Segment] | SegmentTable,
 
 # --- reachability -------------------------------------------------------------------------
 
+def _polys(g: BaseGeometry) -> list[Polygon]:
+    """:func:`hnc_cam.sim.region.polygons` of ``g`` (the same polygons in the same order, the
+    empty ones left out), taken apart in one vectorised call per level of nesting."""
+    if g.is_empty:
+        return []
+    t = g.geom_type
+    if t == "Polygon":
+        return [g]
+    parts = np.array([g], dtype=object)
+    while True:
+        t = shapely.get_type_id(parts)
+        if not (t >= 4).any():  # no multi-part geometry or collection left
+            break
+        parts = shapely.get_parts(parts)
+    keep = (t == 3) & ~shapely.is_empty(parts)
+    return parts[keep].tolist()
+
+
 def _edges(region: BaseGeometry) -> tuple[np.ndarray, np.ndarray]:
     """(starts, ends) of the boundary edges of a polygonal region, (n, 2) each."""
-    starts, ends = [], []
-    for p in polygons(region):
-        for ring in [p.exterior, *p.interiors]:
-            c = shapely.get_coordinates(ring)
-            starts.append(c[:-1])
-            ends.append(c[1:])
-    if not starts:
+    ps = _polys(region)
+    if not ps:
         return np.zeros((0, 2)), np.zeros((0, 2))
-    return np.concatenate(starts), np.concatenate(ends)
+    c, ri = shapely.get_coordinates(shapely.get_rings(np.array(ps, dtype=object)),
+                                    return_index=True)
+    e = np.flatnonzero(ri[:-1] == ri[1:])
+    return c[e], c[e + 1]
 
 
 def _minkowski_parts(region: BaseGeometry, outline: np.ndarray,
@@ -482,7 +505,7 @@ def _minkowski_parts(region: BaseGeometry, outline: np.ndarray,
     (exact for the polygons): ``A + K = (A + k0) | (boundary(A) + K)`` for any k0 in K, the
     boundary term as the exact hull of each edge swept by K. With ``near``, only the pieces
     that meet ``near`` (their union equals the sum wherever it meets ``near``)."""
-    parts = polygons(region)
+    parts = _polys(region)
     if not parts:
         return []
     a, b = _edges(region)
@@ -529,6 +552,26 @@ def tool_body(shape: ToolShape, length: float) -> np.ndarray:
     return c if float(np.sum(z * np.roll(x, -1) - np.roll(z, -1) * x)) >= 0 else c[::-1].copy()
 
 
+#: the bodies :func:`_body` built, by outline, tip code, head and length (a few dozen at most)
+_BODIES: dict[tuple, np.ndarray] = {}
+
+
+def _body(s: ToolShape, length: float) -> np.ndarray:
+    """:func:`tool_body` of ``s``, at least ``length`` long: the length rounded up to a power of
+    two (a holder longer than it must be reaches past the part all the same), so that a tool
+    is built once for the parts of a family, not once per part."""
+    L = 2.0 ** math.ceil(math.log2(max(length, 1.0)))
+    key = (s.outline.tobytes(), s.outline.shape, s.tip, s.head, L)
+    b = _BODIES.get(key)
+    if b is None:
+        if len(_BODIES) >= 64:
+            _BODIES.clear()
+        b = tool_body(s, L)
+        b.setflags(write=False)
+        _BODIES[key] = b
+    return b
+
+
 def reachable(model_poly: BaseGeometry, shapes: Sequence[ToolShape], where: BaseGeometry,
               keep: BaseGeometry | None = None) -> BaseGeometry:
     """The part of ``where`` that some tool's insert K can cover while the insert and its
@@ -544,7 +587,7 @@ def reachable(model_poly: BaseGeometry, shapes: Sequence[ToolShape], where: Base
     meet the placement window (first sum, with B) or the leftover still unclassified (second
     sum, with K) are united.
     """
-    comps = [p for p in polygons(where) if not p.is_empty]
+    comps = _polys(where)
     if not comps or not shapes:
         return Polygon()
     mirror = shapely.affinity.scale(model_poly, xfact=1.0, yfact=-1.0, origin=(0, 0))
@@ -558,11 +601,11 @@ def reachable(model_poly: BaseGeometry, shapes: Sequence[ToolShape], where: Base
         if left.is_empty:
             break
         ext = float(np.ptp(s.outline, axis=0).max()) + 1.0
-        body = tool_body(s, 2 * max(sb[2] - sb[0], sb[3] - sb[1]) + 2 * ext)
+        body = _body(s, 2 * max(sb[2] - sb[0], sb[3] - sb[1]) + 2 * ext)
         b0, b1 = body.min(axis=0), body.max(axis=0)
         # the placements P with P + K meeting the leftover not yet covered lie in the boxes
         # of its components less K's extent (a millimetre more all round)
-        bounds = shapely.bounds(np.array(polygons(left), dtype=object))
+        bounds = shapely.bounds(np.array(_polys(left), dtype=object))
         k0, k1 = s.outline.min(axis=0), s.outline.max(axis=0)
         lo, hi = bounds[:, :2] - k1 - 1.0, bounds[:, 2:] - k0 + 1.0
         window = clean(shapely.union_all(shapely.box(lo[:, 0], lo[:, 1], hi[:, 0], hi[:, 1])))
@@ -773,7 +816,7 @@ def _with_tails(region: BaseGeometry, reach: BaseGeometry, unreach: BaseGeometry
     if unreach.is_empty or reach.is_empty:
         return reach, unreach
     tails = []
-    for p in polygons(region):
+    for p in _polys(region):
         u = inter(p, unreach)
         if u.is_empty:
             continue
@@ -908,7 +951,15 @@ def verify(machined: Machined, model: TurnedProfile, tol: float = 0.01,
     if zones:
         over, under = diff(over, excl), diff(under, excl)
 
-    over_at = _deepest(over, table, interior=True) if not over.is_empty else None
+    # overcut: the deepest place of all its pieces; undercut: per piece its depth, measured
+    # together
+    o_parts, parts = _polys(over), _polys(under)
+    got = _depths(o_parts + parts, table, interior=[True] * len(o_parts) + [False] * len(parts),
+                  mode=["max"] * len(o_parts) + ["split"] * len(parts))
+    over_at = None
+    for d in got[:len(o_parts)]:
+        if d is not None and (over_at is None or d.size_mm > over_at.size_mm):
+            over_at = d
     max_over = over_at.size_mm if over_at else 0.0
 
     # undercut: per component its depth; the components deeper than NOISE are classified into
@@ -917,8 +968,7 @@ def verify(machined: Machined, model: TurnedProfile, tol: float = 0.01,
     unreach_region: BaseGeometry = Polygon()
     under_at: Deviation | None = None
     deep = []
-    parts = polygons(under)
-    for p, d in zip(parts, _depths(parts, table, mode="split")):
+    for p, d in zip(parts, got[len(o_parts):]):
         if d is None:
             continue
         if d.size_mm > NOISE:
@@ -943,7 +993,7 @@ def verify(machined: Machined, model: TurnedProfile, tol: float = 0.01,
         d = _deepest(reach_part, table, interior=False, also=unreach_region)
         if d is not None and (under_at is None or d.size_mm > under_at.size_mm):
             under_at = d
-        for d in _depths(polygons(unreach_region), table, mode="beyond"):
+        for d in _depths(_polys(unreach_region), table, mode="beyond"):
             if d is not None and d.size_mm > NOISE:
                 unreach_list.append(d)
         unreach_list.sort(key=lambda d: -d.z)
