@@ -153,3 +153,38 @@ def test_reach_of_several_tools_is_the_union_of_each_tools_reach():
     assert both.area > 0.3 * where.area
     assert shapely.symmetric_difference(both, each).area < 1e-9
     assert reachable(mp, tools[::-1], where).symmetric_difference(both).area < 1e-9
+
+
+@pytest.mark.parametrize("which", ["od", "bar", "groove"])
+def test_blocked_placements_from_the_edges_facing_the_holder_equal_the_whole_sum(which):
+    # the placements a tool's body cannot take, from the edges of the obstacle that face the
+    # holder only: the same as the whole Minkowski sum (every edge and the inside) wherever it
+    # meets the window, for an outside tool over a tall flange and a groove, a boring bar in a
+    # stepped bore, a grooving blade
+    from hnc_cam.geometry import TurnedProfile
+    from hnc_cam.sim.region import profile_polygon
+    from hnc_cam.sim.verify import _blocked, _body, _minkowski_parts, holder_direction
+    from hnc_cam.tooling import load_machine, load_tools
+    lib = load_machine(None, load_tools(None))
+    reg = {"od": lib.register(1), "bar": lib.register(3), "groove": lib.register(7)}[which]
+    s = tool_shape(reg)
+    pts = [(6.0, 0.0), (12.0, 0.0), (12.0, -10.0), (30.0, -10.0), (30.0, -14.0), (16.0, -14.0),
+           (16.0, -20.0), (30.0, -20.0), (30.0, -40.0), (20.0, -42.0), (20.0, -60.0),
+           (6.0, -60.0)]
+    model = TurnedProfile(outside=[Line(a, b) for a, b in zip(pts[:-1], pts[1:])],
+                          bore=[Line((6.0, 0.0), (6.0, -25.0)), Line((6.0, -25.0), (4.0, -25.0)),
+                                Line((4.0, -25.0), (4.0, -60.0)), Line((4.0, -60.0), (6.0, -60.0))])
+    mp = profile_polygon(model)
+    solid = shapely.union_all([mp, shapely.affinity.scale(mp, 1.0, -1.0, origin=(0, 0))])
+    sb = solid.bounds
+    body = _body(s, 2 * max(sb[2] - sb[0], sb[3] - sb[1]) + 2 * (float(np.ptp(s.outline, axis=0).max()) + 1))
+    rng = np.random.default_rng(7)
+    for _ in range(6):
+        z, x = rng.uniform(-62, 2), rng.uniform(-2, 34)
+        window = box(z, x, z + rng.uniform(2, 25), x + rng.uniform(2, 25))
+        got = _blocked(solid, body, holder_direction(s.tip), window)
+        want = _minkowski_parts(solid, -body, near=window)
+        a = shapely.difference(window, shapely.union_all(got)) if len(got) else window
+        b = shapely.difference(window, shapely.union_all(want)) if want else window
+        assert shapely.symmetric_difference(a, b).area < 1e-9
+        assert len(got) < len(want)

@@ -518,6 +518,32 @@ def _minkowski_parts(region: BaseGeometry, outline: np.ndarray,
     return [*hulls, *moved]
 
 
+def _blocked(obst: BaseGeometry, body: np.ndarray, u: tuple[float, float],
+             near: BaseGeometry) -> np.ndarray:
+    """Pieces whose union is, where it meets ``near`` (the placement window), the set
+    ``obst - B`` of the placements P of the controlled point where the body B (:func:`tool_body`,
+    the insert swept along the holder's direction u by more than twice the obstacles' extent)
+    meets ``obst``: the exact hulls of ``obst``'s edges swept by -B, of the edges that do not
+    face away from u only. A point p of ``obst`` has above it (along u, no farther than the
+    obstacles' extent) a point q of such an edge, and p - B lies in q - B except where the
+    far end of the holder is, far beyond the window; so neither the edges facing away from
+    u nor the inside of ``obst`` add anything there."""
+    ps = _polys(obst)
+    if not ps:
+        return np.zeros(0, dtype=object)
+    # exteriors counter-clockwise, holes clockwise: the inside on the left of every edge, the
+    # outward normal of an edge a -> b is (d_x, -d_z) for d = b - a in (z, x)
+    oriented = shapely.orient_polygons(np.array(ps, dtype=object), exterior_cw=False)
+    c, ri = shapely.get_coordinates(shapely.get_rings(oriented), return_index=True)
+    e = np.flatnonzero(ri[:-1] == ri[1:])
+    a, b = c[e], c[e + 1]
+    d = b - a
+    up = d[:, 1] * u[0] - d[:, 0] * u[1] >= -1e-12 * (np.abs(d[:, 0]) + np.abs(d[:, 1]))
+    hulls = sweep_hulls(-body, a[up], b[up])
+    shapely.prepare(near)
+    return hulls[shapely.intersects(near, hulls)]
+
+
 def holder_direction(tip: int) -> tuple[float, float]:
     """Unit (z, x) direction in which a tool's holder runs from its insert, by the tip code: a
     tool whose tip points away from the axis (codes 1, 2, 6: boring bars, inside grooving and
@@ -613,8 +639,8 @@ def reachable(model_poly: BaseGeometry, shapes: Sequence[ToolShape], where: Base
                                                          hi[:, 0] + b1[0], hi[:, 1] + b1[1])))
         obst = inter(solid, reach_zone)
         # placements P of the controlled point with P + B inside the free space
-        blocked = _minkowski_parts(obst, -body, near=window)
-        place = diff(window, shapely.union_all(blocked)) if blocked else window
+        blocked = _blocked(obst, body, holder_direction(s.tip), window)
+        place = diff(window, shapely.union_all(blocked)) if len(blocked) else window
         if place.is_empty:
             continue
         covered = _minkowski_parts(place, s.outline, near=left)
