@@ -438,6 +438,25 @@ def _render_802(n: tuple, var: dict[str, str]) -> str:
     return f"({a}{k}{b})"
 
 
+def _cancel(op: str, a: tuple, b: tuple) -> tuple | None:
+    """``a op b`` where a term cancels exactly (the same expression added and taken away, a
+    zero divided): ``x-x``, ``x-[x-y]``, ``[x+y]-x``, ``[x-y]-x``, ``0/y``; else None."""
+    if op == "-":
+        if a == b:
+            return ("c", 0.0)
+        if b[0] == "-" and b[1] == a:
+            return b[2]
+        if a[0] == "+" and a[1] == b:
+            return a[2]
+        if a[0] == "+" and a[2] == b:
+            return a[1]
+        if a[0] == "-" and a[1] == b:
+            return ("neg", a[2])
+    if op == "/" and a[0] == "c" and a[1] == 0 and not (b[0] == "c" and b[1] == 0):
+        return ("c", 0.0)
+    return None
+
+
 def _simplify(n: tuple) -> tuple:
     """Constant folding and the neutral elements (exact: only operations on literal
     constants and x*1, x+0)."""
@@ -448,6 +467,8 @@ def _simplify(n: tuple) -> tuple:
         return ("c", -a[1]) if a[0] == "c" else a[1] if a[0] == "neg" else ("neg", a)
     if n[0] == "f":
         a = _simplify(n[2])
+        if n[1] == "sqrt" and a[0] == "*" and a[1] == a[2]:  # a line's length along one axis
+            return _simplify(("f", "abs", a[1]))
         return ("c", _FUN[n[1]](a[1])) if a[0] == "c" else ("f", n[1], a)
     if n[0] in ("atan2", "min", "max"):
         return (n[0], _simplify(n[1]), _simplify(n[2]))
@@ -474,6 +495,9 @@ def _simplify(n: tuple) -> tuple:
             return ("-", a, ("c", -b[1]))
         if b[0] == "neg":
             return ("-", a, b[1])
+    c = _cancel(op, a, b)  # a vertical line's dx, a corner's leg along one axis
+    if c is not None:
+        return _simplify(c)
     if op == "-":
         if b[0] == "c" and b[1] == 0:
             return a
@@ -493,7 +517,10 @@ def _fold(n: tuple) -> tuple:
         a = n[1]
         return ("c", -a[1]) if a[0] == "c" else a[1] if a[0] == "neg" else n
     if k == "f":
-        return ("c", _FUN[n[1]](n[2][1])) if n[2][0] == "c" else n
+        a = n[2]
+        if n[1] == "sqrt" and a[0] == "*" and a[1] == a[2]:
+            return _fold(("f", "abs", a[1]))
+        return ("c", _FUN[n[1]](a[1])) if a[0] == "c" else n
     if k not in ("+", "-", "*", "/"):
         return n
     a, b = n[1], n[2]
@@ -520,6 +547,9 @@ def _fold(n: tuple) -> tuple:
             return ("-", a, b[1])
         if b[0] == "c" and b[1] < 0:
             return ("-", a, ("c", -b[1]))
+    c = _cancel(k, a, b)
+    if c is not None:
+        return _fold(c)
     if k == "-":
         if b[0] == "c" and b[1] == 0:
             return a

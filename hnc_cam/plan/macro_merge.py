@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 from difflib import SequenceMatcher
 from typing import Any
 
-from .macro import _ev, _holds, _num, features
+from .macro import _ev, _holds, _num, _params_of, features
 
 #: bisection steps of a decision's threshold (to 1/4096 of the two sets' distance)
 BISECT = 12
@@ -234,6 +234,53 @@ def slopes(tr: Any) -> list[tuple[str, tuple]]:
     return out
 
 
+#: the best-scored cuts a node tries, each refined by bisection, until one holds
+TRIES = 4
+
+
+def _refine(fam: Any, f: tuple, p0: dict, p1: dict, test: Any, right: set,
+            side: Any) -> tuple[float, float] | None:
+    """The feature ``f`` just before and after the label changes between ``p0`` (its label
+    passes ``test``) and ``p1``: bisected along the way that moves only the parameters of
+    ``f`` (from ``p0``, else toward ``p1``), so that no other decision's boundary is crossed
+    on the way, else along the straight way. A way that meets a sampled alternative of
+    neither side (another decision's boundary) or where ``f`` does not move says nothing: None
+    when no way holds."""
+    own = _params_of(f) & set(fam.free)
+    ways = []
+    if own and own != set(fam.free):
+        ways += [(p0, dict(p0, **{k: p1[k] for k in own})),
+                 (dict(p1, **{k: p0[k] for k in own}), p1)]
+    ways.append((p0, p1))
+    for q0, q1 in ways:
+        def at(t: float, q0=q0, q1=q1) -> dict:
+            return {k: (q0[k] + t * (q1[k] - q0[k]) if k in fam.free else q0[k]) for k in q0}
+
+        def on(lab: Any) -> int | None:  # 0 left, 1 right, None: an alternative of neither
+            if lab is None:  # no program, or one no sampled set has: counted with the right
+                return 1
+            return 0 if test(lab) else 1 if lab in right or not right else None
+        if q0 is not p0 and on(side(q0, q1, 0.0)) != 0:
+            continue
+        if q1 is not p1 and on(side(q0, q1, 1.0)) != 1:
+            continue
+        a, b = 0.0, 1.0
+        for _ in range(BISECT):
+            m = (a + b) / 2
+            s = on(side(q0, q1, m))
+            if s is None:
+                break
+            if s == 0:
+                a = m
+            else:
+                b = m
+        else:
+            fa, fb = _ev(f, at(a)), _ev(f, at(b))
+            if abs(fb - fa) > 1e-12:
+                return fa, fb
+    return None
+
+
 def build_tree(fam: Any, tr: Any, sets: list[dict], labels: list[int], side: Any) -> Node | None:
     """The decision tree telling the labels apart by thresholds on one traced feature per
     node, or None. ``side(p0, p1, t)`` -> the label at the set ``t`` of the way from ``p0`` to
@@ -253,7 +300,7 @@ def build_tree(fam: Any, tr: Any, sets: list[dict], labels: list[int], side: Any
         labs = {labels[i] for i in idx}
         if len(labs) == 1:
             return Node(leaf=labs.pop())
-        best = None
+        found = []
         for desc, f, v in cols:
             order = sorted(idx, key=lambda i: v[i])
             span = np.ptp(v) or 1.0
@@ -275,26 +322,21 @@ def build_tree(fam: Any, tr: Any, sets: list[dict], labels: list[int], side: Any
                 gap = v[order[k]] - v[order[k - 1]]
                 if gap < 1e-9:
                     continue
-                score = (disjoint, gap / span)
-                if best is None or score > best[0]:
-                    best = (score, desc, f, order[k - 1], order[k], test, order[:k], order[k:])
+                found.append(((disjoint, gap / span), desc, f, order[k - 1], order[k], test,
+                              order[:k], order[k:]))
+        found.sort(key=lambda c: c[0], reverse=True)
+        best = None
+        for cand in found[:TRIES]:
+            _score, desc, f, ia, ib, test, lidx, ridx = cand
+            ends = _refine(fam, f, sets[ia], sets[ib], test,
+                           {labels[i] for i in ridx} - {labels[i] for i in lidx}, side)
+            if ends is not None:
+                best = cand
+                fa, fb = ends
+                break
         if best is None:
             return None
         _score, desc, f, ia, ib, test, lidx, ridx = best
-        # refine between the two nearest sets across the cut
-        p0, p1 = sets[ia], sets[ib]
-        a, b = 0.0, 1.0
-        for _ in range(BISECT):
-            m = (a + b) / 2
-            lab = side(p0, p1, m)
-            if lab is not None and test(lab):
-                a = m
-            else:
-                b = m
-
-        def at(t: float) -> dict:
-            return {k: (p0[k] + t * (p1[k] - p0[k]) if k in fam.free else p0[k]) for k in p0}
-        fa, fb = _ev(f, at(a)), _ev(f, at(b))
         c = _roundest(fa, fb)
         # a round value the last set on the left side has itself (the planner's own
         # threshold, as ceil(depth / step) at a whole depth) stays on the left

@@ -235,7 +235,7 @@ class Ctx:
     dialect: str
     cache: dict = field(default_factory=dict)
     #: the per-variant programs a derivation may generate (a bound on its time)
-    budget: int = 400
+    budget: int = 600
 
     def program(self, p: dict[str, Any]) -> str:
         key = tuple(sorted((k, _fmt(v)) for k, v in p.items()))
@@ -354,13 +354,21 @@ def normal_features(tr: Any) -> list[tuple[str, tuple]]:
             ln = ("f", "sqrt", ("+", ("*", dx, dx), ("*", dz, dz)))
             out += [(f"segment {i + 1} length/dz", ("/", ln, dz)),
                     (f"segment {i + 1} dx/dz", ("/", dx, dz))]
+            # the unit normal (X on diameter): a path offset from the part by a constant
+            # distance (the planner's roughing contours: nose radius plus allowance) has its
+            # corners at the part's corner plus that distance times each side's normal
+            out += [(f"segment {i + 1} normal X", ("/", ("*", ("c", 2.0), dz), ln)),
+                    (f"segment {i + 1} normal Z", ("/", dx, ln))]
             continue
         if seg[3] is None:
             continue
         cx, cz, r = _n(seg[3][0]), _n(seg[3][1]), _n(seg[4])
         for end, (x, z) in (("start", (x0, z0)), ("end", (x1, z1))):
             out += [(f"segment {i + 1} {end} r/nx", ("/", r, ("-", x, cx))),
-                    (f"segment {i + 1} {end} nz/nx", ("/", ("-", z, cz), ("-", x, cx)))]
+                    (f"segment {i + 1} {end} nz/nx", ("/", ("-", z, cz), ("-", x, cx))),
+                    (f"segment {i + 1} {end} normal X",
+                     ("/", ("*", ("c", 2.0), ("-", x, cx)), r)),
+                    (f"segment {i + 1} {end} normal Z", ("/", ("-", z, cz), r))]
     return out
 
 
@@ -421,6 +429,68 @@ def _cross_columns(tr: Any, nb: list[Block], allb: list[list[Block]], allp: list
             nodes.append(n)
             cols.append(v)
     return nodes, cols
+
+
+def _position_before(bs: list[Block], i: int) -> tuple[float, float] | None:
+    """(radius, Z) where the tool is when block ``i`` starts (the last X and Z written
+    before it), None when the blocks do not say."""
+    x = z = None
+    for j in range(i - 1, -1, -1):
+        for w in bs[j].words:
+            if w.letter == "X" and x is None:
+                x = w.value / 2
+            elif w.letter == "Z" and z is None:
+                z = w.value
+        if x is not None and z is not None:
+            return x, z
+    return None
+
+
+def _corner_crossing(tr: Any, allb: list[list[Block]], allp: list[dict], bi: int, y):
+    """The Z of an arc block that ends on a diameter the program holds constant (a roughing
+    cycle split where constant surface speed meets the spindle limit) where the arc is a
+    corner of the planner's offset contour: centred at a constant offset from a traced
+    contour point, its radius the block's constant R. The offset is read from the first
+    variant's arc and must hold on every variant; None where no traced point gives one."""
+    import numpy as np
+    b = allb[0][bi]
+    if not any(w.letter == "G" and float(w.text) in (2, 3) for w in b.words):
+        return None
+    ix = [i for i, w in enumerate(b.words) if w.letter in "XR"]
+    if len(ix) != 2 or any(len({vb[bi].words[i].text for vb in allb}) != 1 for i in ix):
+        return None
+    rc = next(w.value for w in b.words if w.letter == "X") / 2
+    rho = next(w.value for w in b.words if w.letter == "R")
+    start = _position_before(allb[0], bi)
+    if start is None:
+        return None
+    (r0, z0), (r1, z1) = start, (rc, float(y[0]))
+    dr, dz = r1 - r0, z1 - z0
+    chord = math.hypot(dr, dz)
+    if chord < 1e-9 or chord > 2 * rho:
+        return None
+    h = math.sqrt(max(0.0, rho * rho - chord * chord / 4))
+    mr, mz, ur, uz = (r0 + r1) / 2, (z0 + z1) / 2, -dz / chord, dr / chord
+    verts = list(dict.fromkeys((_n(pt[0]), _n(pt[1])) for sg in tr.segments
+                               for pt in sg[1:3]))
+    for cr, cz in ((mr + ur * h, mz + uz * h), (mr - ur * h, mz - uz * h)):
+        for vx, vz in verts:
+            try:
+                ox, oz = cr - _ev(vx, allp[0]), cz - _ev(vz, allp[0])
+            except (ValueError, ZeroDivisionError, OverflowError):
+                continue
+            for nd in (1, 2, 3):  # the planner's offsets: nose radii and allowances
+                t = ("-", ("c", rc), ("+", vx, ("c", round(ox, nd))))
+                q = ("f", "sqrt", ("-", ("c", rho * rho), ("*", t, t)))
+                base = ("+", vz, ("c", round(oz, nd)))
+                for node in (("+", base, q), ("-", base, q)):
+                    try:
+                        v = np.array([_ev(node, p) for p in allp])
+                    except (ValueError, ZeroDivisionError, OverflowError):
+                        continue
+                    if np.all(np.isfinite(v)) and np.max(np.abs(v - y)) <= TOL:
+                        return node
+    return None
 
 
 def _fit_single(y, nodes: list[tuple], cols: list) -> tuple | None:
@@ -691,6 +761,8 @@ def _fit_blocks(ctx: Ctx, fam: Family, tr: Any, nominal: dict, lo: dict, hi: dic
                 if cross is None:
                     cross = _cross_columns(tr, nb, allb, allp)
                 node = _fit_single(y, *cross)
+                if node is None and r is None:
+                    node = _corner_crossing(tr, allb, allp, bi, y)
                 if node is not None:
                     slots.append(Slot(bi, wi, "fit", node, rounded=True))
                     continue
@@ -1311,6 +1383,26 @@ def _fanuc_checks(checks: list[Check], lets: Lets) -> list[str]:
     return out
 
 
+_TOOL_LINE = re.compile(r"^(?:\((T\d{2,4} .*)\)|; (T\d+ D\d+ .*))$")
+
+
+def program_tools(pc: Piece) -> list[str]:
+    """The tool lines of the headers of every alternative the program can run (a decision
+    that changes an insert brings its tool in), by tool number, each once."""
+    seen: dict[str, str] = {}
+    for rg in pc.regions:
+        for alt in rg.alts:
+            for line in alt.rep.text.splitlines():
+                line = line.strip()
+                m = _TOOL_LINE.match(line)
+                if m:
+                    t = m.group(1) or m.group(2)
+                    seen.setdefault(t.split()[0], t)
+                elif line and not line.startswith(("(", ";", "%", "O")):
+                    break  # the header ends at the first block
+    return [seen[k] for k in sorted(seen, key=lambda k: int(re.sub(r"\D", "", k)))]
+
+
 def render_program(pieces_or_one: Piece, dialect: str = "hnc21t", values: dict | None = None,
                    rows: list[dict[str, Any]] | None = None, row: int = 1, number: int = 1,
                    note: str = "") -> Rendered:
@@ -1353,6 +1445,7 @@ def render_program(pieces_or_one: Piece, dialect: str = "hnc21t", values: dict |
         head.append("(THIS PIECE OF THE DOMAIN: " + ", ".join(b.upper() for b in pc.bounds) + ")")
     if note:
         head.append(f"({note})")
+    head += [f"({t})" for t in program_tools(pc)]
     fixed = [k for k, v in fam.params.items() if k not in fam.free]
     if fixed:
         head.append("(FIXED " + " ".join(f"{k.upper()}={_fmt(fam.params[k])}" for k in fixed) + ")")
@@ -1454,6 +1547,9 @@ def _compare(a: Any, b: Any, where: str) -> str | None:
         if x.kind != y.kind:
             return f"{where}: a {x.kind} move (line {x.line}) where the per-variant program " \
                    f"makes a {y.kind} (line {y.line})"
+        if x.tool != y.tool:  # the same path with another insert is another program
+            return f"{where}: a move with tool {x.tool} (line {x.line}) where the " \
+                   f"per-variant program has tool {y.tool} (line {y.line})"
         # the tool's distance in the plane (x is the radius in a toolpath)
         worst = max(worst, math.hypot(x.end[0] - y.end[0], x.end[1] - y.end[1]))
     if worst > 0.001:
