@@ -20,9 +20,10 @@ Choices (the issue leaves them open):
   below the axis): so an outside tool reaches only from outside, a boring bar only from the
   bore's open end, and neither through the part. That region is computed with exact Minkowski
   sums of the sampled polygons with the convex outlines (each edge swept as an exact hull,
-  :func:`hnc_cam.sim.tool.sweep_hulls`), locally: placements within K's extent of the leftover,
-  obstacles within that plus the holder's extent, and only the swept edges that meet the
-  placement window or the leftover are united (:func:`reachable`). The
+  :func:`hnc_cam.sim.tool.sweep_hulls`), locally: placements within K's extent of the leftover
+  no tool before covered, obstacles within that plus the holder's extent, of the obstacles
+  only the edges that face the holder (:func:`_blocked`), and only the swept edges that meet
+  the placement window or the leftover are united (:func:`reachable`). The
   stock beyond the part's left end (the chucking allowance, where the part is cut off later) is
   an obstacle too, so the nose fillet a pass leaves exactly at the cut-off line is not a defect.
   Leftover outside the union of the openings of every cutting tool the program used (in inner
