@@ -14,7 +14,8 @@ Model (the choices made where the issue leaves room):
 * A line move (``line``, ``thread`` and each straight piece of a G00 dog-leg ``rapid``) sweeps
   the convex hull of the outline at its start and its end (exact for a translated convex
   polygon). An arc is sampled with chord error <= 0.0005 mm and swept as the union of the hulls
-  of consecutive placements.
+  of consecutive placements, built as one polygon (:func:`_path_sweep`: the outline's
+  convolution with the sampled arc, the same region).
 * Cost linear in the number of moves: the sweeps are built per run of moves (one vectorised
   call per tool shape), then taken out of the material in batches of consecutive moves
   (:data:`BATCH`). What each move removes (exact, and as sequential as one move after another)
@@ -29,7 +30,8 @@ Model (the choices made where the issue leaves room):
   material is the material minus the sweeps. Where they do not (a move coming back through
   what its batch cut), the batch is taken move by move: within a zone (the convex
   hull of its sweeps grown by ``SEAM``) each sweep is taken out of the local material in
-  program order, one overlay per move that meets it. A short pass (:data:`SHORT_PASS` moves
+  program order, one overlay per move that meets it (a material of at most
+  :data:`SMALL_MATERIAL` vertices is taken whole, without a zone). A short pass (:data:`SHORT_PASS` moves
   or fewer, from a feed move after a rapid to the next) is taken that way from the start.
   A move's swept region is built only where an overlay or a check needs it; its bounds come
   from its pieces' ends and the outline's.
