@@ -740,6 +740,7 @@ def _fit_blocks(ctx: Ctx, fam: Family, tr: Any, nominal: dict, lo: dict, hi: dic
     nodes, mat = _candidates(fam, tr, allp, lengths=ctx.dialect == "siemens802")
     nodes2 = mat2 = None
     cross = None
+    crossed: list[tuple[Any, Slot]] = []  # the crossings fitted so far, with their values
     slots: list[Slot] = []
     for bi, b in enumerate(nb):
         for wi, w in enumerate(b.words):
@@ -763,8 +764,11 @@ def _fit_blocks(ctx: Ctx, fam: Family, tr: Any, nominal: dict, lo: dict, hi: dic
                 node = _fit_single(y, *cross)
                 if node is None and r is None:
                     node = _corner_crossing(tr, allb, allp, bi, y)
+                if node is None and r is None:  # where an earlier arc ended (G00 X, G01 Z)
+                    node = next((sl.node for yy, sl in crossed if np.array_equal(yy, y)), None)
                 if node is not None:
                     slots.append(Slot(bi, wi, "fit", node, rounded=True))
+                    crossed.append((y, slots[-1]))
                     continue
             if r is not None:
                 slots.append(Slot(bi, wi, "fit", _combine(nodes, *r)))
@@ -1137,12 +1141,15 @@ def _letters(free: list[str]) -> dict[str, str]:
         raise PlanError(f"the family has {len(free)} parameters; a FANUC G65 call passes at "
                         f"most {len(FANUC_ARGS)} (its argument letters)")
     out: dict[str, str] = {}
-    # H last: a G65 with an H word reads as a macro A call (G65 Hm P#i Q#j R#k) to our
-    # interpreter, so H is taken only when every other letter is
-    left = [c for c in FANUC_ARGS if c != "H"] + ["H"]
+    # M, S, T and H last: a G65 with an H word reads as a macro A call (G65 Hm P#i Q#j R#k)
+    # to our interpreter, and its reader takes M, S and T (as H) as whole numbers only, where
+    # an argument is written with its decimal point; they are taken only when every other
+    # letter is
+    last = "MSTH"
+    left = [c for c in FANUC_ARGS if c not in last] + list(last)
     for k in free:
         first = k[0].upper()
-        letter = first if first in left and first != "H" else left[0]
+        letter = first if first in left and first not in last else left[0]
         left.remove(letter)
         out[k] = letter
     return out
