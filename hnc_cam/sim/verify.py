@@ -290,13 +290,22 @@ class _Depth:
                 self.p1 = np.concatenate([self.p1[:n], b, self.p1[n:]])
                 self.arc = np.concatenate([self.arc[:n], np.full((k, 5), np.nan), self.arc[n:]])
 
-    def __call__(self, pts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(depth, index of the nearest piece) per point."""
+    def __call__(self, pts: np.ndarray, use: np.ndarray | None = None
+                 ) -> tuple[np.ndarray, np.ndarray]:
+        """(depth, index of the nearest piece) per point; ``use``: per point whether ``also``'s
+        edges count for it (default all)."""
         d, w = distances(pts, self.segs)
-        if self.tree is not None and len(pts):
+        if use is not None and self.tree is not None:
+            sel = np.flatnonzero(use)
+        else:
+            sel = None
+        if self.tree is not None and len(pts) and (sel is None or len(sel)):
             w = np.where(w < 0, len(self.kind) - 1, w)
-            (i, k), da = self.tree.query_nearest(shapely.points(pts), return_distance=True,
+            q = pts if sel is None else pts[sel]
+            (i, k), da = self.tree.query_nearest(shapely.points(q), return_distance=True,
                                                  all_matches=False)
+            if sel is not None:
+                i = sel[i]
             nearer = da < d[i]
             d[i[nearer]] = da[nearer]
             w[i[nearer]] = len(self.segs) + k[nearer]
@@ -333,7 +342,8 @@ class _Depth:
 
 def _depths(polys: Sequence[Polygon], segs: Sequence[Segment] | SegmentTable,
             interior: bool | Sequence[bool] = False, also: BaseGeometry | None = None,
-            mode: str | Sequence[str] = "each", noise: float = NOISE) -> list[Deviation | None]:
+            mode: str | Sequence[str] = "each", noise: float = NOISE,
+            also_for: Sequence[bool] | None = None) -> list[Deviation | None]:
     """:func:`_deepest` of each polygon of ``polys`` (None for an empty one), all measured
     together.
 
@@ -356,7 +366,8 @@ def _depths(polys: Sequence[Polygon], segs: Sequence[Segment] | SegmentTable,
     (a polygon deeper comes out with some point beyond ``noise``, one not with a depth that is
     exact where it is the deepest of them); ``beyond`` the depth of each deeper than ``noise``
     (the others come out no deeper than ``noise``). ``interior`` and ``mode`` may be given per
-    polygon (a ``max`` polygon then counts among those of its own mode only)."""
+    polygon (a ``max`` polygon then counts among those of its own mode only); ``also_for``:
+    per polygon whether ``also`` counts as model for it (default every polygon)."""
     out: list[Deviation | None] = [None] * len(polys)
     if not polys:
         return out
@@ -380,7 +391,8 @@ def _depths(polys: Sequence[Polygon], segs: Sequence[Segment] | SegmentTable,
             pts.append(g)
             pp.append(np.full(len(g), k))
     pts, pp = np.concatenate(pts), np.concatenate(pp)
-    f, w = depth(pts)
+    use_of = None if also_for is None else np.asarray(also_for, dtype=bool)
+    f, w = depth(pts, None if use_of is None else use_of[pp])
     lower = np.full(len(polys), -np.inf)
     np.maximum.at(lower, pp, f)
     # branch and bound over runs j0..j1 of an edge's sample points (point j of edge e at
@@ -400,7 +412,7 @@ def _depths(polys: Sequence[Polygon], segs: Sequence[Segment] | SegmentTable,
 
     def measure(ee: np.ndarray, j: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         q = at(ee, j)
-        fq, wq = depth(q)
+        fq, wq = depth(q, None if use_of is None else use_of[ep[ee]])
         more_p.append(q)
         more_f.append(fq)
         more_pp.append(ep[ee])
@@ -697,10 +709,15 @@ def _walled(model_poly: BaseGeometry, t: Thread, z: float, out: float) -> bool:
     return col.bounds[3] > t.minor_diameter / 2 + 0.01
 
 
-def _zones(model: TurnedProfile, machined: Machined, threads: Sequence[Thread] | None) -> list[_Zone]:
+def _zones(model: TurnedProfile, machined: Machined, threads: Sequence[Thread] | None,
+           model_poly: BaseGeometry | None = None) -> list[_Zone]:
+    """The thread zones (declared, else the program's thread moves); ``model_poly``: the
+    model's :func:`profile_polygon` if known (built here otherwise, at most once)."""
     declared = list(threads if threads is not None else model.threads)
     zones: list[_Zone] = []
-    mp = profile_polygon(model) if declared else None
+    mp = model_poly
+    if mp is None and (declared or machined.thread_spans):
+        mp = profile_polygon(model)
     for t in declared:
         z0, z1 = sorted((t.z_start, t.z_end))
         m0, m1 = z0, z1
@@ -723,15 +740,15 @@ def _zones(model: TurnedProfile, machined: Machined, threads: Sequence[Thread] |
         if m1 <= m0:
             continue
         mid = box(m0, 0.0, m1, BIG)
-        mp = profile_polygon(model).intersection(mid)
-        if mp.is_empty:
+        span = mp.intersection(mid)
+        if span.is_empty:
             continue
         if s.inside:
-            r_nom = _bore_radius(mp)
+            r_nom = _bore_radius(span)
             d = 2 * r_nom + 1.0825 * pitch  # minor diameter given, major = D1 + 1.0825 P
             zones.append(_Zone(s.z_min, s.z_max, d / 2, r_nom, True, pitch, d, False, m0, m1))
         else:
-            r_nom = mp.bounds[3]
+            r_nom = span.bounds[3]
             d3 = 2 * r_nom - 1.2269 * pitch
             zones.append(_Zone(s.z_min, s.z_max, d3 / 2, r_nom, False, pitch, d3, False, m0, m1))
     return zones
@@ -968,7 +985,7 @@ def verify(machined: Machined, model: TurnedProfile, tol: float = 0.01,
     segs = model_segments(model)
     table = SegmentTable(segs)
     material = machined.material
-    zones = _zones(model, machined, threads)
+    zones = _zones(model, machined, threads, model_poly)
     # the zone, widened by half a pitch at each end for the insert's flanks at the run-out
     excl = shapely.union_all([box(z.z0 - 0.5 * z.pitch, min(z.r_root, z.r_crest) - max(0.5 * z.pitch, 0.5),
                                   z.z1 + 0.5 * z.pitch, max(z.r_root, z.r_crest)) for z in zones]) if zones else Polygon()
@@ -1017,10 +1034,15 @@ def verify(machined: Machined, model: TurnedProfile, tol: float = 0.01,
         # reachable leftover: its depth beyond what the tools could at best leave (the model,
         # and the unreachable leftover next to it), so a sliver the pass left on top of an
         # unreachable corner counts by its own thickness, not by the corner's depth
-        d = _deepest(reach_part, table, interior=False, also=unreach_region)
-        if d is not None and (under_at is None or d.size_mm > under_at.size_mm):
-            under_at = d
-        for d in _depths(_polys(unreach_region), table, mode="beyond"):
+        # (measured together with the unreachable pieces, for which only the model counts)
+        r_parts, u_parts = _polys(reach_part), _polys(unreach_region)
+        got = _depths(r_parts + u_parts, table, also=unreach_region,
+                      mode=["max"] * len(r_parts) + ["beyond"] * len(u_parts),
+                      also_for=[True] * len(r_parts) + [False] * len(u_parts))
+        for d in got[:len(r_parts)]:  # the deepest reachable point, the first on a tie
+            if d is not None and (under_at is None or d.size_mm > under_at.size_mm):
+                under_at = d
+        for d in got[len(r_parts):]:
             if d is not None and d.size_mm > NOISE:
                 unreach_list.append(d)
         unreach_list.sort(key=lambda d: -d.z)
