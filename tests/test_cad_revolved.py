@@ -289,3 +289,61 @@ def test_other_axes_are_cut(shaft):
     assert p.outside[0].start == pytest.approx((0.0, 0.0))
     assert p.length == pytest.approx(40.0)
     assert math.isclose(p.max_radius, 15.0)
+
+
+def _random_outline(rng):
+    """A turned part as a user might sketch it: steps up and down, tapers, chamfers and
+    fillets at random corners, an arc here and there, sometimes a through bore."""
+    n = rng.randint(2, 6)
+    zs = sorted({round(rng.uniform(-80.0, -2.0), 3) for _ in range(n)}, reverse=True)
+    bore = rng.random() < 0.3
+    r_in = rng.uniform(3.0, 6.0) if bore else 0.0
+    s = Outline((r_in, 0.0))
+    r_prev = None
+    for z in zs + [-90.0]:
+        r = round(rng.uniform(r_in + 4.0, 30.0), 3)
+        while r_prev is not None and abs(r - r_prev) < 0.5:
+            r = round(rng.uniform(r_in + 4.0, 30.0), 3)
+        corner = rng.choice(["", "C", "R"])
+        size = rng.uniform(0.2, 0.8)
+        kw = {"chamfer": size} if corner == "C" else {"fillet": size} if corner == "R" else {}
+        pos = s.pos
+        if rng.random() < 0.2 and pos[1] - z > 6.0:  # an arc down to the next step
+            s.line_to(r, pos[1])
+            mid = (pos[1] + z) / 2
+            s.arc_to(r, mid, radius=(pos[1] - mid) * rng.uniform(0.6, 3.0),
+                     cw=rng.random() < 0.5)
+            s.line_to(r, z, **kw)
+        else:
+            s.line_to(r, pos[1], **kw)
+            s.line_to(r, z)
+        r_prev = r
+    s.line_to(r_in, -90.0)
+    if bore:
+        s.close()
+    return s.segments()
+
+
+def test_random_outlines_profile_as_extracted():
+    """Outlines made at random the way part files make them: the profile taken from the
+    outline is the extracted one (or both refuse the part alike)."""
+    import random
+    rng = random.Random(1507)
+    used = done = 0
+    while done < 40:
+        try:
+            segs = _random_outline(rng)
+            solid = revolve(segs)
+        except (SketchError, ValueError):
+            continue
+        done += 1
+        used += outline_chain(segs) is not None
+        try:
+            want = extract(solid)
+        except ProfileError as e:
+            with pytest.raises(ProfileError) as got:
+                profile(solid)
+            assert str(got.value) == str(e)
+            continue
+        assert _same_profile(profile(solid), want), segs
+    assert used >= 30

@@ -93,7 +93,10 @@ def profile(obj: Any, axis: Any = "Z", zero: str | float = "right", envelope: bo
     if isinstance(axis, str) and axis.strip().upper().lstrip("+") == "Z":
         from .sketch import revolved_outline
         segs = revolved_outline(obj)
-        main = outline_chain(segs) if segs is not None else None
+        try:
+            main = outline_chain(segs) if segs is not None else None
+        except (ArithmeticError, ValueError):  # an outline too odd to judge: cut the solid
+            main = None
         if main is not None:  # the solid as revolve() made it: its exact outline
             return _finish(main, [], zero, name)
     return extract(obj, axis=axis, zero=zero, envelope=envelope, fit_tol=fit_tol, name=name)
