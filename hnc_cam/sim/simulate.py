@@ -510,7 +510,8 @@ def _path_sweep(K: np.ndarray, P: np.ndarray, Q: np.ndarray) -> BaseGeometry:
     it winds round positively, which GEOS's zero-distance buffer returns. A path with a
     zero-length piece, or a result that is not one polygon, takes the union of the hulls."""
     K = np.asarray(K, dtype=float)
-    if float(np.sum(K[:, 0] * np.roll(K[:, 1], -1) - np.roll(K[:, 0], -1) * K[:, 1])) < 0:
+    z, x = K[:, 0], K[:, 1]
+    if float(z[:-1] @ x[1:] - z[1:] @ x[:-1] + z[-1] * x[0] - z[0] * x[-1]) < 0:
         K = K[::-1]
     if len(P) > 1 and np.all(np.any(P != Q, axis=1)):
         i_min, i_max = extremes(K, P, Q)
