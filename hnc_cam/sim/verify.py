@@ -611,6 +611,12 @@ def _body(s: ToolShape, length: float) -> np.ndarray:
     return b
 
 
+def _boxes(lo: np.ndarray, hi: np.ndarray) -> BaseGeometry:
+    """The union of the boxes lo_i..hi_i ((n, 2) corners (z, x)); one box as it is."""
+    boxes = shapely.box(lo[:, 0], lo[:, 1], hi[:, 0], hi[:, 1])
+    return boxes[0] if len(boxes) == 1 else clean(shapely.union_all(boxes))
+
+
 def reachable(model_poly: BaseGeometry, shapes: Sequence[ToolShape], where: BaseGeometry,
               keep: BaseGeometry | None = None) -> BaseGeometry:
     """The part of ``where`` that some tool's insert K can cover while the insert and its
@@ -647,9 +653,8 @@ def reachable(model_poly: BaseGeometry, shapes: Sequence[ToolShape], where: Base
         bounds = shapely.bounds(np.array(_polys(left), dtype=object))
         k0, k1 = s.outline.min(axis=0), s.outline.max(axis=0)
         lo, hi = bounds[:, :2] - k1 - 1.0, bounds[:, 2:] - k0 + 1.0
-        window = clean(shapely.union_all(shapely.box(lo[:, 0], lo[:, 1], hi[:, 0], hi[:, 1])))
-        reach_zone = clean(shapely.union_all(shapely.box(lo[:, 0] + b0[0], lo[:, 1] + b0[1],
-                                                         hi[:, 0] + b1[0], hi[:, 1] + b1[1])))
+        window = _boxes(lo, hi)
+        reach_zone = _boxes(lo + b0, hi + b1)
         obst = inter(solid, reach_zone)
         # placements P of the controlled point with P + B inside the free space
         blocked = _blocked(obst, body, holder_direction(s.tip), window)
@@ -1020,7 +1025,7 @@ def verify(machined: Machined, model: TurnedProfile, tol: float = 0.01,
         elif under_at is None or d.size_mm > under_at.size_mm:
             under_at = d  # too shallow to classify: counted as reachable
     if deep:
-        region = clean(shapely.union_all(deep))
+        region = deep[0] if len(deep) == 1 else clean(shapely.union_all(deep))
         chuck_side = clean(machined.stock.intersection(box(-BIG, -1.0, model.z_min, BIG)))
         reach_part = reachable(model_poly, _cutting_shapes(machined), region, chuck_side)
         blades, zone = _blade_reach(machined)
