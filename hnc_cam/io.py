@@ -68,8 +68,11 @@ def _resolve(p: Path) -> Path:
     return p
 
 
-def write_atomic(path: str | Path, data: str | bytes) -> None:
-    """Write ``data`` to ``path`` whole or not at all; ``-`` writes text to stdout."""
+def write_atomic(path: str | Path, data: str | bytes, *, clean_folder: bool = True) -> None:
+    """Write ``data`` to ``path`` whole or not at all; ``-`` writes text to stdout. The stale
+    temporaries of dead writers in its folder are removed first, unless ``clean_folder`` is
+    false (a caller writing many files into a folder it has just cleaned: the scan of the
+    folder grows with every file written)."""
     if str(path) == "-":
         sys.stdout.write(data if isinstance(data, str) else data.decode())
         sys.stdout.flush()
@@ -89,7 +92,8 @@ def write_atomic(path: str | Path, data: str | bytes) -> None:
         return
     try:
         p.parent.mkdir(parents=True, exist_ok=True)
-        clean_stale_temporaries(p.parent)
+        if clean_folder:
+            clean_stale_temporaries(p.parent)
         fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.{os.getpid()}.", suffix=".tmp",
                                    dir=str(p.parent))
     except OSError as e:

@@ -233,9 +233,11 @@ def test_stale_temporaries_of_dead_writers_are_removed(tmp_path):
     live.write_text("half")
     other = tmp_path / ".notes.tmp"
     other.write_text("mine")
+    write_atomic(tmp_path / "O0004.nc", "%4\n", clean_folder=False)  # its caller cleaned
+    assert stale.exists()
     write_atomic(tmp_path / "O0003.nc", "%3\n")
     assert sorted(p.name for p in tmp_path.iterdir()) == [
-        live.name, ".notes.tmp", "O0003.nc"]
+        live.name, ".notes.tmp", "O0003.nc", "O0004.nc"]
 
 
 def test_killed_writer_leaves_no_temporary_behind_after_the_next_run(tmp_path):

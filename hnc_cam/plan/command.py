@@ -521,7 +521,7 @@ def family_command(args: argparse.Namespace) -> int:
         if r.get("status") == "ok":
             t0 = time.perf_counter()
             name = f"O{int(r['program_number']):04d}.nc"
-            write_atomic(out_dir / name, r["text"])
+            write_atomic(out_dir / name, r["text"], clean_folder=False)  # cleaned by _prepare_out
             r["file"] = name
             r.setdefault("stages", {})["write"] = time.perf_counter() - t0
 
