@@ -1063,7 +1063,15 @@ def _batch_by_moves(material, run: "_Run", c0, b0, b1, idx, geoms, removed_area,
     local = local0
     local_area = _lib_area(local)
     cm = run.moves
+    fresh = False  # whether local changed since it was last prepared
     for k, g in zip(idx[hit].tolist(), geoms[hit].tolist()):
+        if fresh:
+            # a sweep that missed the batch's material may still miss what the moves before
+            # it in the batch left (a rapid back over their cut): a prepared test, no overlay
+            shapely.prepare(local)
+            fresh = False
+        if local is not local0 and not shapely.intersects(local, g):
+            continue
         after = _difference(local, g)
         after_area = _lib_area(after)
         a = local_area - after_area
@@ -1076,6 +1084,7 @@ def _batch_by_moves(material, run: "_Run", c0, b0, b1, idx, geoms, removed_area,
                     _check_move(m, local, g, sweeper.shape(m), run.path(k),
                                 toolpath, issues, notes, nc)
             local, local_area = after, after_area
+            fresh = True
     if local is local0:
         return material
     if zone is None:
