@@ -358,6 +358,8 @@ def test_grooved_shaft_decides_the_ramps_insert_at_its_reach(grooved_shaft):
     assert len(pieces) == 1
     sets = [dict(fam.params, d1=d1, relief_angle=a) for d1 in (24.0, 26.0)
             for a in (29.9, 29.95, 30.0, 30.05, 31.0)]
+    # and beyond d2 37.6, where the arc groove's approach starts above the bar
+    sets += [dict(fam.params, d2=37.7, relief_angle=a) for a in (29.5, 31.3)]
     tools = {a: "T02" in ctx.program(dict(fam.params, d1=26.0, relief_angle=a))
              for a in (29.95, 30.0, 30.05)}
     assert tools == {29.95: True, 30.0: True, 30.05: False}
