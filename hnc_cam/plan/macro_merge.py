@@ -281,10 +281,39 @@ def _refine(fam: Any, f: tuple, p0: dict, p1: dict, test: Any, right: set,
     return None
 
 
-def build_tree(fam: Any, tr: Any, sets: list[dict], labels: list[int], side: Any) -> Node | None:
+def _straight(fam: Any, f: tuple, p0: dict, p1: dict, test: Any,
+              side: Any) -> tuple[float, float]:
+    """The feature ``f`` before and after the label changes along the straight way from
+    ``p0`` to ``p1``, anything not passing ``test`` counted with ``p1``'s side."""
+    a, b = 0.0, 1.0
+    for _ in range(BISECT):
+        m = (a + b) / 2
+        lab = side(p0, p1, m)
+        if lab is not None and test(lab):
+            a = m
+        else:
+            b = m
+
+    def at(t: float) -> dict:
+        return {k: (p0[k] + t * (p1[k] - p0[k]) if k in fam.free else p0[k]) for k in p0}
+    return _ev(f, at(a)), _ev(f, at(b))
+
+
+def build_tree(fam: Any, tr: Any, sets: list[dict], labels: list[int], side: Any,
+               strict: bool = True) -> Node | None:
     """The decision tree telling the labels apart by thresholds on one traced feature per
     node, or None. ``side(p0, p1, t)`` -> the label at the set ``t`` of the way from ``p0`` to
-    ``p1`` (for bisection; None where it is another change)."""
+    ``p1`` (for bisection; None where it is another change). ``strict``: each threshold
+    bisected along its feature's own parameters (:func:`_refine`); where no such tree holds,
+    the tree of the best cuts bisected along the straight ways."""
+    if strict:
+        tree = _build(fam, tr, sets, labels, side, True)
+        return tree if tree is not None else _build(fam, tr, sets, labels, side, False)
+    return _build(fam, tr, sets, labels, side, False)
+
+
+def _build(fam: Any, tr: Any, sets: list[dict], labels: list[int], side: Any,
+           strict: bool) -> Node | None:
     import numpy as np
     cands = [(k, ("p", k)) for k in fam.free] + features(tr) + slopes(tr)
     cols = []
@@ -326,7 +355,7 @@ def build_tree(fam: Any, tr: Any, sets: list[dict], labels: list[int], side: Any
                               order[:k], order[k:]))
         found.sort(key=lambda c: c[0], reverse=True)
         best = None
-        for cand in found[:TRIES]:
+        for cand in found[:TRIES] if strict else []:
             _score, desc, f, ia, ib, test, lidx, ridx = cand
             ends = _refine(fam, f, sets[ia], sets[ib], test,
                            {labels[i] for i in ridx} - {labels[i] for i in lidx}, side)
@@ -334,6 +363,9 @@ def build_tree(fam: Any, tr: Any, sets: list[dict], labels: list[int], side: Any
                 best = cand
                 fa, fb = ends
                 break
+        if best is None and found and not strict:  # the best cut along the straight way
+            best = found[0]
+            fa, fb = _straight(fam, best[2], sets[best[3]], sets[best[4]], best[5], side)
         if best is None:
             return None
         _score, desc, f, ia, ib, test, lidx, ridx = best
