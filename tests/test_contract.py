@@ -412,6 +412,14 @@ def test_family_out_is_a_file(tmp_path):
     assert (tmp / "blocker").read_text() == "x"
 
 
+def test_family_rows_given_o_instead_of_out_are_told_which_to_use(tmp_path):
+    # the generate habit (-o) in the per-row mode: the line names -o and --out, nothing written
+    tmp = _workspace(tmp_path)
+    r = _cli(["family", "part.py", "--table", "t.csv", "--no-verify", "-o", "fam/"], tmp)
+    _assert_one_line_error(r, "--out DIR")
+    assert "-o/--output" in r.stderr and not (tmp / "fam").exists()
+
+
 @pytest.mark.parametrize("cmd", ["generate", "verify", "family"])
 @pytest.mark.parametrize("value", ["nan", "-1", "inf", "0", "x"])
 def test_tol_must_be_a_positive_number(tmp_path, cmd, value):

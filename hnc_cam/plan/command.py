@@ -467,14 +467,14 @@ def family_command(args: argparse.Namespace) -> int:
     if getattr(args, "macro", False):
         from .macro_command import macro_command
         return macro_command(args)
-    missing = [o for o, v in (("--table", args.table), ("--out", args.out)) if v is None]
-    if missing:
-        raise PlanError(f"family needs {' and '.join(missing)} (or --macro for one macro "
-                        f"program)")
     for opt, v in (("-o/--output", getattr(args, "output", None)),
                    ("--check", getattr(args, "check", None))):
         if v is not None:
             raise PlanError(f"{opt} belongs to --macro; the per-row mode writes to --out DIR")
+    missing = [o for o, v in (("--table", args.table), ("--out", args.out)) if v is None]
+    if missing:
+        raise PlanError(f"family needs {' and '.join(missing)} (or --macro for one macro "
+                        f"program)")
     _check_part_file(args.part)
     _check_tables(args)
     _header, rows = read_table(args.table)
