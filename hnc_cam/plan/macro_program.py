@@ -124,6 +124,16 @@ def is_siemens(text: str) -> bool:
     return text.lstrip().startswith("%_N_")
 
 
+def _add_block(out: list[Block], i: int, raw: str, words: list[Word], rest: list[str]) -> None:
+    """Line ``i`` as a block of ``out`` unless it has no words and nothing else: its key is
+    its letters, the code words' values and the text between the words."""
+    other = "".join(rest)
+    if not words and not other:
+        return
+    key = tuple((w.letter, w.text if w.letter in _CODES else None) for w in words) + (other,)
+    out.append(Block(i, raw, words, key))
+
+
 def _siemens_blocks(text: str) -> list[Block]:
     """:func:`blocks` of an 802 program: ``;`` comments, header lines ``%_N_...`` aside;
     a fitted word is written ``X=<expression>`` (:attr:`Word.eq` says whether the ``=`` is
@@ -147,11 +157,7 @@ def _siemens_blocks(text: str) -> list[Block]:
                 words.append(Word(letter, m.group(g), (m.start(g), m.end(g)),
                                   eq=bool(m.group("named"))))
         rest.append(code[pos:].strip())
-        other = "".join(rest)
-        if not words and not other:
-            continue
-        key = tuple((w.letter, w.text if w.letter in _CODES else None) for w in words) + (other,)
-        out.append(Block(i, raw, words, key))
+        _add_block(out, i, raw, words, rest)
     return out
 
 
@@ -185,11 +191,7 @@ def blocks(text: str) -> list[Block]:
                     continue
                 words.append(Word(m.group(1), m.group(2), (a + m.start(2), a + m.end(2))))
             rest.append(seg[pos:].strip())
-        other = "".join(rest)
-        if not words and not other:
-            continue
-        key = tuple((w.letter, w.text if w.letter in _CODES else None) for w in words) + (other,)
-        out.append(Block(i, raw, words, key))
+        _add_block(out, i, raw, words, rest)
     return out
 
 
