@@ -22,6 +22,7 @@ from ...nc.interp import _MAX_LEVEL, Asg, Blk, Interp
 from ...nc.toolpath import Move
 from .. import CodeSpec
 from . import memory as MEM
+from .syntax import CALL_ARGS
 
 # executor group of each G code: 1 motion, 0 one-shot, 6 one-block cycle, 8 unit, 9 nose
 # compensation, 11 work system, 12 modal macro call, 14 feed mode, 17 spindle mode, 18 plane,
@@ -133,7 +134,9 @@ class FanucInterp(Interp):
                 self.last_n = b.n
             r = Interp._block(self, b)
         else:
-            if b.dyn is not None:
+            if b.dyn is not None and (65 in b.gs or 66 in b.gs):
+                w, gs, ms = self._call_words(b)
+            elif b.dyn is not None:
                 w, gs, ms = self._dyn(b)
             else:
                 w, gs, ms = b.words, b.gs, b.ms
@@ -153,6 +156,30 @@ class FanucInterp(Interp):
             self._call_req = ("G66",) + self.modal_call
             return 1
         return r
+
+    def _call_words(self, b: Blk) -> tuple[dict, tuple, tuple]:
+        """The words of a G65/G66 block: M, S and T are arguments (#13, #19, #20) with their
+        decimals, as the reader passes them (:data:`syntax.CALL_ARGS`), not rounded to codes."""
+        args = [(L, e, col) for L, e, col in b.dyn if L in CALL_ARGS]
+        rest = [d for d in b.dyn if d[0] not in CALL_ARGS]
+        b.dyn, keep = rest or None, b.dyn
+        try:
+            w, gs, ms = self._dyn(b) if rest else (dict(b.words), b.gs, b.ms)
+        finally:
+            b.dyn = keep
+        w = dict(w)
+        ms = list(ms)
+        for L, e, col in args:
+            v = self._word_value(e, b.line)
+            if v is None:
+                continue
+            if not math.isfinite(v) or abs(v) > 99999999:
+                raise self.alarm(f"value out of range: the argument {L} is too large", b.line, col)
+            if L == "M":
+                ms.append(v)
+            else:
+                w[L] = v
+        return w, gs, tuple(ms)
 
     def _macro_call_block(self, b: Blk, w: dict, gs: tuple, ms: tuple):
         if 65 in gs and 66 in gs:

@@ -76,6 +76,9 @@ OPERATORS = frozenset("#[]=+-*/,")
 SCALED = frozenset("XYZUVWABCIJKR")
 #: addresses that take a whole number only (a decimal point is PS0007)
 WHOLE = frozenset("HLMNOST")
+#: code letters that are plain arguments in a G65/G66 call (#13, #19, #20): a decimal point
+#: is allowed there, as in every argument
+CALL_ARGS = frozenset("MST")
 #: largest value of a scaled word (8 digits, 3 of them decimals)
 SCALED_MAX = 99999.999
 #: digits a number may have (0i: more than 8 is an alarm)
@@ -170,6 +173,7 @@ class _FP(P._P):
         super().__init__(toks, text, line, file, block)
         self.calculator = calculator
         self.depth = 0
+        self.call = False  # a G65/G66 block: M, S and T are arguments (#13, #19, #20)
 
     # expressions: the HNC grammar with XOR beside OR and MOD beside * and / (no NOT) ------
     or_ops = ("OR", "XOR")
@@ -284,6 +288,14 @@ class _FP(P._P):
             k2, v2, c2 = self.peek()
             if k2 == "num" and c2 == c + len(v):  # "1.2.3": a second point
                 raise self.err(f"malformed number {letter}{'-' if neg else ''}{v}{v2}", col)
+            if self.call and letter in CALL_ARGS:
+                # an argument of a macro call takes its decimal point (the code word's whole
+                # number does not apply); passed as written, not rounded as an M/S/T code
+                if _digits(v) > MAX_DIGITS:
+                    raise self.err(f"value out of range: {letter}{'-' if neg else ''}{v} has "
+                                   f"more than {MAX_DIGITS} digits", col)
+                node = ("num", repr(float(v)))
+                return FanucExpr(("neg", node) if neg else node, c)
             return self.number(letter, v, neg, col)
         if k == "op" and v in ("[", "#"):
             node = self.primary()
@@ -382,6 +394,13 @@ def _classify(s: str) -> tuple[str, Optional[int]]:
     if h is not None and 80 <= h <= 86:
         return P.GOTO, None
     return P.OTHER, None
+
+
+def _macro_call(toks: list) -> bool:
+    """A block with a literal G65 or G66 (a macro call with arguments)."""
+    return any(k == "addr" and v == "G" and toks[j + 1][0] == "num"
+               and toks[j + 1][1].isdigit() and int(toks[j + 1][1]) in (65, 66)
+               for j, (k, v, _c) in enumerate(toks[:-1]))
 
 
 def _macro_a_h(toks: list) -> Optional[int]:
@@ -816,6 +835,7 @@ class FanucSyntax:
             return P.Parsed("assign", n, assigns=p.assignments(), message=comment_of(blk))
         if "H" in text and _macro_a_h(toks) is not None:
             return _macro_a(p, n)
+        p.call = "6" in text and _macro_call(toks)
         return P.Parsed("block", n, words=p.words(n))
 
     @staticmethod
