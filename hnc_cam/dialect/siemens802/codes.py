@@ -110,7 +110,6 @@ class SiemensInterp(SiemensMemory, Interp):
         #: G158 X Z: the programmable offset (radius, z) added to absolute targets; the toolpath
         #: stays in the settable work system (G54-G57), where the part is
         self.g158: Optional[tuple[float, float]] = None
-        self.chf: Optional[float] = None  # CHF= of the pending corner (its chamfer length)
         #: the arcs an arc block computes while a corner next to it waits (see _corner_arc)
         self._capture: Optional[list] = None
         #: (x, z, angle, its move): where a G33 chain may go on (when that move is the last one)
@@ -433,8 +432,7 @@ class SiemensInterp(SiemensMemory, Interp):
             if "CHF" in w and "RND" in w:
                 raise self.balarm(b, "CHF= (chamfer) and RND= (round) in one block", "RND")
             if "CHF" in w:
-                w["C"] = w.pop("CHF")
-                self.chf = w["C"] * self.unit
+                w["C"] = w.pop("CHF")  # the corner's size: the chamfer's own length
             else:
                 w["R"] = w.pop("RND")
         return Interp._g01(self, b, w, g53)
@@ -562,14 +560,13 @@ class SiemensInterp(SiemensMemory, Interp):
                 self.warn(c[6], f"{word}={c[5]:g}: the elements meet tangentially (no corner): "
                                 f"nothing is cut", (word, c[6]))
                 return self._cut(c, Line((gx, gz), (x2, z2)), line2)  # the line runs whole
-        if c[4] == "C" and self.chf is not None:
-            # CHF= is the chamfer's own length: the distance cut from the corner along each
-            # line is length / (2 cos(turn / 2))
-            if cross is not None:
-                half = math.cos(math.atan2(abs(cross), dot) / 2.0)
-                if half > 1e-9:
-                    c = c[:5] + (self.chf / (2.0 * half),) + c[6:]
-            self.chf = None
+        if c[4] == "C" and cross is not None:
+            # CHF= (the pending corner's own size, not the CHF= of the block that follows it)
+            # is the chamfer's length: the distance cut from the corner along each line is
+            # length / (2 cos(turn / 2))
+            half = math.cos(math.atan2(abs(cross), dot) / 2.0)
+            if half > 1e-9:
+                c = c[:5] + (c[5] / (2.0 * half),) + c[6:]
         return Interp._resolve_corner(self, c, x2, z2, line2)
 
     def _arc(self, b: Blk, w: dict, cw: bool, g53: bool = False):
