@@ -264,3 +264,53 @@ def mirror_if(chain: Sequence[Segment], bore: bool) -> list[Segment]:
 
 def join_ok(chain: Sequence[Segment]) -> bool:
     return all(same_point(a.end, b.start, 1e-5) for a, b in zip(chain, chain[1:]))
+
+
+def _written(v: float, dia: bool = False) -> float:
+    """A word's value as the program writes it (X on the diameter)."""
+    return round(2 * v, DEC) / 2 if dia else round(v, DEC)
+
+
+def block_path(blocks: Sequence[Block], start: Point) -> list[tuple[Segment, str]]:
+    """The programmed path of ``blocks`` from ``start`` as the control reads the program: each
+    block's ``before`` blocks, then the block, with their words as written (X to 0.001 mm on
+    the diameter, Z and R to 0.001 mm); ``(segment, kind)`` per move, kind ``rapid`` or
+    ``feed``; a move of no length is a line of no length where the tool is."""
+    x, z = _written(start[0], True), _written(start[1])
+    out: list[tuple[Segment, str]] = []
+    for blk in blocks:
+        for b in list(blk.before) + [blk]:
+            nx = _written(b.x, True) if b.x is not None else x
+            nz = _written(b.z, False) if b.z is not None else z
+            p, q = (x, z), (nx, nz)
+            if b.arc and math.dist(p, q) > 1e-9:
+                if b.r is not None:
+                    seg: Segment = Arc.from_radius(p, q, _written(b.r), b.kind == "cw")
+                else:
+                    c = (x + _written(b.i or 0.0), z + _written(b.k or 0.0))
+                    seg = Arc(p, q, c, b.kind == "cw")
+            else:
+                seg = Line(p, q)
+            out.append((seg, "rapid" if b.kind == "rapid" else "feed"))
+            x, z = nx, nz
+    return out
+
+
+def control_alarm(blocks: Sequence[Block], start: Point, radius: float, tip: int,
+                  side: str) -> str | None:
+    """What the control's tool-nose radius compensation (G41 ``side`` left, G42 right) says
+    of the contour ``blocks`` run from ``start``: the alarm text, or None when it follows
+    them. The interpreter's own :func:`hnc_cam.nc.compensation.compensate_moves` on the
+    blocks as written (with the blocks of no length a roughing cycle in two puts in), so
+    that what the planner accepts is what the control runs."""
+    if radius <= 0:
+        return None
+    from ..errors import NCError
+    from ..nc.compensation import CompItem, compensate_moves
+    try:
+        items = [CompItem(seg, kind, i + 1, "normal", None)
+                 for i, (seg, kind) in enumerate(block_path(blocks, start))]
+        compensate_moves(items, radius, tip, 41 if side == "left" else 42)
+    except (NCError, ValueError) as e:
+        return str(getattr(e, "message", None) or e)
+    return None

@@ -71,6 +71,7 @@ from typing import Any, Sequence
 from ..errors import PlanError
 from ..geometry import Arc, Line, Point, Segment, Thread, TurnedProfile
 from ..geometry.intersect import horizontal_hits
+from ..geometry.offset import offset_chain
 from ..tooling import Machine, Stock, Tool, ToolLibrary
 from . import analysis as an
 from . import contour as ct
@@ -336,6 +337,16 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
             op.set_unclamped = op.set_spindle or prev.unclamped != op.unclamped
         prev = op
     plan.operations = ops
+    for op in ops:
+        # the control's G41/G42 on the contour as written (with the split's blocks): what it
+        # alarms on is refused here, as the unsplit part contour's check refuses
+        if op.kind == "finish" and op.blocks and op.nose_comp != "none":
+            msg = ct.control_alarm(op.blocks, op.start, op.tool.nose_radius, op.tool.tip,
+                                   op.nose_comp)
+            if msg is not None:
+                raise PlanError(f"part {name}: the control's tool-nose radius compensation of "
+                                f"the {op.name} contour alarms ({msg}); use --comp cam or a "
+                                f"tool with a smaller nose radius")
     _check_chuck(plan, name, z_min, r_stock)
     return plan
 
@@ -580,9 +591,12 @@ def _split_rough(op: Operation, ops: Sequence[Operation], limit: float) -> bool:
     is the critical radius; a dialect without a clamp word then runs the cycle in two
     (:class:`RoughSplit`): the outer at G96 down to that radius only, the inner at G97 at
     the limit. A line or an arc written with R crossing x_s is cut there (both parts of such
-    an arc keep its centre), else the contour is cut at that block's end. False (nothing changed)
-    when the cycle needs no cap or cannot be cut: the whole contour inside, a bore, a cycle
-    of type II, G72, G73, or (under G41/G42) a split that falls on a block's end."""
+    an arc keep its centre), else the contour is cut at that block's end. Under G41/G42 the
+    split's blocks must leave the control's compensation as it is (:func:`_comp_split`): a
+    split inside the nose's trim of a concave corner moves out along its line. False (nothing
+    changed) when the cycle needs no cap or cannot be cut: the whole contour inside, a bore, a
+    cycle of type II, G72, G73, or (under G41/G42) a split that falls on a block's end or
+    where the control's compensation cannot follow it."""
     r = op.rough
     if r.strategy != "turn" or r.side != "od" or r.pockets:
         return False
@@ -601,10 +615,12 @@ def _split_rough(op: Operation, ops: Sequence[Operation], limit: float) -> bool:
     if x_t <= 0:
         return False
     blocks = _cycle_blocks(op, owner)
-    x, z = abs(op.start[0]), op.start[1]
-    ends: list[tuple[float, float, float, float]] = []  # (x0, z0, x1, z1) per block
+    x, z = op.start[0], op.start[1]
+    # (x0, z0, x1, z1) per block, X signed: a tip path's lead-in past the centre starts an
+    # arc at a negative X, and the split of that arc is computed on its own circle
+    ends: list[tuple[float, float, float, float]] = []
     for b in blocks:
-        nx = abs(b.x) if b.x is not None else x
+        nx = b.x if b.x is not None else x
         nz = b.z if b.z is not None else z
         ends.append((x, z, nx, nz))
         x, z = nx, nz
@@ -617,7 +633,7 @@ def _split_rough(op: Operation, ops: Sequence[Operation], limit: float) -> bool:
     def low(i: int) -> float:
         x0, _z0, x1, _z1 = ends[i]
         b = blocks[i]
-        m = min(x0, x1)
+        m = min(abs(x0), abs(x1)) if x0 * x1 > 0 else 0.0
         if b.span is not None:
             m = min(m, min(abs(b.span[0]), abs(b.span[1])) if b.span[0] * b.span[1] > 0 else 0.0)
         return m
@@ -625,7 +641,7 @@ def _split_rough(op: Operation, ops: Sequence[Operation], limit: float) -> bool:
     def high(i: int) -> float:
         x0, _z0, x1, _z1 = ends[i]
         b = blocks[i]
-        return max(x0, x1, *(abs(v) for v in (b.span or ())))
+        return max(abs(x0), abs(x1), *(abs(v) for v in (b.span or ())))
 
     # monotone: nothing before the crossing reaches x_t, nothing after comes back inside
     if any(high(i) > x_t + 1e-9 for i in range(1, k)) or \
@@ -653,6 +669,11 @@ def _split_rough(op: Operation, ops: Sequence[Operation], limit: float) -> bool:
         # under G41/G42 the two blocks of no length stand only inside a block, where the
         # control's offset vector at the split point is the block's own normal
         return False
+    if z_cut is not None and owner.nose_comp != "none":
+        moved = _comp_split(owner, blk, x_t, z_cut)
+        if moved is None:
+            return False
+        x_t, z_cut = moved
     x_e = x_t if z_cut is not None else x1
     z_e = round(z_cut, 3) if z_cut is not None else z1
     # the inside is only the face's edge: where a semi-finishing pass follows the cycle
@@ -662,7 +683,7 @@ def _split_rough(op: Operation, ops: Sequence[Operation], limit: float) -> bool:
     top = x_e + ax
     inside = [(ends[i][2], ends[i][3]) for i in range(1, k)] + [(x_e, z_e)]
     thin = bool(op.blocks) and -z_e <= r.depth + 1e-9 and \
-        all(top - px <= r.depth + 1e-9 for px, pz in inside if pz <= 1e-9)
+        all(top - abs(px) <= r.depth + 1e-9 for px, pz in inside if pz <= 1e-9)
     if thin:
         nf_s = ""
     if z_cut is not None:
@@ -700,6 +721,67 @@ def _split_rough(op: Operation, ops: Sequence[Operation], limit: float) -> bool:
                      f"in two, G96 down to diameter {_fmt(2 * top)}, then G97 S{_fmt(rpm)} "
                      f"inside it"))
     return True
+
+
+def _comp_split(owner: Operation, blk: Block, x_t: float, z_t: float
+                ) -> tuple[float, float] | None:
+    """Where a roughing cycle in two may cut the block ``blk`` of a contour run under G41/G42
+    (``owner``), at radius ``x_t`` or further out along it: the split's blocks (the block's
+    first part, the X and Z moves of no length) must leave the control's compensation of the
+    contour as it is. A split the nose's path along the block does not reach (inside the trim
+    of a concave corner before it: a face beside a journal cut less than a nose radius from
+    it) leaves a first part the offset cannot follow; the split then moves out along a line to
+    just past where the nose's path along it begins. None where no such point is inside the
+    block (or the block is an arc the nose does not follow at ``x_t``): the cycle is not cut."""
+    r, tip, side = owner.tool.nose_radius, owner.tool.tip, owner.nose_comp
+
+    def alarm(xs: float, zs: float) -> str | None:
+        saved = blk.before
+        blk.before = [Block(blk.kind, x=xs, z=zs, r=blk.r, feed=blk.feed),
+                      Block("rapid", x=xs), Block("line", z=zs)]
+        try:
+            return ct.control_alarm(owner.blocks, owner.start, r, tip, side)
+        finally:
+            blk.before = saved
+
+    if ct.control_alarm(owner.blocks, owner.start, r, tip, side) is not None:
+        return None  # the contour itself alarms: refused by the planner's check of it
+    if alarm(x_t, round(z_t, 3)) is None:
+        return x_t, z_t
+    if blk.kind != "line":
+        return None
+    path = ct.block_path(owner.blocks, owner.start)
+    i = 0
+    for b in owner.blocks:
+        i += len(b.before)
+        if b is blk:
+            break
+        i += 1
+    seg = path[i][0]
+    res = offset_chain([g for g, _ in path], r, -1 if side == "right" else 1,
+                       lookahead=None, measure=())
+    pieces = [g for g, o in zip(res.segments, res.origins) if o.kind == "seg" and o.before == i]
+    if not pieces or seg.length <= 1e-9:
+        return None
+    (px, pz), (qx, qz) = seg.start, seg.end
+    dx, dz = (qx - px) / seg.length, (qz - pz) / seg.length
+    c = pieces[0].start
+    s_a = (c[0] - px) * dx + (c[1] - pz) * dz  # where the nose's path along the block begins
+    e = pieces[-1].end
+    s_b = (e[0] - px) * dx + (e[1] - pz) * dz  # ... and ends
+    if dx <= 1e-9:
+        return None
+    # just past it, the diameter a whole micrometre
+    x_s = math.ceil((px + (s_a + 0.01) * dx) * 2000.0 - 1e-6) / 2000.0
+    if x_s < x_t:
+        return None
+    s_s = (x_s - px) / dx
+    if s_s > s_b - 0.01:
+        return None
+    z_s = pz + s_s * dz
+    if alarm(x_s, round(z_s, 3)) is not None:
+        return None
+    return x_s, z_s
 
 
 def _cap_contour(op: Operation, limit: float) -> None:
