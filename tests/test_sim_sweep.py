@@ -109,3 +109,118 @@ def test_small_material_taken_whole_removes_what_the_zones_remove(monkeypatch):
     assert not mat.contains(shapely.Point(-15.0, 17.1)) and mat.contains(shapely.Point(-15.0, 16.9))
     assert not mat.contains(shapely.Point(-5.0, 15.1)) and mat.contains(shapely.Point(-5.0, 14.9))
     assert mat.contains(shapely.Point(-25.0, 19.9))
+
+
+def _wiggle(rng, n):
+    """A polyline of n pieces that turns both ways (a wavy finishing pass, zigzags, corners),
+    not crossing itself."""
+    while True:
+        step = float(np.exp(rng.uniform(np.log(0.01), np.log(2.0))))
+        turn = rng.normal(0.0, rng.choice([0.02, 0.3, 1.2]), n)
+        ang = rng.uniform(0, 2 * np.pi) + np.cumsum(turn)
+        pts = np.concatenate([[[0.0, 0.0]], np.cumsum(step * np.column_stack([np.cos(ang),
+                                                                             np.sin(ang)]), 0)])
+        if shapely.is_simple(shapely.LineString(pts)):
+            return pts
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_sweep_of_a_path_turning_both_ways_is_the_union_of_its_hulls(seed):
+    rng = np.random.default_rng(100 + seed)
+    outlines = _outlines()
+    for _ in range(30):
+        K = outlines[rng.integers(len(outlines))]
+        pts = _wiggle(rng, int(rng.integers(2, 400)))
+        P, Q = pts[:-1], pts[1:]
+        want = shapely.union_all(sweep_hulls(K, P, Q))
+        got = S._ring_sweep(K, P, Q)
+        assert got is not None and got.geom_type == "Polygon" and got.is_valid
+        assert got.symmetric_difference(want).area <= 1e-9 * max(1.0, want.area)
+
+
+def test_a_path_that_crosses_itself_takes_the_envelopes():
+    machine = load_machine()
+    tp = run(PROGRAM, machine, start=(50.0, 80.0))
+    run_ = S._Sweeper(machine, tp.moves).run(list(tp.moves), bands=True)
+    n = len(tp.moves)
+    # the whole program: rapids back over the passes, the path crosses itself
+    assert not shapely.is_simple(shapely.LineString(np.concatenate(
+        [run_.piece_a[:1], run_.piece_b])))
+    got = run_.batch_region(0, n)
+    env = run_.envelopes(0, n)
+    assert len(got) == len(env) > 1
+    assert all(a.equals_exact(b, 0) for a, b in zip(got, env))
+    # one pass (from its rapid down to its retract) is one path: one polygon, the union of
+    # its pieces' hulls
+    k0, k1 = 1, 5
+    lo, hi = np.searchsorted(run_.band_own, [k0, k1])
+    got = run_.batch_region(k0, k1)
+    assert len(got) == 1
+    K = run_.outlines[0]
+    want = shapely.union_all(sweep_hulls(K, run_.piece_a[lo:hi], run_.piece_b[lo:hi]))
+    assert got[0].symmetric_difference(want).area <= 1e-9 * want.area
+
+
+WAVY = """%1
+T0101
+M03 S800
+G00 X44 Z2
+#1 = 0
+WHILE #1 LT 3
+G00 X[35 - 2 * #1] Z1
+#3 = 0
+WHILE #3 LE 400
+G01 X[34.4 - 2 * #1 + 0.3 * SIN[#3 * 0.6]] Z[-#3 * 0.05] F0.2
+#3 = #3 + 1
+ENDW
+G01 X44
+G00 Z2
+#1 = #1 + 1
+ENDW
+G00 X80 Z80
+M30
+"""
+
+
+def test_batches_taken_with_the_path_sweep_remove_what_the_envelopes_remove(monkeypatch):
+    machine = load_machine()
+    tp = run(WAVY, machine, start=(50.0, 80.0))
+    stock = Stock.parse("40x60")
+    calls = []
+    ring_sweep = S._ring_sweep
+    monkeypatch.setattr(S, "_ring_sweep", lambda *a: calls.append(1) or ring_sweep(*a))
+    one = simulate(tp, stock, machine)
+    assert len(calls) >= 3  # every pass's batches
+    monkeypatch.setattr(S._Run, "batch_region", S._Run.envelopes)
+    env = simulate(tp, stock, machine)
+    assert (one.removed_area > 1e-6).sum() > 1000
+    assert np.allclose(one.removed_area, env.removed_area, rtol=0, atol=1e-12)
+    assert one.material.symmetric_difference(env.material).area <= 1e-9
+    assert [str(i) for i in one.issues] == [str(i) for i in env.issues]
+    # the last pass's tip runs on X 30.4 +- 0.3 (diameter): the 0.8 mm nose leaves the
+    # material below its wave and takes all above it
+    for z in (-1.0, -5.05, -12.85, -19.5):
+        assert one.material.contains(shapely.Point(z, 15.05 - 0.01))
+        assert not one.material.contains(shapely.Point(z, 15.35 + 0.01))
+
+
+def test_a_path_whose_outline_extremes_move_on_fast_takes_the_envelopes():
+    # the 0.8 mm nose along a steep wave: the extreme vertices move on by some 20 vertices a
+    # piece (past the insert's long edges), where one ring would cross itself thousands of times
+    machine = load_machine()
+    steep = WAVY.replace("SIN[#3 * 0.6]", "SIN[#3 * 3]").replace("WHILE #1 LT 3", "WHILE #1 LT 1")
+    tp = run(steep, machine, start=(50.0, 80.0))
+    moves = list(tp.moves)
+    run_ = S._Sweeper(machine, moves).run(moves, bands=True)
+    k0 = next(k for k, m in enumerate(moves) if m.kind == "line")  # the wave, to the retract
+    k1 = next(k for k, m in enumerate(moves) if k > k0 and m.kind == "rapid")
+    got = run_.batch_region(k0, k1)
+    env = run_.envelopes(k0, k1)
+    assert len(got) == len(env) > 100
+    # the gentle wave of WAVY: one ring
+    tp = run(WAVY, machine, start=(50.0, 80.0))
+    moves = list(tp.moves)
+    gentle = S._Sweeper(machine, moves).run(moves, bands=True)
+    k0 = next(k for k, m in enumerate(moves) if m.kind == "line")
+    k1 = next(k for k, m in enumerate(moves) if k > k0 and m.kind == "rapid")
+    assert len(gentle.batch_region(k0, k1)) == 1 < len(gentle.envelopes(k0, k1))

@@ -22,9 +22,11 @@ Model (the choices made where the issue leaves room):
   comes from :mod:`hnc_cam.sim.area`: the overlap of the material at the batch's start with
   the move's *front band* (its sweep beyond the placement where it starts, which the move
   before swept) is an upper bound of what the move removes after the moves before it; the
-  batch's material is the material minus polygons inside the union of its sweeps (one
-  *envelope* per run of pieces with the same extreme vertices of the outline, and the outline
-  where a run starts), one overlay for the batch. The bounds add up to at least what the sweeps
+  batch's material is the material minus polygons inside the union of its sweeps (where its
+  pieces are one path of one outline that does not cross itself, their hulls' union as one
+  polygon, built as an arc's sweep is; else one *envelope* per run of pieces with the same
+  extreme vertices of the outline, and the outline where a run starts), one overlay for the
+  batch. The bounds add up to at least what the sweeps
   remove, which is at least what the envelopes remove; where they add up to what the envelopes
   remove (to ``1e-10 + 1e-13 * area`` mm^2) all are equal, so every bound is exact and the
   material is the material minus the sweeps. Where they do not (a move coming back through
@@ -509,6 +511,13 @@ def _path_sweep(K: np.ndarray, P: np.ndarray, Q: np.ndarray) -> BaseGeometry:
     insertions run backwards and make the ring cross itself; the region is the set of points
     it winds round positively, which GEOS's zero-distance buffer returns. A path with a
     zero-length piece, or a result that is not one polygon, takes the union of the hulls."""
+    g = _ring_sweep(K, P, Q)
+    return g if g is not None else union_of(sweep_hulls(K, P, Q))
+
+
+def _ring_sweep(K: np.ndarray, P: np.ndarray, Q: np.ndarray) -> BaseGeometry | None:
+    """:func:`_path_sweep`'s one polygon, or None where it gives none (a zero-length piece,
+    a single piece, a result that is not one polygon)."""
     K = np.asarray(K, dtype=float)
     z, x = K[:, 0], K[:, 1]
     if float(z[:-1] @ x[1:] - z[1:] @ x[:-1] + z[-1] * x[0] - z[0] * x[-1]) < 0:
@@ -526,7 +535,7 @@ def _path_sweep(K: np.ndarray, P: np.ndarray, Q: np.ndarray) -> BaseGeometry:
             g = None
         if g is not None and g.geom_type == "Polygon" and not g.is_empty:
             return g
-    return union_of(sweep_hulls(K, P, Q))
+    return None
 
 
 def _side(K: np.ndarray, ext: np.ndarray, P: np.ndarray, Q: np.ndarray) -> np.ndarray:
@@ -716,6 +725,32 @@ class _Run:
                 np.subtract.at(out, self.band_own[p0 + ss[nz]] - k0, sub)
         return out
 
+    def batch_region(self, k0: int, k1: int) -> np.ndarray | list | None:
+        """Polygons inside the union of the sweeps of the moves k0 <= k < k1 (where band_ok):
+        where their pieces are one path (each starts where the one before ends) of one
+        outline that does not cross itself, the union of the pieces' hulls as one polygon
+        (:func:`_ring_sweep`, as an arc's sweep; one zero-distance buffer costs about half
+        the union of the envelopes) when the outline's extreme vertices move on by at most
+        :data:`RING_TURN` vertices a piece (the ring gains those vertices where they move,
+        crossing itself on the inside of the turn, and the buffer's cost grows faster than
+        the union's with them); else, or where that gives no polygon, the
+        :meth:`envelopes`."""
+        lo, hi = np.searchsorted(self.band_own, [k0, k1])
+        sh = self.piece_shape[lo:hi]
+        if hi - lo > 1 and self.piece_covered[lo + 1:hi].all() and (sh == sh[0]).all():
+            K = self.outlines[int(sh[0])]
+            turn = 0
+            for ext in (self.piece_min[lo:hi], self.piece_max[lo:hi]):
+                d = np.abs(np.diff(ext))
+                turn += int(np.minimum(d, len(K) - d).sum())
+            A, B = self.piece_a[lo:hi], self.piece_b[lo:hi]
+            if (turn <= RING_TURN * (hi - lo)
+                    and shapely.is_simple(shapely.linestrings(np.concatenate([A[:1], B])))):
+                g = _ring_sweep(K, A, B)
+                if g is not None:
+                    return [g]
+        return self.envelopes(k0, k1)
+
     def envelopes(self, k0: int, k1: int) -> np.ndarray | list | None:
         """Polygons inside the union of the sweeps of the moves k0 <= k < k1 (where
         band_ok): per run of pieces with one outline, continuous, with the same extreme
@@ -756,6 +791,9 @@ class _Run:
         return set(self.quad_owner[lo:hi][hit].tolist())
 
 
+#: a batch's region is built as one ring (:meth:`_Run.batch_region`) where the outline's
+#: extreme vertices move on by at most this many vertices a piece (on average)
+RING_TURN = 4
 #: margin (mm) of a batch's zone round the convex hull of its sweeps
 SEAM = 0.01
 #: a material of at most this many vertices is taken move by move whole: the overlays of a
@@ -993,7 +1031,7 @@ def _batch_by_bands(material, edges_of, run: "_Run", c0, b0, b1, idx, geoms, rem
                 return None
             if not len(ub) or float(ub.max()) <= 1e-12:
                 return material  # no move removed more than this: nothing (as move by move)
-            env = run.envelopes(b0, b1)
+            env = run.batch_region(b0, b1)
             if env is None:
                 return None
             after = _difference(material, env[0] if len(env) == 1 else union_of(env))
