@@ -145,7 +145,7 @@ def first_line(cold: dict, warm: dict) -> str:
 def counts_line(last: dict) -> str:
     ws = (last.get("workers") or {}).values()
     return "; ".join(f"pid {w['pid']}: {w['inits']} init, kernel "
-                     f"{'inherited' if w['kernel_inherited'] else 'imported'}"
+                     f"{w.get('kernel') or ('inherited' if w['kernel_inherited'] else 'imported')}"
                      f"{', warmed up by the fork server' if w.get('warmed') else ''}, "
                      f"{w['tools']} tool library, {w['machines']} machine, "
                      f"{w['environments']} template environment(s) loaded"
@@ -193,7 +193,7 @@ def main() -> None:
             import multiprocessing as mp
             from hnc_cam.plan import command
             own = command.pool_context
-            command.pool_context = lambda: mp.get_context("fork")
+            command.pool_context = lambda part=None: mp.get_context("fork")
             try:
                 times, progs = [], []
                 with Memory() as mem:

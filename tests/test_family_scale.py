@@ -146,3 +146,69 @@ def test_family_killed_takes_the_fork_server_and_its_workers_along(tmp_path):
     for k in alive:
         os.kill(k, signal.SIGKILL)
     assert alive == []
+
+
+
+TURNABLE = '''
+from hnc_cam.cad.sketch import Outline, revolve
+
+
+def part(length=40.0, d=20.0, turned=0):
+    s = Outline((0.0, 0.0))
+    s.line_to(d / 2, 0.0, chamfer=1.0).line_to(d / 2, -length).line_to(0.0, -length)
+    solid = revolve(s.segments())
+    if turned:  # a row that uses its solid: made, and profiled from its section
+        from build123d import Location
+        return solid.moved(Location((0, 0, 0), (1, 0, 0), 180))
+    return solid
+'''
+
+RUN_ROWS = '''
+import json, sys
+from hnc_cam.plan.command import _run_jobs
+part = sys.argv[1]
+jobs = [(i, i + 1, part, "25x60+2", {"length": str(38 + i), "turned": str(int(i % 3 == 0))},
+         700 + i, {"verify": False}) for i in range(1, 9)]
+res = sorted(_run_jobs(jobs, int(sys.argv[2]), {"verify": False}), key=lambda r: r["row"])
+print(json.dumps([[r["status"], r.get("text") or r.get("message"), r["counts"]]
+                  for r in res]))
+'''
+
+
+def _rows(part: Path, jobs: int) -> list:
+    import json
+    out = subprocess.run([sys.executable, "-c", RUN_ROWS, str(part), str(jobs)],
+                         capture_output=True, text=True, timeout=600, cwd=REPO)
+    assert out.returncode == 0, out.stderr[-2000:]
+    return json.loads(out.stdout)
+
+
+@pytest.mark.cad
+@pytest.mark.skipif(not LINUX, reason="the fork server")
+def test_a_revolve_family_runs_without_the_cad_kernel(tmp_path):
+    """The fork server loads the family's part with its defaults: a part that returns
+    revolve(outline) needs no CAD kernel, and the workers' rows run without importing it
+    (a fresh family process); a row whose part() uses its solid (turned end for end)
+    imports it in its worker, and is profiled from the solid. The programs are those of a
+    run in one process."""
+    part = tmp_path / "turnable.py"
+    part.write_text(TURNABLE)
+    pool, here = _rows(part, 2), _rows(part, 1)
+    assert [r[0] for r in pool] == ["ok"] * 8, [r[1] for r in pool]
+    assert [r[1] for r in pool] == [r[1] for r in here]
+    turned = [i % 3 == 0 for i in range(1, 9)]
+    for (_, _, c), t in zip(pool, turned):
+        assert c["pid"] != os.getpid()
+        assert c["kernel"] in ("not needed", "imported")
+        if t:
+            assert c["kernel"] == "imported"
+        assert c["kernel_inherited"] is (c["kernel"] != "imported")
+    assert [r[2]["kernel"] for r in pool[:2]] == ["not needed"] * 2  # before any turned row
+    assert pool[2][1] != _unturned_row_3(tmp_path)
+
+
+def _unturned_row_3(tmp_path: Path) -> str:
+    """Row 3's program had its part not been turned (same length)."""
+    from hnc_cam.plan.api import generate
+    return generate(tmp_path / "turnable.py", "25x60+2", params={"length": "41"},
+                    program_number=703, file="O0703.nc", verify=False).text

@@ -47,7 +47,10 @@ steps 1 to 4 are taken from the exact outline it was revolved from (:func:`outli
 which accepts only an outline whose revolution is a valid turned solid and whose pieces the
 kernel keeps as they are), then steps 5 and 6 as for any solid, for the default axis. The
 result is the one the section gives (``tests/test_cad_revolved.py`` compares the two for every
-bundled part and test family), about 20 to 45 times faster than cutting the solid.
+bundled part and test family), about 20 to 45 times faster than cutting the solid. The part
+loader calls a family's ``part()`` with :func:`~hnc_cam.cad.sketch.revolve` deferred: the
+:class:`~hnc_cam.cad.sketch.Revolved` it returns is profiled the same way before any solid is
+made, and OpenCascade is imported only when a solid is cut (``tests/test_cad_deferred.py``).
 """
 from __future__ import annotations
 
@@ -59,7 +62,6 @@ from typing import Any
 from ..errors import ProfileError
 from ..geometry.primitives import Arc, Line, Point, Segment, dist, reverse_chain
 from ..geometry.profile import TurnedProfile
-from . import occ
 from .fit import circle3, fit_curve, merge_segments
 
 #: polar angle of the default meridian half-plane (radians): away from the seam at 0
@@ -106,6 +108,7 @@ def extract(obj: Any, axis: Any = "Z", zero: str | float = "right", envelope: bo
             fit_tol: float = 0.001, name: str | None = None) -> TurnedProfile:
     """:func:`profile` taken from the solid itself, always (the section of its boundary),
     never from the outline :func:`hnc_cam.cad.sketch.revolve` noted."""
+    from . import occ
     if not fit_tol > 0:
         raise ProfileError(f"fit_tol must be positive, got {fit_tol!r}")
     obj_shape = occ.to_shape(obj)
@@ -189,6 +192,7 @@ def _finish(main: "_Chain", notes: list[str], zero: str | float,
 def _axis_hint(shape, axis: Any) -> str:
     """When every round face of the model is about one other axis, say which (the part was
     modelled along another axis, or off the origin)."""
+    from . import occ
     try:
         ca = occ.common_axis(shape)
     except Exception:  # noqa: BLE001 - a hint only
@@ -222,6 +226,7 @@ def _clean(s: Segment) -> Segment:
 
 # ---------------------------------------------------------------------------- edges -> chains
 def _edge_segments(e: occ.SectionEdge, fit_tol: float, notes: list[str]) -> list[Segment]:
+    from . import occ
     p0, p1 = e.rz(e.first), e.rz(e.last)
     p0 = (0.0 if abs(p0[0]) < AXIS_SNAP else p0[0], p0[1])
     p1 = (0.0 if abs(p1[0]) < AXIS_SNAP else p1[0], p1[1])
@@ -258,6 +263,7 @@ def _recognise(e: occ.SectionEdge, p0: Point, p1: Point) -> list[Segment] | None
     points (e.g. the cut of a self-intersecting torus, which OpenCascade approximates)
     becomes that Line/Arc; an arc whose centre lies within ``AXIS_SNAP`` of the axis (a sphere
     given as a B-spline) gets its centre exactly on it."""
+    from . import occ
     ts = [e.first + (e.last - e.first) * i / 64 for i in range(1, 64)]
     pts = [e.rz(t) for t in ts]
     if dist(p0, p1) < 1e-9:
@@ -321,6 +327,7 @@ class _Chain:
 def _chains(edges: list[occ.SectionEdge], fit_tol: float) -> list[_Chain]:
     """Connected chains of the section, the one reaching the largest radius first. Each chain
     is either closed (a loop) or open with both ends on the axis."""
+    from . import occ
     items: list[tuple[Segment, int]] = []  # (segment, index of its fitting note or -1)
     notes: list[str] = []
     zr: dict[int, tuple[float, float]] = {}  # note index -> true Z range of the fitted edge
@@ -392,6 +399,7 @@ AXIS = "axis"  # marker in a loop for the closing run along the axis
 def _clean_section(solid, bb, vol: float, fit_tol: float) -> "_Chain":
     """The section boundary of a validated turned solid, checked against its volume; another
     half-plane is tried when a section comes out broken."""
+    from . import occ
     first: ProfileError | None = None
     for theta in THETAS:
         try:
@@ -522,6 +530,7 @@ def _check_volume(vol: float, main: "_Chain", fit_tol: float, solid: Any = None)
     face classification might let through. The solid's volume is integrated adaptively
     (``vol``); should that disagree, the default Gauss rule (exact on analytic faces) and
     then the adaptive rule at 1e-10 (C0 B-spline faces) are asked too; any agreeing passes."""
+    from . import occ
     v2 = revolved_volume(main.segs)
     rmax = max(sg.bbox()[2] for sg in main.segs)
     zs = [sg.bbox()[1] for sg in main.segs] + [sg.bbox()[3] for sg in main.segs]
@@ -579,6 +588,7 @@ def _split(ch: list[Segment]) -> tuple[list[Segment], list[Segment] | None, list
 # ---------------------------------------------------------------------------- envelope
 def _envelope_section(solid, bb, problems, fit_tol: float, notes: list[str]):
     """The first meridian half-plane whose outline (main chain) no non-turned face touches."""
+    from . import occ
     bad = occ.face_compound([p.face for p in problems])
     for k in range(72):
         theta = THETA + k * 2 * math.pi / 72
@@ -620,6 +630,7 @@ def _dominant_section(solid, bb, problems, bad, fit_tol: float, notes: list[str]
     contains the sections of all the others and of ``ENVELOPE_CHECKS`` evenly spaced
     half-planes (checked on polylines within 1e-4 mm) is taken. When none does (the
     envelope is the union of several sections), ProfileError says so."""
+    from . import occ
     angles: list[float] = []
     for f in (p.face for p in problems):
         for x, y, _z in occ.vertex_points(f):

@@ -52,6 +52,7 @@ from typing import Any, Iterable
 
 from ..errors import HncError, PartError, ProfileError, StockError
 from ..geometry.profile import Thread, TurnedProfile
+from .sketch import Revolved, deferred
 
 CAD_SUFFIXES = (".step", ".stp", ".brep")
 
@@ -233,6 +234,29 @@ def _call_part(p: Path, mod: ModuleType, params: dict[str, Any]) -> Any:
         _note_helpers(entry, _helpers(mod, before))
 
 
+#: :func:`_deferred_part`'s answer when ``part()`` is to be called again as written
+_AGAIN = object()
+
+
+def _deferred_part(p: Path, mod: ModuleType, params: dict[str, Any]) -> Any:
+    """``mod.part(**params)`` with :func:`hnc_cam.cad.sketch.revolve` deferred
+    (:func:`hnc_cam.cad.sketch.deferred`): a part that returns ``revolve(outline)`` as it is
+    gives a :class:`~hnc_cam.cad.sketch.Revolved` whose profile is its outline's, and the
+    CAD kernel makes no solid (nor is it imported, when the part file does not import it).
+    A part that uses the solid gets it made by the first use, as ``revolve`` makes it. When
+    ``part()`` fails other than by refusing its parameters (a Revolved handed to a function
+    of the kernel that takes only its own objects, or any other failure), the answer is
+    :data:`_AGAIN`: ``part()`` is called again without deferring, and what it does then
+    (its solid, its error) is the part's."""
+    try:
+        with deferred():
+            return _call_part(p, mod, params)
+    except HncError:
+        raise
+    except Exception:  # noqa: BLE001 - called again as written: its error is the part's
+        return _AGAIN
+
+
 #: module-level names a plain modelling script leaves its solid under (build123d examples
 #: use ``part``, CadQuery scripts ``result``)
 SCRIPT_NAMES = ("part", "result")
@@ -401,7 +425,9 @@ def load_part(path: str | Path, params: dict[str, Any] | None = None,
     where = str(p)
     full = resolve_params(mod, params, where)
     try:
-        solid = _call_part(p, mod, full)
+        solid = _deferred_part(p, mod, full)
+        if solid is _AGAIN:
+            solid = _call_part(p, mod, full)
     except PartError as e:  # the family refused the parameter set (names the parameters)
         raise PartError(f"{where}: part({_fmt(full)}): impossible part: {e}") from None
     except HncError:
@@ -410,7 +436,8 @@ def load_part(path: str | Path, params: dict[str, Any] | None = None,
         raise PartError(f"{where}: part({_fmt(full)}) raised {type(e).__name__}: {e}") from e
     if solid is None:
         raise PartError(f"{where}: part({_fmt(full)}) returned None instead of a solid")
-    if isinstance(solid, (str, bytes, Path, int, float, list, tuple, dict)):
+    if type(solid) is not Revolved and \
+            isinstance(solid, (str, bytes, Path, int, float, list, tuple, dict)):
         raise PartError(f"{where}: part({_fmt(full)}) returned a {type(solid).__name__} "
                         f"({str(solid)[:40]!r}), not a solid (build123d, CadQuery or OCP)")
     stock = _stock(mod, full, where)

@@ -148,6 +148,9 @@ def read_file(path: str | Path) -> TopoDS_Shape:
 
 def to_shape(obj: Any) -> TopoDS_Shape:
     """An OCP shape from a build123d/CadQuery object, an OCP shape or a file path."""
+    from .sketch import Revolved
+    if type(obj) is Revolved:  # the solid revolve() would have made, made now
+        obj = obj.solid()
     if isinstance(obj, (str, Path)):
         return read_file(obj)
     if isinstance(obj, TopoDS_Shape):

@@ -29,7 +29,9 @@ naming the parameters passed as ``names``.
 from __future__ import annotations
 
 import math
-from typing import Any, Sequence
+from contextlib import contextmanager
+from contextvars import ContextVar
+from typing import Any, Iterator, Sequence
 
 from ..errors import PartError
 from ..geometry.corner import CornerError
@@ -202,9 +204,14 @@ def _record(obj: Any, segs: Sequence[Segment]) -> None:
 def revolved_outline(obj: Any) -> list[Segment] | None:
     """The exact segments :func:`revolve` revolved into ``obj``, when ``obj`` is the very
     object it returned and its shape is still the one it made (``TopoDS_Shape.IsEqual``: the
-    same TShape, location and orientation); None otherwise (a solid moved, located or
-    reoriented in place, a copy, a boolean, a mirror, any other object: profile those from
-    the solid)."""
+    same TShape, location and orientation), or a :class:`Revolved` not made yet; None
+    otherwise (a solid moved, located or reoriented in place, a copy, a boolean, a mirror,
+    any other object: profile those from the solid)."""
+    if type(obj) is Revolved:
+        made = object.__getattribute__(obj, "_solid")
+        if made is None:
+            return list(object.__getattribute__(obj, "_segs"))
+        obj = made
     entry = _REVOLVED.get(id(obj))
     if entry is None or entry[0]() is not obj:
         return None
@@ -219,7 +226,16 @@ def revolve(segs: Sequence[Segment]) -> Any:
     """build123d Solid: the outline (radius, Z) placed in the XZ plane (X = radius) and
     revolved a full turn about the Z axis. The solid keeps a note of the exact segments
     (:func:`revolved_outline`), from which its profile is taken without cutting the solid
-    again while it stays the shape made here."""
+    again while it stays the shape made here.
+
+    Inside :func:`deferred` (the part loader's call of a family's ``part()``), a
+    :class:`Revolved` instead: the solid made only when something uses it."""
+    if _DEFERRED.get():
+        return Revolved(segs)
+    return _revolve(segs)
+
+
+def _revolve(segs: Sequence[Segment]) -> Any:
     from build123d import Axis, Edge, Face, Wire
     from build123d import revolve as b3d_revolve
 
@@ -241,6 +257,94 @@ def revolve(segs: Sequence[Segment]) -> Any:
         return part
     _record(solids[0], segs)
     return solids[0]
+
+
+_DEFERRED: ContextVar[bool] = ContextVar("hnc_cam_deferred_revolve", default=False)
+
+
+@contextmanager
+def deferred() -> Iterator[None]:
+    """While inside, :func:`revolve` returns a :class:`Revolved` (no CAD kernel work until
+    its solid is used)."""
+    token = _DEFERRED.set(True)
+    try:
+        yield
+    finally:
+        _DEFERRED.reset(token)
+
+
+def _made(self: "Revolved") -> Any:
+    return Revolved.solid(self)
+
+
+def _forward(name: str):
+    def method(self, *args, **kwargs):
+        return getattr(_made(self), name)(*args, **kwargs)
+    method.__name__ = name
+    return method
+
+
+class Revolved:
+    """What :func:`revolve` returns inside :func:`deferred`: the outline it is to revolve,
+    and the build123d solid :func:`revolve` would have returned, made (once) the first time
+    anything asks the object for more than its outline: an attribute, a method, an operator,
+    a copy, a pickle, its class (``isinstance(s, Solid)`` is true as for the solid). Until
+    then the solid is not made, and a profile taken of the object is its outline's
+    (:func:`revolved_outline`), which is what the solid made of it gives too, untouched.
+    As an argument of the kernel's own functions (OCP) it does not stand in for a solid: the
+    part loader then calls ``part()`` again outside :func:`deferred`."""
+
+    __slots__ = ("_segs", "_solid", "__weakref__")
+
+    def __init__(self, segs: Sequence[Segment]):
+        object.__setattr__(self, "_segs", tuple(segs))
+        object.__setattr__(self, "_solid", None)
+
+    def solid(self) -> Any:
+        """The build123d solid (made on the first call; as :func:`revolve` makes it)."""
+        made = object.__getattribute__(self, "_solid")
+        if made is None:
+            made = _revolve(object.__getattribute__(self, "_segs"))
+            object.__setattr__(self, "_solid", made)
+        return made
+
+    def __getattr__(self, name: str) -> Any:  # what the object itself does not have
+        return getattr(_made(self), name)
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        setattr(_made(self), name, value)
+
+    def __delattr__(self, name: str) -> None:
+        delattr(_made(self), name)
+
+    @property  # type: ignore[misc]
+    def __class__(self):  # noqa: D105 - isinstance() asks it: the solid's class
+        return type(_made(self))
+
+    def __dir__(self):
+        return dir(_made(self))
+
+    def __repr__(self) -> str:
+        return repr(_made(self))
+
+    def __str__(self) -> str:
+        return str(_made(self))
+
+    def __eq__(self, other: Any) -> bool:
+        if type(other) is Revolved:
+            other = _made(other)
+        return _made(self) == other
+
+    def __hash__(self) -> int:
+        return hash(_made(self))
+
+
+# the special methods a build123d shape has (looked up on the type, not through
+# __getattr__), and pickling's
+for _name in ("__add__", "__sub__", "__and__", "__rmul__", "__bool__", "__copy__",
+              "__deepcopy__", "__reduce__", "__reduce_ex__"):
+    setattr(Revolved, _name, _forward(_name))
+del _name
 
 
 #: standard bright/hot-rolled round bar diameters (mm) used for default stock

@@ -7,7 +7,8 @@ family: one program per CSV row (columns: the part's parameters, optional ``prog
 and ``stock``), ``DIR/O<number>.nc`` plus ``DIR/summary.csv`` (row, program_number, file,
 status, operations, cycle_time_s, verified, max_overcut_mm, max_undercut_mm, message).
 Rows run in worker processes (``--jobs``, default all cores) forked from a fork server that
-imported the CAD kernel, the generator and the bundled tables once (:mod:`hnc_cam.plan.pool`;
+imported the generator and the bundled tables and loaded the part's nominal row once (with the
+CAD kernel only when the part needs it: :mod:`hnc_cam.plan.pool`;
 spawned workers importing them in the pool initializer where there is no fork server), reused
 for every row, or, with ``--scheduler tcp://HOST:PORT``,
 as tasks on a Dask distributed cluster whose workers import it with their first row (the
@@ -321,15 +322,19 @@ def _init_worker(opts: dict[str, Any] | None = None, family: int | None = None,
     global _INITS
     if _INIT_PID[0] != os.getpid():
         _INITS, _INIT_PID[0] = 0, os.getpid()
-        _KERNEL_INHERITED[0] = "build123d" in sys.modules
+        _KERNEL_INHERITED[0] = "OCP" in sys.modules
     _INITS += 1
     if family is not None and os.getpid() != family:
         _bind_to_parent(family)
     if environ is not None and environ != os.environ:
         os.environ.clear()
         os.environ.update(environ)
+    pool = sys.modules.get(POOL_PRELOAD)
     try:
-        import build123d  # noqa: F401
+        if pool is None or pool.PART[0] is None:
+            # a fork of a fork server that loaded the family's part has what its rows need
+            # (the CAD kernel only when the part needs it)
+            import build123d  # noqa: F401
         from .. import cad  # noqa: F401
         from ..cad import extract  # noqa: F401
         from .. import nc, sim  # noqa: F401
@@ -350,10 +355,20 @@ def _init_worker(opts: dict[str, Any] | None = None, family: int | None = None,
 _KERNEL_INHERITED: list[bool] = [False]
 
 
+def _kernel() -> str:
+    """Where this worker's CAD kernel came from: ``inherited`` (imported by the fork server
+    before the fork), ``not needed`` (no row of this worker has used it: a family whose
+    ``part()`` returns ``revolve(outline)``), ``imported`` (by this worker)."""
+    if _KERNEL_INHERITED[0]:
+        return "inherited"
+    return "imported" if "OCP" in sys.modules else "not needed"
+
+
 def worker_counts() -> dict[str, Any]:
     """What this process has loaded so far, to show that a worker loads each thing once
-    however many rows it runs: pid, initializer runs, whether the CAD kernel came with the
-    fork, whether the fork server's warm-up program did (``warmed``: the modules the
+    however many rows it runs: pid, initializer runs, where its CAD kernel came from
+    (``kernel``: :func:`_kernel`; ``kernel_inherited``: it did not import it itself),
+    whether the fork server's warm-up program did (``warmed``: the modules the
     generator imports on first use and the compiled templates), tool libraries and machine files parsed, template environments built, and its
     peak resident memory (MB)."""
     from .api import LOADS
@@ -364,7 +379,9 @@ def worker_counts() -> dict[str, Any]:
     except ImportError:  # pragma: no cover - Windows
         peak = None
     pool = sys.modules.get(POOL_PRELOAD)
-    return {"pid": os.getpid(), "inits": _inits(), "kernel_inherited": _KERNEL_INHERITED[0],
+    kernel = _kernel()
+    return {"pid": os.getpid(), "inits": _inits(), "kernel_inherited": kernel != "imported",
+            "kernel": kernel,
             "warmed": bool(pool is not None and pool.WARMED[0]),
             "tools": LOADS["tools"], "machines": LOADS["machines"],
             "environments": environment.cache_info().misses,
@@ -512,7 +529,7 @@ def family_command(args: argparse.Namespace) -> int:
         raise PlanError(f"{args.table}: program number(s) {sorted(dup)} appear in several rows")
     n_jobs = args.jobs or os.cpu_count() or 1
     if not getattr(args, "scheduler", None) and n_jobs > 1 and len(jobs) > 1:
-        start_pool_server()  # imports the kernel while the output folder is prepared
+        start_pool_server(args.part)  # loads the part while the output folder is prepared
     out_dir = _prepare_out(args.out)
 
     def done(r: dict[str, Any]) -> None:  # each program is written as soon as its row ends
@@ -655,33 +672,43 @@ class _Finished:
 
 #: what the fork server imports before it forks the workers
 POOL_PRELOAD = "hnc_cam.plan.pool"
+#: environment variable naming the family's part file to the fork server as it starts
+POOL_PART_ENV = "HNC_CAM_POOL_PART"
 
 
-def pool_context() -> Any:
+def pool_context(part: str | os.PathLike | None = None) -> Any:
     """The multiprocessing context of the local pool: workers forked from a fork server that
-    imported the CAD kernel, the generator and the bundled tables once
-    (:mod:`hnc_cam.plan.pool`): no worker imports the kernel itself, the workers share its
-    memory (copy on write), and the family process stays free of it. The server is started
-    here (it imports in the background; the pool's first worker waits for it). Where there
-    is no fork server (Windows) or it cannot start (no folder for its socket), spawned
-    workers that import the kernel in their initializer."""
+    imported the generator and the bundled tables once and loaded the family's ``part``
+    with its defaults (:mod:`hnc_cam.plan.pool`; without ``part``, the CAD kernel): no worker
+    imports what its rows need itself, the workers share its memory (copy on write), and the
+    family process stays free of it. The server is started here when it does not run yet (it
+    imports in the background; the pool's first worker waits for it). Where there is no fork
+    server (Windows) or it cannot start (no folder for its socket), spawned workers that
+    import the kernel in their initializer."""
     import multiprocessing as mp
     if "forkserver" in mp.get_all_start_methods():
         from multiprocessing import forkserver
         ctx = mp.get_context("forkserver")
         ctx.set_forkserver_preload([POOL_PRELOAD])
+        old = os.environ.pop(POOL_PART_ENV, None)
+        if part is not None:  # read by the server as it starts; not left to anyone else
+            os.environ[POOL_PART_ENV] = os.path.abspath(part)
         try:
             forkserver.ensure_running()
             return ctx
         except OSError:
             pass
+        finally:
+            os.environ.pop(POOL_PART_ENV, None)
+            if old is not None:
+                os.environ[POOL_PART_ENV] = old
     return mp.get_context("spawn")
 
 
-def start_pool_server() -> None:
-    """Start the fork server now, so that it imports the CAD kernel while this process gets
-    on with the rows' preparation (see :func:`pool_context`)."""
-    pool_context()
+def start_pool_server(part: str | os.PathLike | None = None) -> None:
+    """Start the fork server now, so that it loads ``part`` (or imports the CAD kernel)
+    while this process gets on with the rows' preparation (see :func:`pool_context`)."""
+    pool_context(part)
 
 
 def _run_pool(jobs: list[tuple], n_jobs: int, opts: dict[str, Any] | None, on_done: Any,
@@ -695,7 +722,8 @@ def _run_pool(jobs: list[tuple], n_jobs: int, opts: dict[str, Any] | None, on_do
         else:
             from concurrent.futures import ProcessPoolExecutor, as_completed
             ex = ProcessPoolExecutor(max_workers=min(n_jobs, len(jobs)),
-                                     mp_context=pool_context(), initializer=_init_worker,
+                                     mp_context=pool_context(jobs[0][2]),
+                                     initializer=_init_worker,
                                      initargs=(opts, os.getpid(), dict(os.environ)))
             try:
                 futs = [ex.submit(_row_job, j) for j in jobs]
