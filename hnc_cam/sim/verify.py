@@ -21,9 +21,13 @@ Choices (the issue leaves them open):
   bore's open end, and neither through the part. That region is computed with exact Minkowski
   sums of the sampled polygons with the convex outlines (each edge swept as an exact hull,
   :func:`hnc_cam.sim.tool.sweep_hulls`), locally: placements within K's extent of the leftover
-  no tool before covered, obstacles within that plus the holder's extent, of the obstacles
-  only the edges that face the holder (:func:`_blocked`), and only the swept edges that meet
-  the placement window or the leftover are united (:func:`reachable`). The
+  no tool before covered, of the obstacles only the edges that face the holder, and only the
+  swept edges that meet the leftover are united (:func:`reachable`). The placements the body
+  cannot take lie, seen along the holder, under one function of the coordinate across it (the
+  holder reaches past the part): the upper envelope of those edges' sums with the body's
+  section, computed with its crossings (exact to ``ENVELOPE_EPS``, 1e-10 mm) and taken as one
+  polygon (:func:`_blocked_region`), the same region as the union of the swept edges
+  (:func:`_blocked`). The
   stock beyond the part's left end (the chucking allowance, where the part is cut off later) is
   an obstacle too, so the nose fillet a pass leaves exactly at the cut-off line is not a defect.
   Leftover outside the union of the openings of every cutting tool the program used (in inner
@@ -557,6 +561,238 @@ def _blocked(obst: BaseGeometry, body: np.ndarray, u: tuple[float, float],
     return hulls[shapely.intersects(near, hulls)]
 
 
+#: an envelope of more chains times breakpoints than this is left to GEOS (:func:`_hypograph`)
+ENVELOPE_CELLS = 250_000
+#: at most this many segments go into their sums with a set as they are, hidden ones too
+#: (:func:`_profile`: finding those is dearer than summing them)
+PROFILE_MIN = 12
+#: a line rising less than this (mm) above the crossing of two others in an envelope is not
+#: a piece of it (:func:`_envelope`)
+ENVELOPE_EPS = 1e-10
+
+
+def _upper_chain(pts: np.ndarray) -> np.ndarray:
+    """The upper chain of the convex hull of the points (h, v): its vertices from the leftmost
+    to the rightmost over the top, h strictly increasing (the topmost at an end of equal h),
+    no three collinear."""
+    up: list[np.ndarray] = []
+    for q in np.unique(np.asarray(pts, dtype=float), axis=0):  # by h, then v
+        while len(up) >= 2 and ((up[-1][0] - up[-2][0]) * (q[1] - up[-2][1])
+                                - (up[-1][1] - up[-2][1]) * (q[0] - up[-2][0])) >= 0:
+            up.pop()
+        up.append(q)
+    c = np.array(up)
+    k = 0
+    while k + 1 < len(c) and c[k + 1, 0] == c[0, 0]:
+        k += 1
+    return c[k:]
+
+
+def _tops(a: np.ndarray, b: np.ndarray, chain: np.ndarray) -> np.ndarray:
+    """The upper chains of the sums of the segments a_i b_i ((n, 2) each, (h, v)) with a convex
+    set S whose upper chain is ``chain`` ((m + 1, 2), h increasing, slopes decreasing):
+    (n, m + 2, 2), h non-decreasing along each. A segment's direction goes in among S's edges
+    where its slope fits (the upper chain of a Minkowski sum runs its edges by decreasing
+    slope); a vertical segment gives S's chain from its upper end (a vertex repeated)."""
+    swap = a[:, 0] > b[:, 0]
+    p = np.where(swap[:, None], b, a)
+    q = np.where(swap[:, None], a, b)
+    d = q - p
+    vert = d[:, 0] <= 0.0
+    top = np.where((p[:, 1] >= q[:, 1])[:, None], p, q)
+    p = np.where(vert[:, None], top, p)
+    q = np.where(vert[:, None], top, q)
+    e = np.diff(chain, axis=0)  # e_h > 0
+    # S's edges steeper than the segment come first: e_v / e_h > d_v / d_h
+    j = (e[None, :, 1] * d[:, None, 0] > d[:, None, 1] * e[None, :, 0]).sum(axis=1)
+    j[vert] = 0
+    k = np.arange(len(chain) + 1)[None, :]
+    first = k <= j[:, None]
+    return chain[np.where(first, k, k - 1)] + np.where(first[:, :, None], p[:, None, :],
+                                                         q[:, None, :])
+
+
+def _envelope(ch: np.ndarray, floor: float) -> np.ndarray | None:
+    """The graph of the pointwise maximum U of the functions whose graphs are the chains
+    ``ch`` ((k, n, 2) of (h, v), h non-decreasing along each, continuous; a function is
+    undefined outside its chain's h-range), as its vertices by increasing h: at every chain
+    vertex's h U's limits from the left and from the right (a vertical step where they
+    differ), and between two such h, where all the functions are straight, the crossings at
+    which the maximum passes from one line to another (found line by line, each to
+    ``ENVELOPE_EPS``); ``floor`` where no function is defined. None when the chains span no
+    length in h."""
+    H, V = ch[:, :, 0], ch[:, :, 1]
+    lo, hi = H[:, 0], H[:, -1]
+    bz = np.unique(H)
+    if len(bz) < 2:
+        return None
+    if ch.shape[1] == 2:  # segments: each line at every breakpoint (used inside its range only)
+        dh = H[:, 1] - H[:, 0]
+        slope = (V[:, 1] - V[:, 0]) / np.where(dh > 0, dh, 1.0)
+        E = V[:, :1] + (bz[None, :] - H[:, :1]) * slope[:, None]
+        E = np.where(bz[None, :] >= H[:, 1:], V[:, 1:], E)
+    else:
+        E = np.empty((len(ch), len(bz)))
+        for j in range(len(ch)):
+            E[j] = np.interp(bz, H[j], V[j])
+    right = (lo[:, None] <= bz) & (bz < hi[:, None])  # defined just right of bz_i
+    left = (lo[:, None] < bz) & (bz <= hi[:, None])
+    UR = np.where(right, E, -np.inf).max(axis=0)
+    UL = np.where(left, E, -np.inf).max(axis=0)
+    neg = -1e300
+    # each line on interval i, from t = 0 (bz_i) to t = 1 (bz_i+1): A + t (B - A)
+    A = np.where(right[:, :-1], E[:, :-1], neg)
+    D = np.where(right[:, :-1], E[:, 1:], neg) - A
+    ni = len(bz) - 1
+    it = np.arange(ni)
+    t0, t1 = np.zeros(ni), np.ones(ni)
+    jl, jr = A.argmax(axis=0), (A + D).argmax(axis=0)
+    ci, ct, cv = [it, it], [t0, t1], [UR[:-1], UL[1:]]
+    for _ in range(len(ch) + 2):
+        vl = A[jl, it] + t1 * D[jl, it]  # the left end's line at the right end
+        vr = A[jr, it] + t1 * D[jr, it]
+        go = (vl < vr - ENVELOPE_EPS) & np.isfinite(UR[:-1][it])
+        it, t0, t1, jl, jr = it[go], t0[go], t1[go], jl[go], jr[go]
+        if not len(it):
+            break
+        # where the two lines cross, and whether a third rises above them there
+        den = D[jr, it] - D[jl, it]
+        ts = np.clip((A[jl, it] - A[jr, it]) / np.where(den > 0, den, 1.0), t0, t1)
+        ts = np.where(den > 0, ts, t1)
+        y = A[jl, it] + ts * D[jl, it]
+        vals = A[:, it] + ts * D[:, it]
+        k = vals.argmax(axis=0)
+        above = vals[k, np.arange(len(it))] > y + ENVELOPE_EPS
+        ci.append(it[~above])
+        ct.append(ts[~above])
+        cv.append(y[~above])
+        it, t0, t1, ts, jl, jr, k = (x[above] for x in (it, t0, t1, ts, jl, jr, k))
+        it, t0, t1 = np.r_[it, it], np.r_[t0, ts], np.r_[ts, t1]
+        jl, jr = np.r_[jl, k], np.r_[k, jr]
+    i, t, v = np.concatenate(ci), np.concatenate(ct), np.concatenate(cv)
+    order = np.lexsort((t, i))
+    i, t, v = i[order], t[order], v[order]
+    h = np.where(t >= 1.0, bz[i + 1], bz[i] + t * (bz[i + 1] - bz[i]))
+    return np.column_stack([h, np.where(np.isfinite(v), v, floor)])
+
+
+def _profile(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The pieces of the segments a_i b_i ((n, 2) each, (h, v)) that bound from above the
+    region under them all (:func:`_envelope` of the segments), collinear neighbours joined:
+    a point of a segment under another contributes to no sum with a set S above what that
+    other's point does (the two sums differ by an upward shift), and a vertical segment
+    nothing beyond its upper end, which ends a piece that is not vertical. The segments as
+    they are when there are too many for the envelope."""
+    sl = a[:, 0] != b[:, 0]
+    k = int(sl.sum())
+    if k <= PROFILE_MIN or 2 * k * k > ENVELOPE_CELLS:
+        return a, b
+    a, b = a[sl], b[sl]
+    swap = a[:, 0] > b[:, 0]
+    ch = np.stack([np.where(swap[:, None], b, a), np.where(swap[:, None], a, b)], axis=1)
+    top = _envelope(ch, -np.inf)
+    if top is None:
+        return a[:0], b[:0]
+    p, q = top[:-1], top[1:]
+    ok = np.isfinite(p[:, 1]) & np.isfinite(q[:, 1]) & (q[:, 0] > p[:, 0])
+    p, q = p[ok], q[ok]
+    d = q - p
+    # a piece that goes on from where the one before ends, in the same direction
+    cross = d[1:, 0] * d[:-1, 1] - d[1:, 1] * d[:-1, 0]
+    joins = np.r_[False, (p[1:] == q[:-1]).all(axis=1)
+                  & (np.abs(cross) <= 1e-12 * np.hypot(*d[1:].T) * np.hypot(*d[:-1].T))]
+    run = np.cumsum(~joins) - 1
+    last = np.r_[np.flatnonzero(~joins)[1:] - 1, len(p) - 1]
+    return p[~joins], q[last[: run[-1] + 1]] if len(p) else q
+def _hypograph(a: np.ndarray, b: np.ndarray, chain: np.ndarray, lo: np.ndarray,
+               hi: np.ndarray) -> BaseGeometry | None:
+    """Where it meets the boxes lo_i..hi_i ((n, 2) corners (h, v)), the set of the points
+    (h, v) below some point of the sum of the segments a_i b_i with the convex set S whose
+    upper chain is ``chain``: the region under the maximum of the sums' upper chains
+    (:func:`_tops`, :func:`_envelope`) of the segments whose sums reach over a box and not
+    wholly below it, or with very many such segments the union of those chains' regions down
+    to below the boxes; in frame coordinates (v up). None when it is empty there."""
+    c0, c1 = float(chain[0, 0]), float(chain[-1, 0])
+    top = np.maximum(a[:, 1], b[:, 1]) + float(chain[:, 1].max())
+    keep = ((np.minimum(a[:, 0], b[:, 0])[:, None] + c0 <= hi[None, :, 0])
+            & (np.maximum(a[:, 0], b[:, 0])[:, None] + c1 >= lo[None, :, 0])
+            & (top[:, None] >= lo[None, :, 1])).any(axis=1)
+    if not keep.any():
+        return None
+    v0 = float(lo[:, 1].min())
+    a, b = _profile(a[keep], b[keep])
+    if not len(a):
+        return None
+    tops = _tops(a, b, chain)
+    floor = min(v0, float(tops[:, :, 1].min())) - 1.0
+    n_h = tops.shape[0] * tops.shape[1]
+    if tops.shape[0] * n_h > ENVELOPE_CELLS:
+        ends = np.stack([np.column_stack([tops[:, -1, 0], np.full(len(tops), floor - 1.0)]),
+                         np.column_stack([tops[:, 0, 0], np.full(len(tops), floor - 1.0)])],
+                        axis=1)
+        rings = np.concatenate([tops, ends, tops[:, :1]], axis=1)
+        return clean(shapely.union_all(shapely.polygons(rings)))
+    top = _envelope(tops, floor)
+    if top is None:
+        return None
+    ring = np.vstack([top, [(top[-1, 0], floor - 1.0), (top[0, 0], floor - 1.0)]])
+    return Polygon(ring)
+
+
+#: the upper chains :func:`_blocked_region` sums obstacles' edges with, by outline, tip code,
+#: head and holder direction (a few dozen at most)
+_CHAINS: dict[tuple, np.ndarray] = {}
+
+
+def _frame(u: tuple[float, float]) -> bool:
+    """Whether the frame in which the holder's direction ``u`` is up swaps Z and X."""
+    return u == (1.0, 0.0)
+
+
+def _blocked_region(edges: tuple[np.ndarray, np.ndarray], s: ToolShape, lo: np.ndarray,
+                    hi: np.ndarray) -> BaseGeometry | None:
+    """Where it meets the window, the boxes lo_i..hi_i ((n, 2) corners (z, x)), the set of the placements P of the controlled point at which
+    the tool's body B (:func:`tool_body`: its section K' swept along the holder's direction u
+    past the part) meets the obstacles whose edges facing u are ``edges`` (in the frame of
+    :func:`_frame`, u up): P + B meets them exactly where P lies below (along u) a point of
+    their sum with -K', and that sum's upper boundary is the sum of those edges' with -K'
+    (:func:`_blocked`): a region under one function of the coordinate across u, its
+    envelope (:func:`_hypograph`), exact to ``ENVELOPE_EPS``. None when nothing is blocked
+    there."""
+    u = holder_direction(s.tip)
+    swap = _frame(u)
+    key = (s.outline.tobytes(), s.outline.shape, s.tip, s.head)
+    chain = _CHAINS.get(key)
+    if chain is None:
+        if len(_CHAINS) >= 64:
+            _CHAINS.clear()
+        sec = -_section(s)
+        chain = _upper_chain(sec[:, ::-1] if swap else sec)
+        chain.setflags(write=False)
+        _CHAINS[key] = chain
+    g = _hypograph(*edges, chain, lo[:, ::-1] if swap else lo, hi[:, ::-1] if swap else hi)
+    if g is None or not swap:
+        return g
+    return shapely.transform(g, lambda c: c[:, ::-1])
+
+
+def _facing(pieces: Sequence[BaseGeometry], u: tuple[float, float]
+            ) -> tuple[np.ndarray, np.ndarray]:
+    """The edges (starts, ends) of the polygons of ``pieces`` that do not face away from the
+    holder's direction ``u`` (as :func:`_blocked` takes them), in the frame of :func:`_frame`."""
+    ps = [p for g in pieces for p in _polys(g)]
+    if not ps:
+        return np.zeros((0, 2)), np.zeros((0, 2))
+    oriented = shapely.orient_polygons(np.array(ps, dtype=object), exterior_cw=False)
+    c, ri = shapely.get_coordinates(shapely.get_rings(oriented), return_index=True)
+    e = np.flatnonzero(ri[:-1] == ri[1:])
+    a, b = c[e], c[e + 1]
+    d = b - a
+    up = d[:, 1] * u[0] - d[:, 0] * u[1] >= -1e-12 * (np.abs(d[:, 0]) + np.abs(d[:, 1]))
+    a, b = a[up], b[up]
+    return (a[:, ::-1], b[:, ::-1]) if _frame(u) else (a, b)
+
+
 def holder_direction(tip: int) -> tuple[float, float]:
     """Unit (z, x) direction in which a tool's holder runs from its insert, by the tip code: a
     tool whose tip points away from the axis (codes 1, 2, 6: boring bars, inside grooving and
@@ -565,6 +801,18 @@ def holder_direction(tip: int) -> tuple[float, float]:
     codes 0, 3, 4, 5, 8, 9) on a shank that runs radially outward (+X)."""
     sx, sz = tip_direction(tip if tip in range(10) else 3)
     return (1.0, 0.0) if sx > 0 or (sx == 0 and sz < 0) else (0.0, 1.0)
+
+
+def _section(shape: ToolShape) -> np.ndarray:
+    """The points whose convex hull K' is the body's section across the holder's direction:
+    the insert's outline, and for an inside tool with a known ``head`` the outline moved that
+    deep across X (:func:`tool_body` is K' swept along :func:`holder_direction`)."""
+    out = shape.outline
+    if shape.head > 0 and holder_direction(shape.tip) == (1.0, 0.0):
+        sx, _sz = tip_direction(shape.tip)
+        back = -shape.head if sx > 0 else shape.head
+        out = np.vstack([out, np.column_stack([out[:, 0], np.full(len(out), back)])])
+    return out
 
 
 def tool_body(shape: ToolShape, length: float) -> np.ndarray:
@@ -579,11 +827,7 @@ def tool_body(shape: ToolShape, length: float) -> np.ndarray:
     far wall before the tip reaches the centre, so a flat bottom near the axis is out of its
     reach."""
     dz, dx = holder_direction(shape.tip)
-    out = shape.outline
-    if shape.head > 0 and (dz, dx) == (1.0, 0.0):
-        sx, _sz = tip_direction(shape.tip)
-        back = -shape.head if sx > 0 else shape.head
-        out = np.vstack([out, np.column_stack([out[:, 0], np.full(len(out), back)])])
+    out = _section(shape)
     pts = np.vstack([out, out + np.array([dz * length, dx * length])])
     hull = shapely.convex_hull(shapely.multipoints(pts))
     c = shapely.get_coordinates(shapely.normalize(hull).exterior)[:-1]
@@ -627,10 +871,11 @@ def reachable(model_poly: BaseGeometry, shapes: Sequence[ToolShape], where: Base
 
     Computed locally: a point q is covered by a placement P of the controlled point with q in
     P + K, so P lies in q - K: the placements are looked for, tool by tool, in the boxes of the
-    components of the leftover no tool before covered, less the insert's extent, and only the
-    obstacles within those boxes plus B's extent matter. Of the swept edges only those that
-    meet the placement window (first sum, with B) or the leftover still unclassified (second
-    sum, with K) are united.
+    components of the leftover no tool before covered, less the insert's extent. The
+    placements the body cannot take there lie under one function of the coordinate across
+    the holder (:func:`_blocked_region`, from the obstacles' edges that face the holder); of
+    the place's edges swept by K only those that meet the leftover still unclassified are
+    united.
     """
     comps = _polys(where)
     if not comps or not shapes:
@@ -639,26 +884,23 @@ def reachable(model_poly: BaseGeometry, shapes: Sequence[ToolShape], where: Base
     solids = [model_poly, mirror]
     if keep is not None and not keep.is_empty:
         solids += [keep, shapely.affinity.scale(keep, xfact=1.0, yfact=-1.0, origin=(0, 0))]
-    solid = shapely.union_all(solids)
-    sb = solid.bounds
+    facing: dict[tuple[float, float], tuple[np.ndarray, np.ndarray]] = {}
     left = clean(where)
     for s in shapes:
         if left.is_empty:
             break
-        ext = float(np.ptp(s.outline, axis=0).max()) + 1.0
-        body = _body(s, 2 * max(sb[2] - sb[0], sb[3] - sb[1]) + 2 * ext)
-        b0, b1 = body.min(axis=0), body.max(axis=0)
         # the placements P with P + K meeting the leftover not yet covered lie in the boxes
         # of its components less K's extent (a millimetre more all round)
         bounds = shapely.bounds(np.array(_polys(left), dtype=object))
         k0, k1 = s.outline.min(axis=0), s.outline.max(axis=0)
         lo, hi = bounds[:, :2] - k1 - 1.0, bounds[:, 2:] - k0 + 1.0
         window = _boxes(lo, hi)
-        reach_zone = _boxes(lo + b0, hi + b1)
-        obst = inter(solid, reach_zone)
         # placements P of the controlled point with P + B inside the free space
-        blocked = _blocked(obst, body, holder_direction(s.tip), window)
-        place = diff(window, shapely.union_all(blocked)) if len(blocked) else window
+        u = holder_direction(s.tip)
+        if u not in facing:
+            facing[u] = _facing(solids, u)
+        blocked = _blocked_region(facing[u], s, lo, hi)
+        place = diff(window, blocked) if blocked is not None else window
         if place.is_empty:
             continue
         covered = _minkowski_parts(place, s.outline, near=left)
