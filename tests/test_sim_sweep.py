@@ -224,3 +224,36 @@ def test_a_path_whose_outline_extremes_move_on_fast_takes_the_envelopes():
     k0 = next(k for k, m in enumerate(moves) if m.kind == "line")
     k1 = next(k for k, m in enumerate(moves) if k > k0 and m.kind == "rapid")
     assert len(gentle.batch_region(k0, k1)) == 1 < len(gentle.envelopes(k0, k1))
+
+
+def test_band_bounds_do_not_depend_on_how_the_pieces_are_grouped(monkeypatch):
+    # a pass along the wave and its retract up the face: most pieces need a few vertices of
+    # the nose below the material's top, the retract all of them; grouped or not, every
+    # piece's bound is the same overlap (to rounding)
+    machine = load_machine()
+    fine = WAVY.replace("2 * #1", "0.2 * #1")  # passes 0.1 mm deep after the first
+    tp = run(fine, machine, start=(50.0, 80.0))
+    moves = list(tp.moves)
+    stock = Stock.parse("40x60")
+    after = simulate(tp, stock, machine)
+    assert (after.removed_area > 1e-6).sum() > 500
+    r = S._Sweeper(machine, moves).run(moves, bands=True)
+    # the second pass, over the wave the first one left
+    starts = [k for k, m in enumerate(moves) if m.kind == "line" and moves[k - 1].kind == "rapid"]
+    k0 = starts[1]
+    k1 = next(k for k, m in enumerate(moves) if k > k0 and m.kind == "rapid")
+    mat = dict(S.material_after(after, [k0]))[k0]
+    region = S.region_edges(mat)
+    groups = []
+    front_bands = S.front_bands
+    monkeypatch.setattr(S, "front_bands", lambda K, *a: groups.append(len(K)) or front_bands(K, *a))
+    grouped = r.band_areas(region, k0, k1)
+    assert len(set(groups)) >= 2
+    monkeypatch.setattr(S, "BAND_GROUP", 10**6)
+    groups.clear()
+    one = r.band_areas(region, k0, k1)
+    assert len(groups) == 1
+    assert np.allclose(grouped, one, rtol=0, atol=1e-12)
+    assert (one > 1e-4).sum() > 100
+    # upper bounds of what each move removed after the moves before it
+    assert (grouped >= after.removed_area[k0:k1] - 1e-10).all()

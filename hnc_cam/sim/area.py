@@ -240,17 +240,26 @@ def envelope(outline: np.ndarray, i_min: int, i_max: int, pts: np.ndarray) -> np
 def overlap_areas(region: np.ndarray, pieces: np.ndarray, ref: np.ndarray) -> np.ndarray:
     """area(R & Q_i) for the region R (edges of :func:`region_edges`) and each small polygon
     Q_i (edges (n, P, 5) padded with zero rows, ``ref[i]`` a height near it)."""
-    n = len(pieces)
-    out = np.zeros(n)
-    if n == 0 or not len(region):
-        return out
-    P = pieces.shape[1]
+    f, fown = edge_rows(pieces)
+    return overlap_areas_of(region, f, fown, ref, len(pieces))
+
+
+def edge_rows(pieces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The edges with a Z span of the polygons ``pieces`` (edges (n, P, 5) padded with zero
+    rows), as rows (E, 5), and each one's polygon (E,)."""
+    P = pieces.shape[1] if pieces.ndim == 3 else 1
     f = pieces.reshape(-1, 5)
     live = np.flatnonzero(f[:, 4] != 0)
-    if not len(live):
+    return f[live], live // P
+
+
+def overlap_areas_of(region: np.ndarray, f: np.ndarray, fown: np.ndarray, ref: np.ndarray,
+                     n: int) -> np.ndarray:
+    """:func:`overlap_areas` of the polygons Q_0 .. Q_n-1 given as their edges with a Z span
+    (:func:`edge_rows`): rows ``f`` (E, 5) of the polygons ``fown`` (E,)."""
+    out = np.zeros(n)
+    if n == 0 or not len(region) or not len(f):
         return out
-    fown = live // P
-    f = f[live]
     fz0, fx0, fz1, fx1, fs = (np.ascontiguousarray(c) for c in f.T)
     flo, fhi = np.minimum(fz0, fz1), np.maximum(fz0, fz1)
     # region edges within the pieces' Z range and not wholly below every piece (an edge wholly

@@ -84,8 +84,9 @@ from ..nc.toolpath import MOVE_KINDS, Move, Toolpath, columns
 from ..tooling import Machine, Stock, ToolLibrary, load_machine
 from .region import (chuck_zone, clean, diff, inter, jaw_region, polygons, stock_region,
                      union as union_of)
-from .area import (clip_below, clip_outline, envelope, extremes, front_bands, heights_over,
-                   overlap_areas, polygon_edges, region_edges, ring_edges)
+from .area import (clip_below, clip_outline, edge_rows, envelope, extremes, front_bands,
+                   heights_over, overlap_areas, overlap_areas_of, polygon_edges, region_edges,
+                   ring_edges)
 from .tool import CHORD, ToolShape, sweep_hulls, tool_shape
 
 FEED_KINDS = ("line", "arc", "thread")
@@ -677,44 +678,55 @@ class _Run:
         low = np.minimum(A[:, 1], B[:, 1])
         x0 = low + kx  # lowest point of each piece's sweep
         cov = self.piece_covered[p0:hi]
-        edges, owners, sw_rings, sw_prev, sw_own, sw_x = [], [], [], [], [], []
+        edges, owners, sw_rings, sw_prev, sw_own = [], [], [], [], []
+        zlo, zhi = np.minimum(A[:, 0], B[:, 0]), np.maximum(A[:, 0], B[:, 0])
         for s_ in np.unique(sh).tolist():
             js = np.flatnonzero(sh == s_)
-            K = clip_outline(self.outlines[s_], X - float(low[js].min()))
-            if K is None:
+            K0 = clip_outline(self.outlines[s_], X - float(low[js].min()))
+            if K0 is None:
                 continue
-            # each band is cut at the highest point of the region over its own Z range, and
-            # the outline at the most any piece reaches below that
-            Xi = heights_over(near, np.minimum(A[js, 0], B[js, 0]) + float(K[:, 0].min()),
-                              np.maximum(A[js, 0], B[js, 0]) + float(K[:, 0].max()))
+            # each band is cut at the highest point of the region over its own Z range
+            Xi = heights_over(near, zlo[js] + float(K0[:, 0].min()),
+                              zhi[js] + float(K0[:, 0].max()))
             inb = (js + p0 >= lo) & (x0[js] < Xi)
-            if inb.any():
-                K = clip_outline(K, float((Xi - low[js])[inb].max()))
+            if not inb.any():
+                continue
+            jb, Xb = js[inb], Xi[inb]
+            # where a piece continues the one before it (its start placement swept by that
+            # one), its band may reach back into that piece's hull beside the start placement
+            # (where the extreme vertices change): that part is taken off the bound (it stays
+            # an upper bound), with the outline holding what the piece before reaches below Xb
+            jp = np.maximum(jb - 1, 0)
+            prev = cov[jb] & (jb > 0) & (sh[jp] == s_)
+            need = np.where(prev, np.maximum(Xb - low[jb], Xb - low[jp]), Xb - low[jb])
+            # the outline is cut at the most a piece reaches below Xb, for groups of pieces
+            # that keep about as many of its vertices (a sampled nose: a few for most pieces,
+            # all for a retract up a face), so that a band has about the vertices it needs
+            cnt = np.searchsorted(np.sort(K0[:, 1]), need, "right")
+            grp = (cnt + BAND_GROUP - 1) // BAND_GROUP
+            for g_ in np.unique(grp).tolist():
+                sel = np.flatnonzero(grp == g_)
+                K = clip_outline(K0, float(need[sel].max()))
                 if K is None:
                     continue
-            rings, imin, imax = front_bands(K, A[js], B[js], ~cov[js])
-            if inb.any():
-                edges.append(ring_edges(clip_below(rings[inb], Xi[inb])))
-                owners.append(js[inb])
-            # where the extreme vertices change from one piece to the next, the band reaches
-            # back into the piece before's hull beside the start placement: that part is taken
-            # off the bound (it stays an upper bound)
-            prev_same = np.zeros(len(js), dtype=bool)
-            prev_same[1:] = js[1:] == js[:-1] + 1
-            sw = (prev_same & cov[js] & inb
-                  & ((imin != np.roll(imin, 1)) | (imax != np.roll(imax, 1))))
-            if sw.any():
-                w = np.flatnonzero(sw)
-                sw_rings.append(shapely.polygons(rings[w]))
-                sw_prev.append(sweep_hulls(K, A[js[w] - 1], B[js[w] - 1]))
-                sw_own.append(js[w])
+                j = jb[sel]
+                rings, imin, imax = front_bands(K, A[j], B[j], ~cov[j])
+                e, eo = edge_rows(ring_edges(clip_below(rings, Xb[sel])))
+                edges.append(e)
+                owners.append(j[eo])
+                w = np.flatnonzero(prev[sel])
+                if len(w):
+                    pmin, pmax = extremes(K, A[j[w] - 1], B[j[w] - 1])
+                    w = w[(pmin != imin[w]) | (pmax != imax[w])]
+                if len(w):
+                    sw_rings.append(shapely.polygons(rings[w]))
+                    sw_prev.append(sweep_hulls(K, A[j[w] - 1], B[j[w] - 1]))
+                    sw_own.append(j[w])
         if not edges:
             return out
-        if len(edges) > 1:
-            width = max(e.shape[1] for e in edges)
-            edges = [np.pad(e, ((0, 0), (0, width - e.shape[1]), (0, 0))) for e in edges]
-        ks = np.concatenate(owners)
-        a = overlap_areas(region, np.concatenate(edges), x0[ks])
+        f, fo = np.concatenate(edges), np.concatenate(owners)
+        ks, fo = np.unique(fo, return_inverse=True)
+        a = overlap_areas_of(region, f, fo.reshape(-1), x0[ks], len(ks))
         out += np.bincount(self.band_own[p0 + ks] - k0, weights=a, minlength=k1 - k0)
         if sw_own:
             both = shapely.intersection(np.concatenate(sw_rings), np.concatenate(sw_prev))
@@ -794,6 +806,9 @@ class _Run:
 #: a batch's region is built as one ring (:meth:`_Run.batch_region`) where the outline's
 #: extreme vertices move on by at most this many vertices a piece (on average)
 RING_TURN = 4
+#: the front bands of a batch's pieces are built for groups of pieces that keep this many
+#: more of the outline's vertices below the region's top than the group before
+BAND_GROUP = 8
 #: margin (mm) of a batch's zone round the convex hull of its sweeps
 SEAM = 0.01
 #: a material of at most this many vertices is taken move by move whole: the overlays of a
