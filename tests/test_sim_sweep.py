@@ -257,3 +257,27 @@ def test_band_bounds_do_not_depend_on_how_the_pieces_are_grouped(monkeypatch):
     assert (one > 1e-4).sum() > 100
     # upper bounds of what each move removed after the moves before it
     assert (grouped >= after.removed_area[k0:k1] - 1e-10).all()
+
+
+def test_an_arcs_points_come_from_the_one_sampler():
+    # Arc.sample is the rows of Arc.sample_array: its ends exact, the chord error met, and
+    # each point between on the circle at a0 + sweep * i / n
+    from hnc_cam.geometry import Arc
+    from hnc_cam.geometry.primitives import point_at_angle
+    rng = np.random.default_rng(7)
+    for _ in range(300):
+        c = tuple(rng.uniform(-50, 50, 2))
+        r = float(np.exp(rng.uniform(np.log(0.01), np.log(60.0))))
+        a0, a1 = rng.uniform(-4, 4, 2)
+        arc = Arc(point_at_angle(c, r, a0), point_at_angle(c, r, a1), c, bool(rng.random() < 0.5))
+        got = arc.sample_array(CHORD)
+        pts = arc.sample(CHORD)
+        assert [tuple(p) for p in got.tolist()] == pts
+        n = arc.segments_for(CHORD)
+        assert got.shape == (n + 1, 2) and pts[0] == arc.start and pts[-1] == arc.end
+        want = [point_at_angle(arc.center, r, arc.start_angle + arc.sweep * i / n)
+                for i in range(1, n)]
+        assert np.allclose(got[1:-1], np.array(want).reshape(-1, 2), rtol=0, atol=1e-12)
+        assert np.allclose(np.hypot(got[:, 0] - c[0], got[:, 1] - c[1]), r, rtol=0, atol=1e-9)
+        mid = (got[1:] + got[:-1]) / 2  # sagitta of every chord within the chord error
+        assert (r - np.hypot(mid[:, 0] - c[0], mid[:, 1] - c[1]) <= CHORD + 1e-12).all()

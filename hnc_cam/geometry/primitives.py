@@ -210,13 +210,21 @@ class Arc:
 
     def sample(self, chord_error: float = 0.0005) -> list[Point]:
         """Polyline through the arc whose chords deviate at most ``chord_error`` from it."""
+        return [(x, z) for x, z in self.sample_array(chord_error).tolist()]
+
+    def sample_array(self, chord_error: float = 0.0005):
+        """:meth:`sample` as a numpy array (n, 2) of (x, z) rows: the ends exact, the points
+        between at the angles a0 + sweep * i / n (:func:`point_at_angle`'s formula, computed
+        for all of them at once)."""
+        import numpy as np  # not at import time: the interpreter runs without numpy
         n = self.segments_for(chord_error)
         a0, s, r = self.start_angle, self.sweep, self.radius
-        pts = [self.start]
-        for i in range(1, n):
-            pts.append(point_at_angle(self.center, r, a0 + s * i / n))
-        pts.append(self.end)
-        return pts
+        ang = a0 + s * np.arange(1, n, dtype=float) / n
+        out = np.empty((n + 1, 2))
+        out[0], out[n] = self.start, self.end
+        out[1:n, 0] = self.center[0] + r * np.sin(ang)
+        out[1:n, 1] = self.center[1] + r * np.cos(ang)
+        return out
 
     def bbox(self) -> tuple[float, float, float, float]:
         xs = [self.start[0], self.end[0]]

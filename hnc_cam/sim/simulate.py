@@ -351,10 +351,8 @@ class _Sweeper:
     def path_points(m: Move) -> np.ndarray:
         """Controlled-point path of a move as (z, x) points (arcs sampled at CHORD)."""
         if m.kind == "arc":
-            pts = Arc(m.start, m.end, m.center, bool(m.cw)).sample(CHORD)
-        else:
-            pts = [m.start, m.end]
-        return np.array([(p[1], p[0]) for p in pts], dtype=float)
+            return np.ascontiguousarray(Arc(m.start, m.end, m.center, bool(m.cw)).sample_array(CHORD)[:, ::-1])
+        return np.array([(m.start[1], m.start[0]), (m.end[1], m.end[0])], dtype=float)
 
     def sweeps(self, moves: list[Move]) -> tuple[list[BaseGeometry | None], list[np.ndarray]]:
         """Swept region of each move (None for dwells) and its path points.
@@ -531,7 +529,7 @@ def _ring_sweep(K: np.ndarray, P: np.ndarray, Q: np.ndarray) -> BaseGeometry | N
         ring = np.concatenate([_side(K, i_min, P, Q), front,
                                _side(K, i_max[::-1], Q[::-1], P[::-1]), back])
         try:
-            g = shapely.buffer(shapely.Polygon(ring), 0)
+            g = shapely.buffer(shapely.polygons(ring), 0)
         except shapely.errors.GEOSException:
             g = None
         if g is not None and g.geom_type == "Polygon" and not g.is_empty:
