@@ -261,5 +261,40 @@ def test_short_passes_over_the_same_path_are_batched_per_pass():
         S._batch_by_bands, S._batch_by_moves = real_bands, real_moves
     assert m.removed_area == pytest.approx(ref_areas, abs=1e-9)
     assert shapely.symmetric_difference(m.material, ref_material).area < 1e-9
-    # (a pass whose rapid return crosses its own cut can make its batch go move by move)
-    assert taken["bands"] >= 12 and taken["failed"] <= 1 and taken["moves"] <= 1
+    # every pass is one batch tried with bands (a pass whose rapid return crosses its own cut
+    # can make its batch go move by move)
+    assert taken["bands"] + taken["failed"] == 12
+    assert taken["failed"] <= 1 and taken["moves"] <= 1
+
+
+def test_a_long_pass_is_cut_into_equal_batches(monkeypatch):
+    # one pass of 401 moves along a wave and its retract; batches of at most 150 moves: three
+    # of 134, 134 and 135 (not 150, 150 and 101), the same removal as with one batch
+    blocks = ["%1", "T0101", "M03 S800", "G00 X44 Z2", "G00 X38.4 Z1", "G01 X38 Z0 F200"]
+    blocks += [f"G01 X{38 + 0.1 * math.sin(0.05 * i):.4f} Z{-0.05 * i:.3f}" for i in range(1, 400)]
+    blocks += ["G01 X44", "G00 Z2", "G00 X80 Z80", "M30"]
+    # the wave rises less steeply than the default insert's 5 deg end cutting edge: no move
+    # cuts back into what the ones before it cut, the bounds add up, no batch is halved
+    sharp = Machine()
+    tp = run("\n".join(blocks) + "\n", sharp, file="w.nc", start=(60.0, 50.0))
+    stock = Stock.parse("40x60")
+    sizes = []
+    real = S._batch_by_bands
+
+    def by_bands(material, edges_of, run_, c0, b0, b1, *a):
+        sizes.append(b1 - b0)
+        return real(material, edges_of, run_, c0, b0, b1, *a)
+
+    monkeypatch.setattr(S, "_batch_by_bands", by_bands)
+    m = simulate(tp, stock, sharp, batch=150)
+    starts = [k for k, mv in enumerate(tp.moves) if mv.kind == "line" and tp.moves[k - 1].kind == "rapid"]
+    assert len(starts) == 1
+    n_pass = len(tp.moves) - starts[0]
+    assert sorted(sizes) == sorted(n_pass * (i + 1) // 3 - n_pass * i // 3 for i in range(3))
+    assert max(sizes) - min(sizes) <= 1
+    sizes.clear()
+    one = simulate(tp, stock, sharp, batch=10_000)
+    assert sizes == [n_pass]
+    assert np.allclose(m.removed_area, one.removed_area, rtol=0, atol=1e-12)
+    assert (m.removed_area > 1e-4).sum() > 300
+    assert m.material.symmetric_difference(one.material).area <= 1e-9

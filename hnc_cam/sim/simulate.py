@@ -97,7 +97,7 @@ TOUCH_AREA = 1e-4
 TOUCH_THICK = 5e-4
 RAPID_DEPTH = 0.1
 #: consecutive moves taken out of the material together
-BATCH = 512
+BATCH = 1024
 #: a batch whose bounds do not add up is halved down to this many moves, which are then
 #: taken out move by move within one zone of material
 MOVE_BATCH = 48
@@ -921,9 +921,16 @@ def _simulate(toolpath, stock, machine, tools, model, batch, snapshots, on_snaps
                 if jaws is not None:
                     _jaw_hits(jaws, run, has, cm, sweeper, toolpath, issues, jaw_lines)
             # batches also start with every pass (a feed move after a rapid): a pass that comes
-            # back over the one before it would not be taken with bands in the same batch
-            cuts = sorted({*range(0, len(cm), batch), len(cm), *run.pass_starts.tolist(),
+            # back over the one before it would not be taken with bands in the same batch; a
+            # pass longer than a batch is cut into equal batches of at most ``batch`` moves
+            # (the fewest, each paying the per-batch work on the whole material once)
+            ends = sorted({0, len(cm), *run.pass_starts.tolist(),
                            *(k - c0 for k in stops[si:] if c0 < k < c0 + len(cm))})
+            cuts = [len(cm)]
+            for e0, e1 in zip(ends[:-1], ends[1:]):
+                parts = -(-(e1 - e0) // batch)
+                cuts += [e0 + (e1 - e0) * i // parts for i in range(parts)]
+            cuts.sort()
             for b0, b1 in zip(cuts[:-1], cuts[1:]):
                 while si < len(stops) and stops[si] <= c0 + b0:
                     on_snapshot(stops[si], material)
