@@ -707,9 +707,22 @@ class _Run:
                 K = clip_outline(K0, float(need[sel].max()))
                 if K is None:
                     continue
-                j = jb[sel]
+                # the cut outline spans less Z than K0: the region's top over the bands' own
+                # Z range is lower still, and the outline is cut again at what that needs
+                j, Xs = jb[sel], heights_over(near, zlo[jb[sel]] + float(K[:, 0].min()),
+                                              zhi[jb[sel]] + float(K[:, 0].max()))
+                Xs = np.minimum(Xs, Xb[sel])
+                low_p = np.where(prev[sel], np.minimum(low[j], low[jp[sel]]), low[j])
+                keep = x0[j] < Xs  # the others' bands lie wholly above the region
+                if not keep.all():
+                    sel, j, Xs, low_p = sel[keep], j[keep], Xs[keep], low_p[keep]
+                    if not len(j):
+                        continue
+                K = clip_outline(K, float((Xs - low_p).max()))
+                if K is None:
+                    continue
                 rings, imin, imax = front_bands(K, A[j], B[j], ~cov[j])
-                e, eo = edge_rows(ring_edges(clip_below(rings, Xb[sel])))
+                e, eo = edge_rows(ring_edges(clip_below(rings, Xs)))
                 edges.append(e)
                 owners.append(j[eo])
                 w = np.flatnonzero(prev[sel])
