@@ -127,6 +127,7 @@ def environment(user_dir: str | None = None, number_format: str = "plain",
     env.filters["remark"] = remark
     env.filters["progname802"] = program_name
     env.filters["corners"] = _corner_blocks
+    env.filters["bottom_exit"] = bottom_exit
     env.filters["subprograms"] = contour_subprograms
     env.filters["contour_number"] = contour_number
     env.globals["number_format"] = fmt
@@ -157,6 +158,38 @@ def render(plan: Any, *, dialect: str = DEFAULT_DIALECT, templates: str | Path |
         if not isinstance(e, (jinja2.TemplateError, ValueError)):
             why = f"{type(e).__name__}: {why}"
         raise PlanError(f"{where or 'template'}: {why}") from None
+
+
+#: how far a compensated contour that ends cutting along X toward the axis runs on (mm)
+EXIT_RUN_ON = 0.5
+
+
+def bottom_exit(op: Any, plan: Any = None) -> float | None:
+    """Where a contour under G41/G42 whose last block cuts along X toward the axis inside the
+    part (a bore's bottom; not the exit past the part's left end of a through bore) runs on
+    to: the X (radius) :data:`EXIT_RUN_ON` further along that block, at most to the axis;
+    None for any other contour. A dialect that cancels the compensation in
+    the contour's last block (FANUC, Haas: G40 in block nf) writes this run-on as that block,
+    so that the cancel leaves the material straight on instead of being the bottom's own
+    cut, whose concave corner with the wall the control cancels into (the nose a radius
+    deep into the bottom)."""
+    blocks = getattr(op, "blocks", None) or []
+    if getattr(op, "nose_comp", "none") == "none" or len(blocks) < 2:
+        return None
+    x, z = op.start
+    prev = (x, z)
+    for b in blocks:
+        prev = (x, z)
+        x = b.x if b.x is not None else x
+        z = b.z if b.z is not None else z
+    last = blocks[-1]
+    if last.kind != "line" or abs(z - prev[1]) > 1e-9 or not x < prev[0] - 1e-9:
+        return None
+    prof = getattr(plan, "profile", None)
+    if prof is not None and z < prof.z_min + 1e-6:
+        return None  # past the part's left end: nothing of the part beside it
+    run = min(EXIT_RUN_ON, x)
+    return x - run if run >= 0.05 else None
 
 
 def _corner_blocks(blocks, start=None):
