@@ -112,14 +112,14 @@ def run(table: Path, out: Path, extra: list[str]) -> tuple[float, dict[str, byte
     from hnc_cam.plan import command
     shutil.rmtree(out, ignore_errors=True)
     err = io.StringIO()
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     with contextlib.redirect_stderr(err):
         rc = main(["family", str(PART), "--table", str(table), "--out", str(out)] + extra)
-    dt = time.perf_counter() - t0
+    dt, cpu = time.perf_counter() - t0, time.process_time() - c0
     progs = {p.name: p.read_bytes() for p in out.glob("O*.nc")}
     if rc != 0:
         print(f"  warning: exit {rc}: {err.getvalue().strip()[:200]}")
-    return dt, progs, dict(command.LAST_RUN)
+    return dt, progs, dict(command.LAST_RUN, wall_s=dt, family_cpu_s=cpu)
 
 
 def stage_line(last: dict) -> str:
@@ -131,6 +131,20 @@ def stage_line(last: dict) -> str:
     return (", ".join(f"{k} {1000 * st.get(k, 0.0) / n:.1f} ({100 * st.get(k, 0.0) / total:.0f} %)"
                       for k in STAGES)
             + f"; total {1000 * total / n:.1f} ms of work per row")
+
+
+def overhead_line(last: dict, jobs: int) -> str:
+    """Where a row's wall time goes besides its stages: the family process's own CPU per row
+    (submitting the rows, taking their results, writing the programs and summary.csv: on a
+    machine with as many cores as workers it competes with them), and the wall time times the
+    workers less the stages' sum, per row (scheduling, pickling, waiting, the cold start)."""
+    n = last.get("rows") or 0
+    if not n or "wall_s" not in last:
+        return "n/a"
+    work = sum((last.get("stages") or {}).values()) - (last.get("stages") or {}).get("write", 0)
+    return (f"family process CPU {1000 * last['family_cpu_s'] / n:.2f} ms per row; wall x "
+            f"{jobs} worker(s) less the workers' stages {1000 * (last['wall_s'] * jobs - work) / n:.2f}"
+            f" ms per row")
 
 
 def first_line(cold: dict, warm: dict) -> str:
@@ -223,6 +237,7 @@ def main() -> None:
                    base if jobs == 2 else None)
             print(f"  {'':32s}per row, ms: {stage_line(best)}")
             print(f"  {'':32s}{first_line(lasts[0], best)}")
+            print(f"  {'':32s}overhead: {overhead_line(best, jobs)}")
             print(f"  {'':32s}{counts_line(best)}")
         if a.no_cluster:
             return
