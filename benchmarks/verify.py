@@ -358,7 +358,8 @@ def main(argv: list[str]) -> int:
             line = (f"  {b['moves']:>9} moves: x{a['total'] / b['total']:.2f} "
                     f"(CPU x{a['cpu_s'] / b['cpu_s']:.2f})")
             if not args.no_r08:
-                line += (f", x{(a['simulate_r08_s'] + a['verify_r08_s']) / (b['simulate_r08_s'] + b['verify_r08_s']):.2f}")
+                line += (f", x{(a['simulate_r08_s'] + a['verify_r08_s']) / (b['simulate_r08_s'] + b['verify_r08_s']):.2f}"
+                         f" (CPU x{a['cpu_r08_s'] / b['cpu_r08_s']:.2f})")
             print(line + f"; memory x{a['peak_mb'] / b['peak_mb']:.2f}")
     return 0
 

@@ -298,3 +298,30 @@ def test_a_long_pass_is_cut_into_equal_batches(monkeypatch):
     assert np.allclose(m.removed_area, one.removed_area, rtol=0, atol=1e-12)
     assert (m.removed_area > 1e-4).sum() > 300
     assert m.material.symmetric_difference(one.material).area <= 1e-9
+
+
+def test_overlap_areas_in_blocks_of_whole_polygons(monkeypatch):
+    # 1,500 small polygons over a disc's edge: taken in blocks of about 100 edges (each block
+    # ending where a polygon's edges end), the same areas as in one block, and GEOS's
+    import hnc_cam.sim.area as A
+    rng = np.random.default_rng(3)
+    disc = shapely.buffer(shapely.Point(0, 0), 5, quad_segs=64)
+    polys = [shapely.buffer(shapely.Point(*rng.uniform(-6, 6, 2)), rng.uniform(0.1, 1),
+                            quad_segs=int(rng.integers(1, 6))) for _ in range(1500)]
+    f, fown = A.edge_rows(polygon_edges(polys))
+    ref = np.array([p.bounds[1] for p in polys])
+    region = A.region_edges(disc)
+    monkeypatch.setattr(A, "EDGE_BLOCK", 10**9)
+    one = A.overlap_areas_of(region, f, fown, ref, len(polys))
+    calls = []
+    inner = A._overlap_areas
+    monkeypatch.setattr(A, "_overlap_areas", lambda r, ff, fo, *a: calls.append(fo) or inner(r, ff, fo, *a))
+    monkeypatch.setattr(A, "EDGE_BLOCK", 100)
+    got = A.overlap_areas_of(region, f, fown, ref, len(polys))
+    assert len(calls) > 100
+    assert all(not set(a.tolist()) & set(b.tolist()) for a, b in zip(calls, calls[1:]))
+    assert sum(len(c) for c in calls) == len(f)
+    assert np.allclose(got, one, rtol=0, atol=1e-13)
+    want = shapely.area(shapely.intersection(disc, np.array(polys, dtype=object)))
+    assert np.allclose(got, want, rtol=0, atol=1e-12)
+    assert (want > 0.01).sum() > 100 and (want < 1e-12).sum() > 100

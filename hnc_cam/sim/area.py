@@ -253,10 +253,30 @@ def edge_rows(pieces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return f[live], live // P
 
 
+#: edges of the small polygons taken together by :func:`overlap_areas_of` (whole polygons;
+#: bounds the memory of the pairs of edges at some 10 MB)
+EDGE_BLOCK = 8192
+
+
 def overlap_areas_of(region: np.ndarray, f: np.ndarray, fown: np.ndarray, ref: np.ndarray,
                      n: int) -> np.ndarray:
     """:func:`overlap_areas` of the polygons Q_0 .. Q_n-1 given as their edges with a Z span
-    (:func:`edge_rows`): rows ``f`` (E, 5) of the polygons ``fown`` (E,)."""
+    (:func:`edge_rows`): rows ``f`` (E, 5) of the polygons ``fown`` (E,), each polygon's
+    edges one after another; in blocks of about :data:`EDGE_BLOCK` edges."""
+    if len(f) <= EDGE_BLOCK:
+        return _overlap_areas(region, f, fown, ref, n)
+    # blocks end where a polygon's edges end: the sums below hold for whole polygons
+    cut = np.flatnonzero(fown[1:] != fown[:-1]) + 1
+    at = np.searchsorted(cut, np.arange(EDGE_BLOCK, len(f), EDGE_BLOCK))
+    ends = np.unique(cut[at[at < len(cut)]]).tolist() + [len(f)]
+    out = np.zeros(n)
+    for b0, b1 in zip([0] + ends[:-1], ends):
+        out += _overlap_areas(region, f[b0:b1], fown[b0:b1], ref, n)
+    return out
+
+
+def _overlap_areas(region: np.ndarray, f: np.ndarray, fown: np.ndarray, ref: np.ndarray,
+                   n: int) -> np.ndarray:
     out = np.zeros(n)
     if n == 0 or not len(region) or not len(f):
         return out
