@@ -46,3 +46,27 @@ def test_the_hnc_program_keeps_its_bore_contour():
     prog = generate(str(FRESH / "blind_bore_collar.py"), comp="control")
     assert "X12.2" not in prog.text
     assert prog.report.passed
+
+
+@pytest.mark.parametrize("dialect", ["hnc21t", "fanuc0it", "haas", "siemens802"])
+@pytest.mark.parametrize("comp", ["cam", "control"])
+def test_a_mouth_rounded_into_the_face_is_entered_along_the_face(comp, dialect):
+    """The round R2 from the face into the bore: the bar comes down onto the face outside
+    the round and rolls along the face into it; straight down onto the round's start its
+    nose met the round only past the face and left a sliver (0.014 mm) where the round
+    leaves the face."""
+    prog = generate(str(FRESH / "rounded_mouth.py"), comp=comp, dialect=dialect)
+    assert prog.report.passed, prog.report.summary()
+    assert prog.report.max_undercut_mm <= 0.01
+    fin = next(op for op in prog.plan.operations if op.name == "bore_finish")
+    # the contour's first feed runs along the face (Z0) from outside the round (radius 14.1)
+    from hnc_cam.plan import contour as ct
+    path = ct.block_path(fin.blocks, fin.start)
+    feeds = [s for s, k in path if k == "feed"]
+    face = next(s for s in feeds if abs(s.start[1] - s.end[1]) < 1e-9)
+    r = fin.tool.nose_radius
+    if comp == "control":
+        assert face.start[1] == pytest.approx(0.0) and face.start[0] > 14.1 + r
+        assert face.end == pytest.approx((14.1, 0.0))
+    else:  # the tip path: the nose's centre a radius above the face
+        assert face.start[0] > 14.1 + r - 1e-6 and face.end[0] <= 14.1 + r + 1e-6

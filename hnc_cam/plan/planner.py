@@ -268,7 +268,8 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
         bore_ops = list(hole.ops)
         if hole.bar_chain:
             bore_ops += _plan_bore(hole.bar_chain, stock, tools, opts, name, z_a,
-                                   hole=hole.entry, x_hole=hole.radius, machine=machine)
+                                   hole=hole.entry, x_hole=hole.radius, machine=machine,
+                                   face=_face_room(od))
     elif bore_chain:
         run_on, past = _thread_run_out_past(bore_chain, prof.threads, stock, z_min)
         more = _run_on_short([], stock, machine, z_min - past) if past > 0 else 0.0
@@ -277,7 +278,8 @@ def make_plan(profile: TurnedProfile, stock: Stock, tools: ToolLibrary, machine:
             past = 0.0
         elif past > 0:
             bore_chain = run_on
-        bore_ops = _plan_bore(bore_chain, stock, tools, opts, name, z_a, machine=machine)
+        bore_ops = _plan_bore(bore_chain, stock, tools, opts, name, z_a, machine=machine,
+                              face=_face_room(od))
 
     rough_od, finish_od = od_ops  # finish_od: the finisher's operations (a face, the contour)
     ops.extend(rough_od)
@@ -1409,12 +1411,23 @@ def _face_groove_op(g: an.FaceGroove, lib: ToolLibrary, machine: Machine, name: 
 # bore
 # ------------------------------------------------------------------------------------------
 
+def _face_room(od: Sequence[Segment]) -> float:
+    """How far the right face runs out from the bore's mouth: the length of the outside
+    chain's first segment where it lies on the face (0 where it does not)."""
+    s0 = od[0] if od else None
+    if isinstance(s0, Line) and abs(s0.start[1]) < 1e-9 and abs(s0.end[1]) < 1e-9:
+        return s0.length
+    return 0.0
+
+
 def _plan_bore(chain: list[Segment], stock: Stock, lib: ToolLibrary, opts: Options, name: str,
                z_a: float, hole: float | None = None,
-               x_hole: float | None = None, machine: Machine | None = None) -> list[Operation]:
+               x_hole: float | None = None, machine: Machine | None = None,
+               face: float = 0.0) -> list[Operation]:
     """Rough and finish a bore from the tube's hole, or from a drilled ``hole`` (the diameter
     the bar enters; ``x_hole``: the radius the roughing cycle starts from, the smallest hole
-    drilled)."""
+    drilled). ``face``: how far the right face runs out from the bore's mouth
+    (:func:`_face_room`): a mouth rounded into the face is entered along the face."""
     drilled = hole is not None
     rb = (x_hole if drilled else stock.bore / 2)
     # a flat bottom faced from the drilled hole: the chain ends along it, toward the axis
@@ -1490,6 +1503,15 @@ def _plan_bore(chain: list[Segment], stock: Stock, lib: ToolLibrary, opts: Optio
     fin = [t for t in ok if "finish" in t.uses]
     fin_t = rough_t if "finish" in rough_t.uses else (fin[0] if fin else rough_t)
     x_a = max(0.0, rb - opts.clearance)
+    s0 = chain[0]
+    run_in = min(face, 2 * fin_t.nose_radius + 0.1)
+    if isinstance(s0, Arc) and s0.tangent_at_start()[0] < -0.99 and \
+            run_in > fin_t.nose_radius + 0.05:
+        # a round from the face into the bore: the finisher comes down onto the face and
+        # rolls along it into the round (straight down onto the round's start, the nose's
+        # offset meets the round's past where it leaves the face: a sliver left there)
+        x0, z0 = s0.start
+        chain = [Line((x0 + run_in, z0), (x0, z0))] + list(chain)
     base = ct.with_leads(chain, z_a, x_a, overrun=OVERRUN)
     if opts.comp == "cam":
         prog = ct.tip_path(base, fin_t.nose_radius, fin_t.tip, bore=True)
