@@ -325,3 +325,15 @@ def test_overlap_areas_in_blocks_of_whole_polygons(monkeypatch):
     want = shapely.area(shapely.intersection(disc, np.array(polys, dtype=object)))
     assert np.allclose(got, want, rtol=0, atol=1e-12)
     assert (want > 0.01).sum() > 100 and (want < 1e-12).sum() > 100
+
+
+def test_ring_edge_rows_are_the_ring_edges_with_a_z_span():
+    import hnc_cam.sim.area as A
+    rng = np.random.default_rng(1)
+    rings = rng.uniform(0, 1, (300, 40, 2))
+    rings[:, 5:9] = rings[:, 4:5]  # repeated vertices (a clipped ring's padding)
+    rings[:, :, 0] = np.round(rings[:, :, 0], 1)  # vertical edges
+    f, own = A.ring_edge_rows(rings)
+    g, gown = A.edge_rows(ring_edges(rings))
+    assert np.array_equal(f, g) and np.array_equal(own, gown)
+    assert 0 < len(f) < 300 * 39 and (f[:, 4] != 0).all()

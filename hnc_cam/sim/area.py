@@ -220,6 +220,15 @@ def ring_edges(rings: np.ndarray) -> np.ndarray:
     return np.concatenate([p, q, sgn[:, :, None]], axis=2)
 
 
+def ring_edge_rows(rings: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`edge_rows` of :func:`ring_edges`, built without the edges that have no Z span:
+    rows (E, 5) z0 x0 z1 x1 s and each one's ring (E,)."""
+    z = rings[:, :, 0]
+    own, i = np.nonzero(z[:, 1:] != z[:, :-1])
+    p, q = rings[own, i], rings[own, i + 1]
+    return np.column_stack([p, q, -np.sign(q[:, 0] - p[:, 0])]), own
+
+
 def envelope(outline: np.ndarray, i_min: int, i_max: int, pts: np.ndarray) -> np.ndarray:
     """Closed ring of the region that the convex outline K covers when moved along the
     polyline ``pts`` whose every piece has the same extreme vertices ``i_min`` (right of the

@@ -84,9 +84,8 @@ from ..nc.toolpath import MOVE_KINDS, Move, Toolpath, columns
 from ..tooling import Machine, Stock, ToolLibrary, load_machine
 from .region import (chuck_zone, clean, diff, inter, jaw_region, polygons, stock_region,
                      union as union_of)
-from .area import (clip_below, clip_outline, edge_rows, envelope, extremes, front_bands,
-                   heights_over, overlap_areas, overlap_areas_of, polygon_edges, region_edges,
-                   ring_edges)
+from .area import (clip_below, clip_outline, envelope, extremes, front_bands, heights_over,
+                   overlap_areas, overlap_areas_of, polygon_edges, region_edges, ring_edge_rows)
 from .tool import CHORD, ToolShape, sweep_hulls, tool_shape
 
 FEED_KINDS = ("line", "arc", "thread")
@@ -722,7 +721,7 @@ class _Run:
                 if K is None:
                     continue
                 rings, imin, imax = front_bands(K, A[j], B[j], ~cov[j])
-                e, eo = edge_rows(ring_edges(clip_below(rings, Xs)))
+                e, eo = ring_edge_rows(clip_below(rings, Xs))
                 edges.append(e)
                 owners.append(j[eo])
                 w = np.flatnonzero(prev[sel])
