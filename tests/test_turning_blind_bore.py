@@ -16,7 +16,8 @@ FRESH = Path(__file__).parent / "data" / "turning_parts"
 
 @pytest.mark.parametrize("dialect", ["hnc21t", "fanuc0it", "haas", "siemens802"])
 @pytest.mark.parametrize("comp", ["cam", "control"])
-@pytest.mark.parametrize("name", ["blind_bore_collar", "blind_bore", "stepped_blind_bore"])
+@pytest.mark.parametrize("name", ["blind_bore_collar", "blind_bore", "stepped_blind_bore",
+                                  "flat_bottom_centre"])
 def test_blind_bores_verify(name, comp, dialect):
     prog = generate(str(FRESH / f"{name}.py"), comp=comp, dialect=dialect)
     assert prog.report.passed, prog.report.summary()
@@ -39,6 +40,20 @@ def test_the_cancel_runs_on_past_the_bottom(dialect):
     # no move of the boring bar goes deeper than the bottom
     bar = [m for m in prog.toolpath.moves if m.tool == 3]
     assert bar and min(min(m.start[1], m.end[1]) for m in bar) >= -25.5 - 1e-3
+
+
+@pytest.mark.parametrize("dialect", ["fanuc0it", "haas"])
+def test_a_bottom_faced_to_the_centre_runs_on_past_it(dialect):
+    """The bar faces the bottom to the centre (X0): the cancelling block runs on across the
+    axis along the bottom's plane (the bar's nose is past it already)."""
+    prog = generate(str(FRESH / "flat_bottom_centre.py"), comp="control", dialect=dialect)
+    assert prog.report.passed, prog.report.summary()
+    lines = prog.text.splitlines()
+    g41 = next(i for i, ln in enumerate(lines) if " G41 " in ln)
+    g40 = next(i for i in range(g41, len(lines)) if " G40 " in lines[i])
+    assert "X0. Z-59.3" in lines[g40 - 1] and lines[g40].split()[1:] == ["G01", "G40", "X-1."]
+    bar = [m for m in prog.toolpath.moves if m.tool == 3]
+    assert min(min(m.start[1], m.end[1]) for m in bar) >= -59.3 - 1e-3
 
 
 def test_the_hnc_program_keeps_its_bore_contour():

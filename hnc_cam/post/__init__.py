@@ -167,8 +167,9 @@ EXIT_RUN_ON = 0.5
 def bottom_exit(op: Any, plan: Any = None) -> float | None:
     """Where a contour under G41/G42 whose last block cuts along X toward the axis inside the
     part (a bore's bottom; not the exit past the part's left end of a through bore) runs on
-    to: the X (radius) :data:`EXIT_RUN_ON` further along that block, at most to the axis;
-    None for any other contour. A dialect that cancels the compensation in
+    to: the X (radius) :data:`EXIT_RUN_ON` further along that block, past the axis where the
+    bottom is faced to the centre (the bar's nose is past it there already; the bottom's
+    plane runs on across it); None for any other contour. A dialect that cancels the compensation in
     the contour's last block (FANUC, Haas: G40 in block nf) writes this run-on as that block,
     so that the cancel leaves the material straight on instead of being the bottom's own
     cut, whose concave corner with the wall the control cancels into (the nose a radius
@@ -188,8 +189,7 @@ def bottom_exit(op: Any, plan: Any = None) -> float | None:
     prof = getattr(plan, "profile", None)
     if prof is not None and z < prof.z_min + 1e-6:
         return None  # past the part's left end: nothing of the part beside it
-    run = min(EXIT_RUN_ON, x)
-    return x - run if run >= 0.05 else None
+    return x - EXIT_RUN_ON
 
 
 def _corner_blocks(blocks, start=None):
