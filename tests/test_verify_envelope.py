@@ -187,3 +187,27 @@ def test_reach_equals_the_reach_from_the_union(model):
     assert got.area > 0.2 * where.area
     assert shapely.difference(where, got).area > 1e-4  # some of it no tool reaches
     assert shapely.symmetric_difference(got, want).area < 1e-9
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_over_and_under_from_one_overlay_equal_the_two_differences(seed):
+    # a bar cut by random passes (some into the part, some short of it, some beyond its left
+    # end into the chucking allowance): gouges and leftover split from the symmetric
+    # difference equal model - material and material from the left end on - model
+    rng = np.random.default_rng(seed)
+    mp = profile_polygon(part())
+    material = box(-60.0, 0.0, 2.0, 24.0)
+    for _ in range(12):
+        z = rng.uniform(-62, 0)
+        x = rng.uniform(2, 24)
+        cut = box(z, x, z + rng.uniform(2, 20), 30.0)
+        material = shapely.difference(material, shapely.affinity.rotate(cut, rng.uniform(-20, 20)))
+    over, under = V._over_under(mp, material, -50.0)
+    want_over = shapely.difference(mp, material)
+    want_under = shapely.difference(shapely.intersection(material, box(-50.0, -1.0, 1e4, 1e4)), mp)
+    assert not want_over.is_empty and not want_under.is_empty
+    assert shapely.symmetric_difference(over, want_over).area < 1e-9
+    assert shapely.symmetric_difference(under, want_under).area < 1e-9
+    assert len(V._polys(over)) == len(V._polys(want_over))
+    assert len(V._polys(under)) == len(V._polys(want_under))
+    assert under.bounds[0] >= -50.0 - 1e-12

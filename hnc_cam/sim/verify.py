@@ -516,6 +516,11 @@ def _edges(region: BaseGeometry) -> tuple[np.ndarray, np.ndarray]:
     return c[e], c[e + 1]
 
 
+#: above this many edge-piece pairs :func:`_minkowski_parts` tests edges against the box of
+#: ``near`` as a whole instead of its pieces' boxes
+MINKOWSKI_BOXES = 200_000
+
+
 def _minkowski_parts(region: BaseGeometry, outline: np.ndarray,
                      near: BaseGeometry | None = None) -> list[BaseGeometry]:
     """Pieces whose union is the Minkowski sum of a polygonal region with a convex polygon K
@@ -526,8 +531,20 @@ def _minkowski_parts(region: BaseGeometry, outline: np.ndarray,
     if not parts:
         return []
     a, b = _edges(region)
+    if near is not None and len(a):
+        # only the edges whose hull's box meets the box of a piece of ``near`` (the hull of
+        # a -> b lies in the box of a and b grown by K's extent)
+        boxes = shapely.bounds(np.array(_polys(near) or [near], dtype=object))
+        if len(boxes) * len(a) > MINKOWSKI_BOXES:
+            boxes = np.array([near.bounds])
+        k0, k1 = outline.min(axis=0), outline.max(axis=0)
+        lo, hi = np.minimum(a, b) + k0, np.maximum(a, b) + k1
+        meet = ((lo[:, None, 0] <= boxes[None, :, 2]) & (hi[:, None, 0] >= boxes[None, :, 0])
+                & (lo[:, None, 1] <= boxes[None, :, 3]) & (hi[:, None, 1] >= boxes[None, :, 1]))
+        keep = meet.any(axis=1)
+        a, b = a[keep], b[keep]
     hulls = sweep_hulls(outline, a, b)
-    if near is not None:
+    if near is not None and len(hulls):
         shapely.prepare(near)
         hulls = hulls[shapely.intersects(near, hulls)]
     k0 = outline.mean(axis=0)
@@ -667,13 +684,33 @@ def _envelope(ch: np.ndarray, floor: float) -> np.ndarray | None:
         ct.append(ts[~above])
         cv.append(y[~above])
         it, t0, t1, ts, jl, jr, k = (x[above] for x in (it, t0, t1, ts, jl, jr, k))
-        it, t0, t1 = np.r_[it, it], np.r_[t0, ts], np.r_[ts, t1]
-        jl, jr = np.r_[jl, k], np.r_[k, jr]
+        it, t0, t1 = np.concatenate((it, it)), np.concatenate((t0, ts)), np.concatenate((ts, t1))
+        jl, jr = np.concatenate((jl, k)), np.concatenate((k, jr))
     i, t, v = np.concatenate(ci), np.concatenate(ct), np.concatenate(cv)
     order = np.lexsort((t, i))
     i, t, v = i[order], t[order], v[order]
     h = np.where(t >= 1.0, bz[i + 1], bz[i] + t * (bz[i + 1] - bz[i]))
-    return np.column_stack([h, np.where(np.isfinite(v), v, floor)])
+    return _simplified(np.column_stack([h, np.where(np.isfinite(v), v, floor)]))
+
+
+def _simplified(c: np.ndarray) -> np.ndarray:
+    """The polyline ``c`` without the vertices that repeat the one before or lie on the
+    straight line through their neighbours going on in the same direction (to 1e-12 of the
+    pieces' lengths: the breakpoints of functions hidden under others)."""
+    if len(c) < 3 or not np.isfinite(c).all():
+        return c
+    d = np.diff(c, axis=0)
+    c = c[np.concatenate(([True], (d[:, 0] != 0) | (d[:, 1] != 0)))]
+    if len(c) < 3:
+        return c
+    d = np.diff(c, axis=0)
+    d1, d2 = d[:-1], d[1:]
+    cross = d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
+    dot = d1[:, 0] * d2[:, 0] + d1[:, 1] * d2[:, 1]
+    n = np.hypot(d[:, 0], d[:, 1])
+    keep = np.ones(len(c), dtype=bool)
+    keep[1:-1] = (np.abs(cross) > 1e-12 * n[:-1] * n[1:]) | (dot <= 0)
+    return c[keep]
 
 
 def _profile(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -727,9 +764,13 @@ def _hypograph(a: np.ndarray, b: np.ndarray, chain: np.ndarray, lo: np.ndarray,
     floor = min(v0, float(tops[:, :, 1].min())) - 1.0
     n_h = tops.shape[0] * tops.shape[1]
     if tops.shape[0] * n_h > ENVELOPE_CELLS:
-        ends = np.stack([np.column_stack([tops[:, -1, 0], np.full(len(tops), floor - 1.0)]),
-                         np.column_stack([tops[:, 0, 0], np.full(len(tops), floor - 1.0)])],
-                        axis=1)
+        # each chain's region down to below the boxes, its bottom as far below its own lowest
+        # point as the lowest chain's is below the floor (bottoms at one height would be
+        # collinear edges, dear to the overlay)
+        low = tops[:, :, 1].min(axis=1)
+        bottom = low - (float(low.max()) - floor + 1.0)
+        ends = np.stack([np.column_stack([tops[:, -1, 0], bottom]),
+                         np.column_stack([tops[:, 0, 0], bottom])], axis=1)
         rings = np.concatenate([tops, ends, tops[:, :1]], axis=1)
         return clean(shapely.union_all(shapely.polygons(rings)))
     top = _envelope(tops, floor)
@@ -861,6 +902,10 @@ def _boxes(lo: np.ndarray, hi: np.ndarray) -> BaseGeometry:
     return boxes[0] if len(boxes) == 1 else clean(shapely.union_all(boxes))
 
 
+#: the covering pieces are cut to the leftover's box grown by this (mm) before their union
+CLIP_MARGIN = 0.01
+
+
 def reachable(model_poly: BaseGeometry, shapes: Sequence[ToolShape], where: BaseGeometry,
               keep: BaseGeometry | None = None) -> BaseGeometry:
     """The part of ``where`` that some tool's insert K can cover while the insert and its
@@ -905,7 +950,13 @@ def reachable(model_poly: BaseGeometry, shapes: Sequence[ToolShape], where: Base
             continue
         covered = _minkowski_parts(place, s.outline, near=left)
         if covered:
-            left = diff(left, shapely.union_all(covered))
+            # only what covers the leftover counts: the pieces cut to its box (a margin
+            # beyond it, so the cuts stay clear of its boundary) before they are united
+            z0, x0, z1, x1 = left.bounds
+            m = CLIP_MARGIN
+            cut = shapely.clip_by_rect(np.array(covered, dtype=object), z0 - m, x0 - m,
+                                       z1 + m, x1 + m)
+            left = diff(left, shapely.union_all(cut))
     return diff(where, left)
 
 
@@ -1187,6 +1238,30 @@ def _size(g: BaseGeometry) -> str:
     return f"diameter {2 * x1:.3f}{bore}, {z1 - z0:.3f} long, Z {z0:.3f}..{z1:.3f}"
 
 
+def _of(ps: Sequence[Polygon]) -> BaseGeometry:
+    """One geometry of the polygons ``ps`` (pieces of one valid overlay)."""
+    return ps[0] if len(ps) == 1 else (shapely.MultiPolygon(list(ps)) if len(ps) else Polygon())
+
+
+def _over_under(model_poly: BaseGeometry, material: BaseGeometry, z_min: float
+                ) -> tuple[BaseGeometry, BaseGeometry]:
+    """(model minus material, material from ``z_min`` on minus model) from one overlay: the
+    pieces of their symmetric difference, each the first when a point inside it lies in the
+    model, else cut at ``z_min``."""
+    ps = np.array(_polys(clean(shapely.symmetric_difference(model_poly, material))),
+                  dtype=object)
+    if not len(ps):
+        return Polygon(), Polygon()
+    q = shapely.get_coordinates(shapely.point_on_surface(ps))
+    inside = shapely.contains_xy(model_poly, q[:, 0], q[:, 1])
+    under = ps[~inside]
+    beyond = shapely.bounds(under)[:, 0] < z_min
+    if beyond.any():
+        cut = shapely.clip_by_rect(under[beyond], z_min, -1.0, BIG, BIG)
+        under = [*under[~beyond], *(p for g in cut for p in _polys(g))]
+    return _of(ps[inside].tolist()), _of(list(under))
+
+
 def check_stock_fits(stock: BaseGeometry, model_poly: BaseGeometry) -> None:
     """Refuse (``StockError``, bad input) a stock that does not hold the model: some of the
     model lies more than ``NOISE`` outside the raw material, so no program could make it."""
@@ -1236,9 +1311,7 @@ def verify(machined: Machined, model: TurnedProfile, tol: float = 0.01,
     # the zone, widened by half a pitch at each end for the insert's flanks at the run-out
     excl = shapely.union_all([box(z.z0 - 0.5 * z.pitch, min(z.r_root, z.r_crest) - max(0.5 * z.pitch, 0.5),
                                   z.z1 + 0.5 * z.pitch, max(z.r_root, z.r_crest)) for z in zones]) if zones else Polygon()
-    domain = box(model.z_min, -1.0, BIG, BIG)
-    over = diff(model_poly, material)
-    under = diff(inter(material, domain), model_poly)
+    over, under = _over_under(model_poly, material, model.z_min)
     if zones:
         over, under = diff(over, excl), diff(under, excl)
 
