@@ -4,7 +4,8 @@ verification included; the memory of each worker process; the per-row stages of 
 
 Each configuration runs the same table of family 1 (parts/stepped_shaft.py) ``--repeat``
 times. The first run of a configuration starts cold (the local pool starts its fork server,
-which imports the CAD kernel once, the cluster's fresh workers import it with their first
+which imports the generator and loads the part's nominal row once, the CAD kernel only when the
+part needs it, none for family 1; the cluster's fresh workers import them with their first
 row); the best of the others is the warm figure (the fork server, or a long-lived cluster,
 already running). Every run's programs are compared with the first local run's: they must be
 byte-identical.
@@ -206,8 +207,13 @@ def main() -> None:
         if not a.no_reference:
             import multiprocessing as mp
             from hnc_cam.plan import command
-            own = command.pool_context
+            own, init = command.pool_context, command._init_worker
+
+            def own_kernel(*a):  # each worker imports the CAD kernel itself
+                init(*a)
+                import build123d  # noqa: F401
             command.pool_context = lambda part=None: mp.get_context("fork")
+            command._init_worker = own_kernel
             try:
                 times, progs = [], []
                 with Memory() as mem:
@@ -218,7 +224,7 @@ def main() -> None:
                 base = report("reference: fork, own kernel, -j2", times, progs,
                               mem.of(last.get("workers", {})))
             finally:
-                command.pool_context = own
+                command.pool_context, command._init_worker = own, init
         for jobs in a.jobs:
             times, progs, lasts = [], [], []
             with Memory() as mem:

@@ -144,3 +144,19 @@ def test_cluster_interrupt_keeps_finished_rows(cluster):
         assert not any(str(k).startswith("hnc-family-") for k in c.who_has())
     res = _run_jobs(jobs[:2], 1, {}, scheduler=cluster)
     assert sorted(r["row"] for r in res) == [1, 2]
+
+
+@pytest.mark.cad
+def test_cluster_workers_run_a_revolve_family_without_the_cad_kernel(cluster):
+    """A family whose part() returns revolve(outline) needs no CAD kernel: the cluster's
+    workers run its rows without importing it (each row reports where its worker's kernel
+    came from), and the programs are those of a run in this process."""
+    from hnc_cam.plan.command import _run_jobs
+    jobs = [(i, i + 1, str(PART), None, {"length": str(94 + i)}, 400 + i, {"verify": False})
+            for i in range(1, 5)]
+    res = sorted(_run_jobs(jobs, 1, {"verify": False}, scheduler=cluster),
+                 key=lambda r: r["row"])
+    assert [r["status"] for r in res] == ["ok"] * 4, [r.get("message") for r in res]
+    assert all(r["counts"]["kernel"] == "not needed" for r in res)
+    here = sorted(_run_jobs(jobs, 1, {"verify": False}), key=lambda r: r["row"])
+    assert [r["text"] for r in res] == [r["text"] for r in here]

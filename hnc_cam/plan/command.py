@@ -11,7 +11,8 @@ imported the generator and the bundled tables and loaded the part's nominal row 
 CAD kernel only when the part needs it: :mod:`hnc_cam.plan.pool`;
 spawned workers importing them in the pool initializer where there is no fork server), reused
 for every row, or, with ``--scheduler tcp://HOST:PORT``,
-as tasks on a Dask distributed cluster whose workers import it with their first row (the
+as tasks on a Dask distributed cluster whose workers import them with their first row (the
+CAD kernel with the first row that needs it; the
 same progress bar, summary.csv, order and messages; identical programs). A bad row is reported (stderr and
 summary.csv) and the others still complete; the exit code is then 2 (1 when the only
 failures are verification failures).
@@ -315,10 +316,12 @@ def _init_worker(opts: dict[str, Any] | None = None, family: int | None = None,
                  environ: dict[str, str] | None = None) -> None:
     """Once per worker process: bind it to the family process ``family`` (see
     :func:`_bind_to_parent`), take the family process's environment ``environ`` (a worker
-    forked from the fork server has the server's), import the CAD kernel, the interpreter and
-    the simulator (already there in a worker forked from the fork server, which imported
-    them: :mod:`hnc_cam.plan.pool`), and load the tool library, the machine and the templates
-    (cached in :mod:`hnc_cam.plan.api` for every row the worker runs)."""
+    forked from the fork server has the server's), import the interpreter and the simulator
+    (already there in a worker forked from the fork server, which imported them and loaded the
+    family's part: :mod:`hnc_cam.plan.pool`), and load the tool library, the machine and the
+    templates (cached in :mod:`hnc_cam.plan.api` for every row the worker runs). The CAD
+    kernel is not imported here: the first row whose part needs it does (none, for a family
+    whose ``part()`` returns ``revolve(outline)``), unless the fork server already has."""
     global _INITS
     if _INIT_PID[0] != os.getpid():
         _INITS, _INIT_PID[0] = 0, os.getpid()
@@ -329,12 +332,7 @@ def _init_worker(opts: dict[str, Any] | None = None, family: int | None = None,
     if environ is not None and environ != os.environ:
         os.environ.clear()
         os.environ.update(environ)
-    pool = sys.modules.get(POOL_PRELOAD)
     try:
-        if pool is None or pool.PART[0] is None:
-            # a fork of a fork server that loaded the family's part has what its rows need
-            # (the CAD kernel only when the part needs it)
-            import build123d  # noqa: F401
         from .. import cad  # noqa: F401
         from ..cad import extract  # noqa: F401
         from .. import nc, sim  # noqa: F401
@@ -750,10 +748,11 @@ def _run_pool(jobs: list[tuple], n_jobs: int, opts: dict[str, Any] | None, on_do
 # ------------------------------------------------------------------------------------------
 
 def _cluster_row_job(job: tuple) -> dict[str, Any]:
-    """One row on a Dask worker. The first row a worker process runs imports the CAD kernel,
-    the interpreter and the simulator and loads the tables (module state, so a long-lived
-    worker does it once for all the families it runs; the tables are reloaded only when their
-    file changes); then as :func:`_row_job`."""
+    """One row on a Dask worker. The first row a worker process runs imports the interpreter
+    and the simulator and loads the tables (module state, so a long-lived worker does it once
+    for all the families it runs; the tables are reloaded only when their file changes); the
+    CAD kernel is imported by the first row whose part needs it (none for a family whose
+    ``part()`` returns ``revolve(outline)``); then as :func:`_row_job`."""
     if _inits() == 0:
         _init_worker(job[6])
     return _row_job(job)
