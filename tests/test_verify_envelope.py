@@ -85,13 +85,14 @@ def shapes(which):
 
 @pytest.mark.parametrize("which", ["od", "bar", "groove"])
 @pytest.mark.parametrize("model", [part, bored])
-@pytest.mark.parametrize("cells", [None, 0])
-def test_blocked_region_equals_the_union_of_the_swept_edges(which, model, cells, monkeypatch):
-    # the region under the envelope (and, with no room for the envelope, the union of the
-    # swept upper chains) equals the union of the swept edges of the obstacles facing the
-    # holder (the whole body swept) in windows of one to three boxes anywhere around the part
-    if cells is not None:
-        monkeypatch.setattr(V, "ENVELOPE_CELLS", cells)
+@pytest.mark.parametrize("path", ["envelope", "union"])
+def test_blocked_region_equals_the_union_of_the_swept_edges(which, model, path, monkeypatch):
+    # the region under the envelope (and the union of the swept upper chains, taken for very
+    # few or very many chains) equals the union of the swept edges of the obstacles facing
+    # the holder (the whole body swept) in windows of one to three boxes anywhere around
+    monkeypatch.setattr(V, "ENVELOPE_MIN", 0)
+    if path == "union":
+        monkeypatch.setattr(V, "ENVELOPE_CELLS", 0)
     s = shapes(which)
     mp = profile_polygon(model())
     keep = box(-60.0, 0.0, -50.0 if model is part else -45.0, 26.0)
@@ -173,10 +174,13 @@ def test_a_crossing_inside_an_interval_is_a_vertex():
 
 
 @pytest.mark.parametrize("model", [part, bored])
-def test_reach_equals_the_reach_from_the_union(model):
+@pytest.mark.parametrize("least", [0, 8])
+def test_reach_equals_the_reach_from_the_union(model, least, monkeypatch):
     # leftover all round the part (corners, the groove, the dome, the bore's step and arc):
     # the reach of an outside tool, a finishing tool, a boring bar and a blade, one after the
-    # other, equals the reach computed from the union of the swept edges
+    # other, equals the reach computed from the union of the swept edges (every blocked
+    # region from the envelope, or the few-chain ones united)
+    monkeypatch.setattr(V, "ENVELOPE_MIN", least)
     mp = profile_polygon(model())
     keep = box(-60.0, 0.0, mp.bounds[0], 26.0)
     grown = shapely.difference(mp.buffer(0.6, quad_segs=16), mp)

@@ -580,6 +580,9 @@ def _blocked(obst: BaseGeometry, body: np.ndarray, u: tuple[float, float],
 
 #: an envelope of more chains times breakpoints than this is left to GEOS (:func:`_hypograph`)
 ENVELOPE_CELLS = 250_000
+#: the regions under at most this many chains are united by GEOS (dearer than the envelope
+#: beyond that, cheaper below)
+ENVELOPE_MIN = 8
 #: at most this many segments go into their sums with a set as they are, hidden ones too
 #: (:func:`_profile`: finding those is dearer than summing them)
 PROFILE_MIN = 12
@@ -747,8 +750,9 @@ def _hypograph(a: np.ndarray, b: np.ndarray, chain: np.ndarray, lo: np.ndarray,
     (h, v) below some point of the sum of the segments a_i b_i with the convex set S whose
     upper chain is ``chain``: the region under the maximum of the sums' upper chains
     (:func:`_tops`, :func:`_envelope`) of the segments whose sums reach over a box and not
-    wholly below it, or with very many such segments the union of those chains' regions down
-    to below the boxes; in frame coordinates (v up). None when it is empty there."""
+    wholly below it, or with very few or very many such segments the union of those chains'
+    regions down to below the boxes; in frame coordinates (v up). None when it is empty
+    there."""
     c0, c1 = float(chain[0, 0]), float(chain[-1, 0])
     top = np.maximum(a[:, 1], b[:, 1]) + float(chain[:, 1].max())
     keep = ((np.minimum(a[:, 0], b[:, 0])[:, None] + c0 <= hi[None, :, 0])
@@ -763,7 +767,7 @@ def _hypograph(a: np.ndarray, b: np.ndarray, chain: np.ndarray, lo: np.ndarray,
     tops = _tops(a, b, chain)
     floor = min(v0, float(tops[:, :, 1].min())) - 1.0
     n_h = tops.shape[0] * tops.shape[1]
-    if tops.shape[0] * n_h > ENVELOPE_CELLS:
+    if tops.shape[0] * n_h > ENVELOPE_CELLS or len(tops) <= ENVELOPE_MIN:
         # each chain's region down to below the boxes, its bottom as far below its own lowest
         # point as the lowest chain's is below the floor (bottoms at one height would be
         # collinear edges, dear to the overlay)
