@@ -96,7 +96,7 @@ TOUCH_AREA = 1e-4
 TOUCH_THICK = 5e-4
 RAPID_DEPTH = 0.1
 #: consecutive moves taken out of the material together
-BATCH = 1024
+BATCH = 512
 #: a batch whose bounds do not add up is halved down to this many moves, which are then
 #: taken out move by move within one zone of material
 MOVE_BATCH = 48
@@ -720,18 +720,21 @@ class _Run:
                 K = clip_outline(K, float((Xs - low_p).max()))
                 if K is None:
                     continue
-                rings, imin, imax = front_bands(K, A[j], B[j], ~cov[j])
-                e, eo = ring_edge_rows(clip_below(rings, Xs))
-                edges.append(e)
-                owners.append(j[eo])
-                w = np.flatnonzero(prev[sel])
-                if len(w):
-                    pmin, pmax = extremes(K, A[j[w] - 1], B[j[w] - 1])
-                    w = w[(pmin != imin[w]) | (pmax != imax[w])]
-                if len(w):
-                    sw_rings.append(shapely.polygons(rings[w]))
-                    sw_prev.append(sweep_hulls(K, A[j[w] - 1], B[j[w] - 1]))
-                    sw_own.append(j[w])
+                # BAND_BLOCK pieces at a time (bounds the memory of the rings and their clips)
+                for q0 in range(0, len(j), BAND_BLOCK):
+                    jq, Xq = j[q0:q0 + BAND_BLOCK], Xs[q0:q0 + BAND_BLOCK]
+                    rings, imin, imax = front_bands(K, A[jq], B[jq], ~cov[jq])
+                    e, eo = ring_edge_rows(clip_below(rings, Xq))
+                    edges.append(e)
+                    owners.append(jq[eo])
+                    w = np.flatnonzero(prev[sel[q0:q0 + BAND_BLOCK]])
+                    if len(w):
+                        pmin, pmax = extremes(K, A[jq[w] - 1], B[jq[w] - 1])
+                        w = w[(pmin != imin[w]) | (pmax != imax[w])]
+                    if len(w):
+                        sw_rings.append(shapely.polygons(rings[w]))
+                        sw_prev.append(sweep_hulls(K, A[jq[w] - 1], B[jq[w] - 1]))
+                        sw_own.append(jq[w])
         if not edges:
             return out
         f, fo = np.concatenate(edges), np.concatenate(owners)
@@ -819,6 +822,8 @@ RING_TURN = 4
 #: the front bands of a batch's pieces are built for groups of pieces that keep this many
 #: more of the outline's vertices below the region's top than the group before
 BAND_GROUP = 8
+#: front bands built at once (their rings and clips some 3 MB for a sampled nose)
+BAND_BLOCK = 256
 #: margin (mm) of a batch's zone round the convex hull of its sweeps
 SEAM = 0.01
 #: a material of at most this many vertices is taken move by move whole: the overlays of a
