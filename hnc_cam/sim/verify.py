@@ -251,7 +251,10 @@ def _deepest(g: BaseGeometry, segs: Sequence[Segment] | SegmentTable, interior: 
 #: found so far in its component by more than this (mm)
 PRUNE_EPS = 1e-9
 #: a run of an edge's sample points that :func:`_depths` cannot settle is cut into this many
-SPLIT = 8
+SPLIT = 32
+#: and one of at most this many points is measured whole (fewer rounds of the bounds' numpy
+#: calls, each costing more than measuring a few hundred points)
+WHOLE = 256
 
 
 def _point_seg_dist(p: np.ndarray, s0: np.ndarray, s1: np.ndarray) -> np.ndarray:
@@ -454,7 +457,7 @@ def _depths(polys: Sequence[Polygon], segs: Sequence[Segment] | SegmentTable,
         if not len(ie):
             break
         m = j1 - j0
-        small = m <= 2 * SPLIT
+        small = m <= WHOLE
         # a short run: all its inner points; a long one: SPLIT - 1 points that cut it into
         # SPLIT runs, bounded again in the next round; measured together
         k = m[small] - 1
