@@ -15,6 +15,17 @@ def STOCK(outer_diameter=40.0, bore_diameter=22.0, length=30.0, **_):
     return tube_stock(outer_diameter, bore_diameter, length)
 
 
+#: the sizes the family is offered in: the macro program (hnc-cam family --macro) holds
+#: over them and refuses a set outside them at the control
+DOMAIN = {
+    "outer_diameter": (36, 48),
+    "bore_diameter": (19, 26),
+    "length": (24, 40),
+    "chamfer": (0.5, 1.5),
+    "inner_chamfer": (0.5, 1.5),
+}
+
+
 def sketch(outer_diameter: float = 40.0, bore_diameter: float = 22.0, length: float = 30.0,
            chamfer: float = 1.0, inner_chamfer: float = 1.0, back_chamfer: float = 0.0):
     """The closed half-section (radius, Z): from the bore edge of the right face outward,

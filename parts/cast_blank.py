@@ -19,6 +19,17 @@ from hnc_cam.cad.sketch import Outline, non_negative, positive, require, revolve
 STOCK = "offset:2"
 
 
+#: the sizes the family is offered in: the macro program (hnc-cam family --macro) holds
+#: over them and refuses a set outside them at the control
+DOMAIN = {
+    "length": (85, 95),
+    "diameter": (38, 42),
+    "amplitude": (2.3, 2.7),
+    "wave_length": (26.5, 29.5),
+    "chamfer": (0.8, 1.2),
+}
+
+
 def sketch(length: float = 90.0, diameter: float = 40.0, amplitude: float = 2.5,
            wave_length: float = 28.0, waves: int = 3, chamfer: float = 1.0):
     """The half-section (radius, Z) as exact lines and arcs, right face first."""

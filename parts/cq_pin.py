@@ -49,6 +49,21 @@ def _dims(length, diameter, chamfer, groove_z, groove_width, groove_depth, head_
     return r, rh, c_r, g0, g1, -(length + head_thickness)
 
 
+#: the sizes the family is offered in: the macro program (hnc-cam family --macro) holds
+#: over them and refuses a set outside them at the control
+DOMAIN = {
+    "length": (36, 44),
+    "diameter": (15, 17),
+    "chamfer": (1.3, 1.7),
+    "groove_z": (7, 9),
+    "groove_depth": (0.9, 1.1),
+    "head_diameter": (22, 26),
+    "head_thickness": (5.5, 6.5),
+    "fillet": (0.9, 1.1),
+    "head_chamfer": (0.9, 1.1),
+}
+
+
 def sketch(length: float = 40.0, diameter: float = 16.0, chamfer: float = 1.5,
            groove_z: float = 8.0, groove_width: float = 3.0, groove_depth: float = 1.0,
            head_diameter: float = 24.0, head_thickness: float = 6.0, fillet: float = 1.0,

@@ -15,6 +15,18 @@ def STOCK(diameter=120.0, thickness=14.0, hub_length=16.0, **_):
     return bar_stock(diameter, thickness + hub_length)
 
 
+#: the sizes the family is offered in: the macro program (hnc-cam family --macro) holds
+#: over them and refuses a set outside them at the control
+DOMAIN = {
+    "diameter": (100, 140),
+    "thickness": (10, 18),
+    "hub_diameter": (40, 60),
+    "hub_length": (12, 20),
+    "fillet": (2, 4),
+    "chamfer": (1, 2),
+}
+
+
 def sketch(diameter: float = 120.0, thickness: float = 14.0, hub_diameter: float = 50.0,
            hub_length: float = 16.0, fillet: float = 3.0, chamfer: float = 1.5):
     """The half-section (radius, Z) as exact lines and arcs, right face first."""

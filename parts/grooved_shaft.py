@@ -24,6 +24,24 @@ def STOCK(length=80.0, d2=36.0, **_):
     return bar_stock(d2, length)
 
 
+#: the sizes the family is offered in: the macro program (hnc-cam family --macro) holds
+#: over them and refuses a set outside them at the control
+DOMAIN = {
+    "length": (76, 84),
+    "d1": (24, 26),
+    "d2": (34.5, 37.5),
+    "l1": (28.5, 31.5),
+    "relief_width": (3.8, 4.2),
+    "relief_depth": (0.76, 0.84),
+    "relief_angle": (28.5, 31.5),
+    "relief_radius": (0.57, 0.63),
+    "arc_z": (52.5, 57.5),
+    "arc_radius": (4.75, 5.25),
+    "arc_depth": (1.14, 1.26),
+    "chamfer": (0.95, 1.05),
+}
+
+
 def sketch(length: float = 80.0, d1: float = 25.0, d2: float = 36.0, l1: float = 30.0,
            relief_width: float = 4.0, relief_depth: float = 0.8, relief_angle: float = 30.0,
            relief_radius: float = 0.6, arc_z: float = 55.0, arc_radius: float = 5.0,

@@ -19,6 +19,22 @@ def STOCK(length=100.0, d3=40.0, **_):
     return bar_stock(d3, length)
 
 
+#: the sizes the family is offered in: the macro program (hnc-cam family --macro) holds
+#: over them and refuses a set outside them at the control
+DOMAIN = {
+    "length": (95, 105),
+    "d1": (19, 21),
+    "d2": (27, 29),
+    "d3": (38, 42),
+    "l1": (24, 26),
+    "l2": (48, 52),
+    "taper_length": (14, 16),
+    "dome_radius": (15, 17),
+    "chamfer": (0.9, 1.1),
+    "fillet": (1.4, 1.6),
+}
+
+
 def sketch(length: float = 100.0, d1: float = 20.0, d2: float = 28.0, d3: float = 40.0,
            l1: float = 25.0, l2: float = 50.0, taper_length: float = 15.0,
            dome_radius: float = 16.0, chamfer: float = 1.0, fillet: float = 1.5):

@@ -29,6 +29,20 @@ def THREADS(thread_diameter=20.0, pitch=1.5, thread_length=22.0, **_):
                    starts=1, internal=False, standard="metric", angle=60.0)]
 
 
+#: the sizes the family is offered in: the macro program (hnc-cam family --macro) holds
+#: over them and refuses a set outside them at the control
+DOMAIN = {
+    "length": (47.5, 52.5),
+    "thread_diameter": (19, 21),
+    "thread_length": (21, 23),
+    "relief_width": (4.3, 4.7),
+    "relief_diameter": (16.8, 18.4),
+    "relief_radius": (0.76, 0.84),
+    "collar_diameter": (28.5, 31.5),
+    "chamfer": (0.95, 1.05),
+}
+
+
 def sketch(length: float = 50.0, thread_diameter: float = 20.0, pitch: float = 1.5,
            thread_length: float = 22.0, relief_width: float = 4.5, relief_diameter: float = 17.6,
            relief_radius: float = 0.8, collar_diameter: float = 30.0, chamfer: float = 1.0):

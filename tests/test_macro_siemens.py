@@ -172,7 +172,7 @@ def test_a_bundled_family_in_the_802_form(tmp_path, capsys):
 
 
 def test_a_split_family_names_each_programs_files(tmp_path, capsys):
-    """bushing (parts/) is two programs (split at outer_diameter 39): the second is
+    """bushing (parts/) is two programs (split at outer_diameter 44): the second is
     BUSHING2.MPF with its own BUSHING2_C1.SPF ..., so one folder holds both; each program
     cuts its side of the boundary as the per-variant program does."""
     part = Path(__file__).resolve().parent.parent / "parts" / "bushing.py"
@@ -180,7 +180,7 @@ def test_a_split_family_names_each_programs_files(tmp_path, capsys):
     names = sorted(p.name for p in out.iterdir())
     assert names == ["BUSHING.MPF", "BUSHING2.MPF", "BUSHING2_C1.SPF", "BUSHING2_C2.SPF",
                      "BUSHING_C1.SPF", "BUSHING_C2.SPF"]
-    for mpf, od in (("BUSHING", 40.5), ("BUSHING2", 38.5)):
+    for mpf, od in (("BUSHING", 40.5), ("BUSHING2", 45.5)):
         text = "".join((out / n).read_text() for n in names if n.startswith(mpf + ".")
                        or n.startswith(mpf + "_"))
         assert f'_CNAME="{mpf}_C1"' in text

@@ -33,22 +33,33 @@ from ..errors import PartError, PlanError
 # ("f", fname, a) for sqrt sin cos tan atan abs | ("atan2", a, b)
 
 
-def _ev(n: tuple, env: dict[str, float]) -> float:
+def _ev(n: tuple, env: dict[str, float], memo: dict[int, float] | None = None) -> float:
+    """The value of an expression at ``env``; each shared subexpression once (the traced
+    expressions share their parts: a plain tree walk repeats them exponentially)."""
     k = n[0]
     if k == "c":
         return n[1]
     if k == "p":
         return env[n[1]]
+    if memo is None:
+        memo = {}
+    else:
+        got = memo.get(id(n))
+        if got is not None:
+            return got
     if k == "neg":
-        return -_ev(n[1], env)
-    if k == "f":
-        return _FUN[n[1]](_ev(n[2], env))
-    if k == "atan2":
-        return math.atan2(_ev(n[1], env), _ev(n[2], env))
-    if k in ("min", "max"):
-        return (min if k == "min" else max)(_ev(n[1], env), _ev(n[2], env))
-    a, b = _ev(n[1], env), _ev(n[2], env)
-    return a + b if k == "+" else a - b if k == "-" else a * b if k == "*" else a / b
+        v = -_ev(n[1], env, memo)
+    elif k == "f":
+        v = _FUN[n[1]](_ev(n[2], env, memo))
+    elif k == "atan2":
+        v = math.atan2(_ev(n[1], env, memo), _ev(n[2], env, memo))
+    elif k in ("min", "max"):
+        v = (min if k == "min" else max)(_ev(n[1], env, memo), _ev(n[2], env, memo))
+    else:
+        a, b = _ev(n[1], env, memo), _ev(n[2], env, memo)
+        v = a + b if k == "+" else a - b if k == "-" else a * b if k == "*" else a / b
+    memo[id(n)] = v  # the root holds every node of it alive while it is evaluated
+    return v
 
 
 _FUN: dict[str, Callable[[float], float]] = {

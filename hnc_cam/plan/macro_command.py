@@ -35,6 +35,30 @@ def _rows(path: str) -> list[tuple[int, dict[str, str]]]:
     return out
 
 
+def _row_refused(fam: Any, table: str, line: int, r: dict[str, Any]) -> None:
+    """A table row the family refuses, named with its line: the sketch's own message with the
+    row's values (its ``require`` checks), else the traced check it breaks."""
+    from .macro import _holds
+    try:
+        fam.mod.sketch(**r)
+    except PartError as e:  # the family's own checks (require, positive, a corner that fits)
+        raise PartError(f"{table}:{line}: the family refuses this row: "
+                        f"{str(e).splitlines()[0]}") from None
+    except Exception as e:  # noqa: BLE001 - the family's sketch fails on the row: named
+        raise PartError(f"{table}:{line}: the family's sketch() fails for this row: "
+                        f"{type(e).__name__}: {str(e).splitlines()[0] if str(e) else ''}"
+                        .rstrip(": ")) from None
+    for ch in fam.trace.checks:
+        try:
+            ok = all(_holds(c, r) for c in ch.conds)
+        except (ArithmeticError, ValueError):  # a check that cannot be evaluated there
+            ok = False
+        if not ok:
+            raise PartError(f"{table}:{line}: the family refuses this row "
+                            f"({', '.join(f'{k}={r[k]:g}' for k in ch.names)}): "
+                            f"{ch.message}")
+
+
 def macro_command(args: argparse.Namespace) -> int:
     from ..cad import parse_set
     from ..io import write_atomic
@@ -80,14 +104,9 @@ def macro_command(args: argparse.Namespace) -> int:
             lines.append(line)
     fam = load_family(args.part, base, rows, spread=SPREAD)
     from ..cad.loader import resolve_params
-    from .macro import _holds
     full_rows = [dict(fam.params, **resolve_params(fam.mod, r, args.part)) for r in rows]
     for line, r in zip(lines, full_rows):  # a row the family itself refuses: before deriving
-        for ch in fam.trace.checks:
-            if not all(_holds(c, r) for c in ch.conds):
-                raise PartError(f"{args.table}:{line}: the family refuses this row "
-                                f"({', '.join(f'{k}={r[k]:g}' for k in ch.names)}): "
-                                f"{ch.message}")
+        _row_refused(fam, args.table, line, r)
     gen = {k: opts[k] for k in _GEN_KEYS}
     gen.update(comp="control", verify=False, dialect=dia)
     if args.stock:

@@ -268,8 +268,8 @@ def _valid(fam: Family, tr: Any, p: dict[str, float], lo: dict, hi: dict,
     """``p`` is in the box, passes the family's checks and the ``extra`` conditions (a piece
     cut along a feature) and, with ``branches``, keeps the traced branches."""
     return (all(lo[k] <= p[k] <= hi[k] for k in fam.free)
-            and all(all(_holds(c, p) for c in ch.conds) for ch in tr.checks)
             and all(_holds(c, p) for c in extra)
+            and all(all(_holds(c, p) for c in ch.conds) for ch in tr.checks)
             and (not branches or _same_branches(tr, p)))
 
 
@@ -303,11 +303,14 @@ def _sketch_ok(fam: Family, p: dict[str, Any]) -> None:
 
 def family_stock(fam: Family, lo: dict, hi: dict, sets: list[dict[str, Any]]) -> str:
     """The stock the largest variant needs: the family's ``STOCK`` at the top of the box and at
-    every set, the one with the largest diameter, then length."""
+    every set, the one with the largest diameter, then length; a tube's bore the smallest of
+    them (the bore of the largest variant's tube would be wider than a small variant's
+    bore)."""
     from ..tooling import Stock
     fn = getattr(fam.mod, "STOCK", None)
     best: Any = None
-    cands = [dict(fam.params, **hi)] + sets
+    bores: list[float] = []
+    cands = [dict(fam.params, **hi), dict(fam.params, **lo)] + sets
     for p in cands:
         try:
             spec = fn(**p) if callable(fn) else fn
@@ -318,12 +321,17 @@ def family_stock(fam: Family, lo: dict, hi: dict, sets: list[dict[str, Any]]) ->
             st = Stock.parse(str(spec))
         except Exception:  # noqa: BLE001 - an invalid corner of the box says nothing
             continue
+        if st.kind == "tube":
+            bores.append(st.bore)
         if best is None or (st.diameter, st.length, st.face) > (best.diameter, best.length,
                                                                   best.face):
             best = st
     if best is None:
         raise PartError(f"{fam.path}: no stock for the family's domain (STOCK() fails at every "
                         f"sampled set): give one with --stock")
+    if best.kind == "tube" and min(bores) < best.bore:
+        return (f"{_fmt(best.diameter)}/{_fmt(min(bores))}x{_fmt(best.length)}"
+                + (f"+{_fmt(best.face)}" if best.face else ""))
     return best.spec
 
 
@@ -399,9 +407,12 @@ def _candidates(fam: Family, tr: Any, sets: list[dict[str, Any]], normals: bool 
     if lengths:
         feats += segment_lengths(tr)
     cols: dict[tuple, tuple[tuple, np.ndarray, int]] = {}
+    env = {k: np.array([float(p[k]) for p in sets]) for k in fam.free}
+    memo: dict[int, Any] = {}
     for _desc, n in feats:
         try:
-            v = np.array([_ev(n, p) for p in sets])
+            with np.errstate(all="ignore"):
+                v = _ev_all(n, env, memo, sets)
         except (ValueError, ZeroDivisionError, OverflowError):
             continue
         if not np.all(np.isfinite(v)) or np.ptp(v) < 1e-9:
@@ -413,6 +424,40 @@ def _candidates(fam: Family, tr: Any, sets: list[dict[str, Any]], normals: bool 
     nodes = [c[0] for c in cols.values()]
     mat = np.array([c[1] for c in cols.values()]).T if cols else np.zeros((len(sets), 0))
     return nodes, mat
+
+
+_NP_FUN = {"sqrt": "sqrt", "sin": "sin", "cos": "cos", "tan": "tan", "atan": "arctan",
+           "abs": "abs"}
+
+
+def _ev_all(n: tuple, env: dict, memo: dict[int, Any], sets: list[dict]) -> Any:
+    """:func:`macro._ev` over every set at once (numpy arrays, each shared subexpression
+    once: the traced expressions share their parts, so a tree walk repeats them
+    exponentially); an undefined value (a root of a negative number, a division by zero) is
+    NaN or infinite, which the caller leaves out."""
+    import numpy as np
+    got = memo.get(id(n))
+    if got is not None and got[0] is n:
+        return got[1]
+    k = n[0]
+    if k == "c":
+        v = np.full(len(sets), float(n[1]))
+    elif k == "p":
+        v = env[n[1]] if n[1] in env else np.array([float(p[n[1]]) for p in sets])
+    elif k == "neg":
+        v = -_ev_all(n[1], env, memo, sets)
+    elif k == "f":
+        v = getattr(np, _NP_FUN[n[1]])(_ev_all(n[2], env, memo, sets))
+    elif k == "atan2":
+        v = np.arctan2(_ev_all(n[1], env, memo, sets), _ev_all(n[2], env, memo, sets))
+    elif k in ("min", "max"):
+        v = (np.minimum if k == "min" else np.maximum)(_ev_all(n[1], env, memo, sets),
+                                                       _ev_all(n[2], env, memo, sets))
+    else:
+        a, b = _ev_all(n[1], env, memo, sets), _ev_all(n[2], env, memo, sets)
+        v = a + b if k == "+" else a - b if k == "-" else a * b if k == "*" else a / b
+    memo[id(n)] = (n, v)  # the node kept alive with its value: its id stays its own
+    return v
 
 
 def _cross_columns(tr: Any, nb: list[Block], allb: list[list[Block]], allp: list[dict]):
@@ -513,8 +558,9 @@ def _snap(c: float) -> float:
     return float(f) if abs(float(f) - c) < 0.05 * max(1.0, abs(c)) else round(c, 9)
 
 
-def _fit_word(y, mat, n_fit: int):
-    """(column indices, coefficients, constant) of the sparsest exact affine fit, else None."""
+def _fit_word(y, mat, n_fit: int, simple: bool = False):
+    """(column indices, coefficients, constant) of the sparsest exact affine fit, else None;
+    with ``simple`` only fits whose coefficients are small fractions (:func:`_simple`)."""
     import itertools
 
     import numpy as np
@@ -524,7 +570,12 @@ def _fit_word(y, mat, n_fit: int):
         a = np.column_stack([mat[:n_fit, list(idx)], np.ones(n_fit)]) if idx else \
             np.ones((n_fit, 1))
         sol, *_ = np.linalg.lstsq(a, y[:n_fit], rcond=None)
-        for coefs in ([_snap(c) for c in sol[:-1]], [round(c, 9) for c in sol[:-1]]):
+        tries = [[_snap(c) for c in sol[:-1]]]
+        if not simple:
+            tries.append([round(c, 9) for c in sol[:-1]])
+        for coefs in tries:
+            if simple and not _simple(coefs):
+                continue
             pred = mat[:, list(idx)] @ np.array(coefs) if idx else np.zeros(n)
             res = y - pred
             mid = float((res.max() + res.min()) / 2)
@@ -757,6 +808,18 @@ def _fit_blocks(ctx: Ctx, fam: Family, tr: Any, nominal: dict, lo: dict, hi: dic
                 continue
             y = np.array([vb[bi].words[wi].value for vb in allb])
             r = _fit_word(y, mat, min(n_fit + 1, len(allp)))
+            if r is not None and not _simple(r[1]):
+                # coefficients that are no small fractions fit the few variants of a narrow
+                # alternative without being its law (0.001 mm off elsewhere): an exact law of
+                # the normals (a rounded corner's end: the corner plus the offset along its
+                # sides' normals) comes first where one holds
+                if nodes2 is None:
+                    nodes2, mat2 = _candidates(fam, tr, allp, normals=True,
+                                               lengths=ctx.dialect == "siemens802")
+                r2 = _fit_word(y, mat2, min(n_fit + 1, len(allp)), simple=True)
+                if r2 is not None:
+                    slots.append(Slot(bi, wi, "fit", _combine(nodes2, *r2)))
+                    continue
             if r is not None and (_simple(r[1]) or w.letter != "Z"):
                 slots.append(Slot(bi, wi, "fit", _combine(nodes, *r)))
                 continue
@@ -775,10 +838,11 @@ def _fit_blocks(ctx: Ctx, fam: Family, tr: Any, nominal: dict, lo: dict, hi: dic
             if r is not None:
                 slots.append(Slot(bi, wi, "fit", _combine(nodes, *r)))
                 continue
-            if w.letter in ("S", "F"):
+            if w.letter in ("S", "F", "R111", "R112"):  # R111/R112: LCYC95's feeds
                 v = float(min(y))
                 slots.append(Slot(bi, wi, "bound", value=v,
-                                  note=f"{w.letter}{_num(v)}: THE LOWEST OF {len(y)} VARIANTS"))
+                                  note=f"{w.letter}{'=' if w.eq else ''}{_num(v)}: THE "
+                                       f"LOWEST OF {len(y)} VARIANTS"))
                 continue
             if nodes2 is None:  # the normals' ratios, for an allowance's law
                 nodes2, mat2 = _candidates(fam, tr, allp, normals=True,
@@ -866,10 +930,12 @@ def derive_piece(ctx: Ctx, fam: Family, lo: dict, hi: dict, nominal: dict[str, A
             progs.append(v)
 
     add(sets)
-    for rnd in range(4):
+    probed: set[frozenset] = set()
+    for rnd in range(6):
         allv = [nomp] + progs
         layout = []
         need: list[list[tuple]] = []
+        probe: list[list[tuple]] = []
         for reg in mm.regions(nomp, progs):
             keys = [mm.alt_key(nomp, v, reg) for v in allv]
             distinct = list(dict.fromkeys(keys))
@@ -896,11 +962,15 @@ def derive_piece(ctx: Ctx, fam: Family, lo: dict, hi: dict, nominal: dict[str, A
                     raise TopologyChange(other.p, diff)
                 paths = tree.paths()
                 need += [paths[i] for i in range(len(distinct)) if labels.count(i) < MIN_ALT]
+                probe += _cross_probes(tree, probed)
             layout.append((reg, distinct, labels, tree))
-        if not need or rnd == 3:
+        if not (need or probe) or rnd == 5:
             break
         for conds in need:
             add(sample(fam, tr, lo, hi, MIN_ALT, ("more", seed, rnd, len(progs)),
+                       branches=False, extra=list(extra) + conds))
+        for conds in probe:
+            add(sample(fam, tr, lo, hi, 1, ("probe", seed, rnd, len(progs)), limit=1000,
                        branches=False, extra=list(extra) + conds))
     allv = [nomp] + progs
     line_ix = {b.line: i for i, b in enumerate(nb)}
@@ -933,6 +1003,31 @@ def derive_piece(ctx: Ctx, fam: Family, lo: dict, hi: dict, nominal: dict[str, A
                stock=ctx.stock)
     pc.regions = regions
     return pc
+
+
+def _cross_probes(tree: Any, probed: set[frozenset]) -> list[list[tuple]]:
+    """Each leaf's conditions with each side of every other threshold of the tree: the
+    sampled variants may never have met a combination (a leaf where ``d2 >= 37.6`` was only
+    sampled with ``relief_angle >= 30``, so that its alternative holds no insert change), and
+    one variant there shows an alternative the tree does not know. New ones only (``probed``
+    remembers them)."""
+    def coarse(c: tuple) -> tuple:  # a threshold bisected again is the same decision
+        return ("not", coarse(c[1])) if c[0] == "not" else (c[0], c[1])
+
+    conds = list(dict.fromkeys(c for path in tree.paths().values() for c in path
+                               if c[0] != "not"))
+    out = []
+    for path in tree.paths().values():
+        held = {coarse(c[1] if c[0] == "not" else c) for c in path}
+        for c in conds:
+            if coarse(c) in held:
+                continue
+            for side in (c, ("not", c)):
+                key = frozenset(coarse(x) for x in list(path) + [side])
+                if key not in probed:
+                    probed.add(key)
+                    out.append(list(path) + [side])
+    return out
 
 
 def _differs(ctx: Ctx, fam: Family, nb_sk: tuple, p: dict, tr: Any = None,
@@ -1143,11 +1238,10 @@ def _letters(free: list[str]) -> dict[str, str]:
         raise PlanError(f"the family has {len(free)} parameters; a FANUC G65 call passes at "
                         f"most {len(FANUC_ARGS)} (its argument letters)")
     out: dict[str, str] = {}
-    # M, S, T and H last: a G65 with an H word reads as a macro A call (G65 Hm P#i Q#j R#k)
-    # to our interpreter, and its reader takes M, S and T (as H) as whole numbers only, where
-    # an argument is written with its decimal point; they are taken only when every other
-    # letter is
-    last = "MSTH"
+    # H last: a G65 with an H word reads as a macro A call (G65 Hm P#i Q#j R#k) to our
+    # interpreter; it is taken only when every other letter is (M, S and T are arguments with
+    # their decimal point like any other)
+    last = "H"
     left = [c for c in FANUC_ARGS if c not in last] + list(last)
     for k in free:
         first = k[0].upper()
@@ -1529,8 +1623,10 @@ def render_program(pieces_or_one: Piece, dialect: str = "hnc21t", values: dict |
         text = "\n".join(main + [f"; {n}" for n in dict.fromkeys(notes)] + pre + body) + "\n"
         if number != 1:  # another program of the family: its own names
             stem = name[len("%_N_"):-len("_MPF")]
-            text = text.replace(f"%_N_{stem}_", f"%_N_{stem}{number}_").replace(
-                f'"{stem}_', f'"{stem}{number}_')
+            # the program and its contour subprograms, wherever named: %_N_..., _CNAME="...",
+            # a direct call (N23 NAME_C1)
+            text = re.sub(rf"(?:(?<=%_N_)|(?<![A-Z0-9_])){re.escape(stem)}_(?=MPF|SPF|C\d)",
+                          f"{stem}{number}_", text)
         return Rendered(text, var, dialect)
     sub_head = [f"%{sub}" if not fanuc else f"O{sub}"]
     sub_head += [f"({n})" for n in dict.fromkeys(notes)]
