@@ -250,11 +250,18 @@ def _deepest(g: BaseGeometry, segs: Sequence[Segment] | SegmentTable, interior: 
 #: an edge of a region is sampled only when the bound on its depth exceeds the deepest point
 #: found so far in its component by more than this (mm)
 PRUNE_EPS = 1e-9
-#: a run of an edge's sample points that :func:`_depths` cannot settle is cut into this many
-SPLIT = 32
-#: and one of at most this many points is measured whole (fewer rounds of the bounds' numpy
-#: calls, each costing more than measuring a few hundred points)
-WHOLE = 256
+#: a run of an edge's sample points that :func:`_depths` cannot settle is cut into this many,
+#: one of at most ``2 * SPLIT`` points measured whole
+SPLIT = 8
+#: ... or, in a round that measures at most ``ROUND_POINTS`` points so, cut into ``SPLIT_FEW``
+#: and measured whole up to ``WHOLE_FEW`` points: fewer rounds of the bounds' numpy calls,
+#: each costing more than measuring a few hundred points
+SPLIT_FEW = 32
+WHOLE_FEW = 256
+ROUND_POINTS = 4096
+#: ... against a model of at most this many lines and arcs (a point measured against many
+#: costs more than the rounds saved)
+FEW_SEGMENTS = 64
 
 
 def _point_seg_dist(p: np.ndarray, s0: np.ndarray, s1: np.ndarray) -> np.ndarray:
@@ -363,7 +370,8 @@ def _depths(polys: Sequence[Polygon], segs: Sequence[Segment] | SegmentTable,
     the run by :meth:`_Depth.bound` for the pieces nearest to a and to b. A run whose bound is
     no more than ``PRUNE_EPS`` above the deepest point found is skipped; a short one is
     measured whole, a long one measured at ``SPLIT - 1`` of its points and its ``SPLIT`` parts
-    bounded again. So the maximum is that of every point to within ``PRUNE_EPS``, where it
+    bounded again (``SPLIT_FEW`` and ``WHOLE_FEW`` in a round with few points to measure
+    against a model of few pieces). So the maximum is that of every point to within ``PRUNE_EPS``, where it
     lies the first of the points measured (vertices in the boundary's order before inner
     points), and a long sliver along a line or an arc of the model costs its vertices.
 
@@ -443,6 +451,7 @@ def _depths(polys: Sequence[Polygon], segs: Sequence[Segment] | SegmentTable,
                 out[g] = np.maximum(lower[g], noise)
         return out
 
+    cheap = len(depth.segs) <= FEW_SEGMENTS  # a point measured against few pieces
     while len(ie):
         t = need()[ep[ie]] + PRUNE_EPS
         ub = 0.5 * (f0 + f1 + L[ie] * (j1 - j0) / n_of[ie])
@@ -457,20 +466,23 @@ def _depths(polys: Sequence[Polygon], segs: Sequence[Segment] | SegmentTable,
         if not len(ie):
             break
         m = j1 - j0
-        small = m <= WHOLE
-        # a short run: all its inner points; a long one: SPLIT - 1 points that cut it into
-        # SPLIT runs, bounded again in the next round; measured together
+        split, small = SPLIT_FEW, m <= WHOLE_FEW
+        if (not cheap or int((m[small] - 1).sum()) + (SPLIT_FEW - 1) * int((~small).sum())
+                > ROUND_POINTS):
+            split, small = SPLIT, m <= 2 * SPLIT
+        # a short run: all its inner points; a long one: split - 1 points that cut it into
+        # split runs, bounded again in the next round; measured together
         k = m[small] - 1
         se = np.repeat(ie[small], k)
         sj = np.repeat(j0[small], k) + np.arange(len(se)) - np.repeat(np.cumsum(k) - k, k) + 1
         ie, j0, j1, f0, f1, w0, w1 = (x[~small] for x in (ie, j0, j1, f0, f1, w0, w1))
-        kj = j0[:, None] + (np.arange(SPLIT + 1)[None, :] * (j1 - j0)[:, None]) // SPLIT
-        fi, wi = measure(np.concatenate([se, np.repeat(ie, SPLIT - 1)]),
+        kj = j0[:, None] + (np.arange(split + 1)[None, :] * (j1 - j0)[:, None]) // split
+        fi, wi = measure(np.concatenate([se, np.repeat(ie, split - 1)]),
                          np.concatenate([sj, kj[:, 1:-1].ravel()]))
         fi, wi = fi[len(se):], wi[len(se):]
-        kf = np.column_stack([f0, fi.reshape(-1, SPLIT - 1), f1])
-        kw = np.column_stack([w0, wi.reshape(-1, SPLIT - 1), w1])
-        ie = np.repeat(ie, SPLIT)
+        kf = np.column_stack([f0, fi.reshape(-1, split - 1), f1])
+        kw = np.column_stack([w0, wi.reshape(-1, split - 1), w1])
+        ie = np.repeat(ie, split)
         j0, j1 = kj[:, :-1].ravel(), kj[:, 1:].ravel()
         f0, f1 = kf[:, :-1].ravel(), kf[:, 1:].ravel()
         w0, w1 = kw[:, :-1].ravel(), kw[:, 1:].ravel()
@@ -958,12 +970,16 @@ def reachable(model_poly: BaseGeometry, shapes: Sequence[ToolShape], where: Base
         covered = _minkowski_parts(place, s.outline, near=left)
         if covered:
             # only what covers the leftover counts: the pieces cut to its box (a margin
-            # beyond it, so the cuts stay clear of its boundary) before they are united
+            # beyond it, so the cuts stay clear of its boundary) before they are united,
+            # where that leaves them less than half their vertices (the cuts' shared
+            # straight edges cost the union more than it saves otherwise)
             z0, x0, z1, x1 = left.bounds
             m = CLIP_MARGIN
-            cut = shapely.clip_by_rect(np.array(covered, dtype=object), z0 - m, x0 - m,
-                                       z1 + m, x1 + m)
-            left = diff(left, shapely.union_all(cut))
+            pieces = np.array(covered, dtype=object)
+            cut = shapely.clip_by_rect(pieces, z0 - m, x0 - m, z1 + m, x1 + m)
+            if 2 * shapely.get_num_coordinates(cut).sum() < shapely.get_num_coordinates(pieces).sum():
+                pieces = cut
+            left = diff(left, shapely.union_all(pieces))
     return diff(where, left)
 
 
