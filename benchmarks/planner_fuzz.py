@@ -2,9 +2,11 @@
 (the sketch helpers' ``Outline`` + ``revolve``, or plain build123d), each run through
 ``hnc-cam generate`` in both compensation modes and every dialect.
 
-A part file holds steps, chamfers, fillets, grooves (square or round), tapers, a convex arc,
-a journal stepping down toward the chuck, and sometimes a through bore with a counterbore;
-the largest diameter 8 to 80 mm. Every run must end in a verified program (exit 0) or a
+A part file holds steps (some near the diameter where G96 reaches the spindle limit, where
+the HNC-21T's G71 runs in two), chamfers, fillets, grooves (square or round), tapers, a
+convex arc, a journal stepping down toward the chuck, a right end that is a face, a cone to
+a point or a ball, and sometimes a through bore with a counterbore or a blind bore; the
+largest diameter 8 to 80 mm. Every run must end in a verified program (exit 0) or a
 one-line refusal (exit 2, one line ``error: ...`` that is not an internal error). Anything
 else (exit 1: the program failed its verification; an internal error; a traceback; more than
 one line) is a failure, printed with the part file's text and the command that reproduces it.
@@ -53,14 +55,26 @@ def random_part(rng: random.Random, name: str) -> str:
     if bore and rng.random() < 0.4:
         cb = (round(rb + rng.uniform(1.0, 0.4 * (r_max - rb)), 1),
               round(rng.uniform(0.1, 0.4) * length, 1))
-    x_in = cb[0] if cb else rb  # where the OD starts on the right face
+    # a blind bore from the right face (a solid part): (radius, depth)
+    blind = None
+    if not bore and r_max >= 10 and rng.random() < 0.15:
+        blind = (round(r_max * rng.uniform(0.25, 0.45), 1),
+                 round(min(length * rng.uniform(0.2, 0.6), 60.0), 1))
+    x_in = cb[0] if cb else blind[0] if blind else rb  # where the OD starts on the right face
     r_min = max(x_in + max(1.5, 0.15 * r_max), r_max * 0.35)
+    # the right end of a solid part: a face, a cone to a point or a ball
+    end = "face"
+    if x_in == 0.0:
+        end = rng.choices(["face", "cone", "ball"], [0.8, 0.12, 0.08])[0]
     # OD sections from the right face toward the chuck
     n = rng.randint(1, 4)
     radii = sorted(round(rng.uniform(r_min, r_max), 1) for _ in range(n - 1)) + [r_max]
     # steps of at least 0.6 mm (radius), mostly: a smaller one is a refusal (the nose)
     if rng.random() < 0.9:
         radii = [r for k, r in enumerate(radii) if k == len(radii) - 1 or radii[k + 1] - r >= 0.6]
+    if len(radii) >= 2 and r_min < 9.0 < radii[-2] and rng.random() < 0.3:
+        # a step near the diameter where G96 reaches the spindle limit (the G71 split)
+        radii[-2] = round(rng.uniform(8.8, 10.0), 2)
     if n >= 2 and rng.random() < 0.1:  # a journal on the left end, smaller: a second setup
         radii.append(round(rng.uniform(r_min, r_max - 1.0), 1))
     cuts = sorted(rng.uniform(0.1, 0.9) * length for _ in range(len(radii) - 1))
@@ -68,12 +82,20 @@ def random_part(rng: random.Random, name: str) -> str:
     # the OD polyline: [x, z, what the element *to* this point is, its size, may the corner
     # at this point take a chamfer or fillet]
     pts: list[list] = [[x_in, 0.0, "line", 0.0, True]]
+    if blind:
+        pts = [[0.0, -blind[1], "line", 0.0, False], [blind[0], -blind[1], "line", 0.0, True]] \
+            + pts
     for i, r in enumerate(radii):
         z_a, z_b = zs[i], zs[i + 1]
         w = z_a - z_b
         if w < 0.6:
             continue
-        if i > 0 and rng.random() < 0.2 and r > pts[-1][0] + 0.5:
+        if i == 0 and end == "ball" and w > r + 1.0:
+            pts.append([r, -r, "ball", r, True])
+            pts.append([r, z_b, "line", 0.0, True])
+            continue
+        if (i > 0 or end == "cone") and (end == "cone" or rng.random() < 0.2) \
+                and r > pts[-1][0] + 0.5:
             # a taper from the previous radius instead of a shoulder
             pts.append([r, z_a - min(w * 0.5, rng.uniform(0.5, 3) * (r - pts[-1][0])),
                         "line", 0.0, True])
@@ -117,6 +139,9 @@ def random_part(rng: random.Random, name: str) -> str:
         if kind == "groove_arc":
             lines.append(f"    s.arc_to({_f(x)}, {_f(z)}, radius={_f(size)}, cw=True)")
             continue
+        if kind == "ball":
+            lines.append(f"    s.arc_to({_f(x)}, {_f(z)}, radius={_f(size)}, cw=False)")
+            continue
         if kind == "bulge":
             lines.append(f"    s.arc_to({_f(x)}, {_f(z)}, radius={_f(size)}, cw=False)")
             continue
@@ -139,6 +164,8 @@ def random_part(rng: random.Random, name: str) -> str:
                  + (f"/{_f(max(2.0, 2 * rb - rng.choice([2, 3, 4])))}" if bore else "")
                  + f"x{_f(length + rng.choice([3, 10, 30, 45]))}{face}\"\n\n\n")
     what = (f"largest diameter {_f(2 * r_max)}, length {_f(length)}"
+            + (f", a {end} on the right" if end != "face" else "")
+            + (f", blind bore {_f(2 * blind[0])} {_f(blind[1])} deep" if blind else "")
             + (f", through bore {_f(2 * rb)}" if bore else "")
             + (f", counterbore {_f(2 * cb[0])} {_f(cb[1])} deep" if cb else ""))
     if plain:
@@ -161,7 +188,7 @@ def random_part(rng: random.Random, name: str) -> str:
             "from hnc_cam.cad.sketch import Outline, revolve\n\n"
             f"{stock}"
             "def part():\n"
-            f"    s = Outline(({_f(x_in)}, 0))\n"
+            f"    s = Outline(({_f(pts[0][0])}, {_f(pts[0][1])}))\n"
             f"{body}\n{close}"
             "    return revolve(s.segments())\n")
 
