@@ -18,7 +18,8 @@ Model (the choices made where the issue leaves room):
   convolution with the sampled arc, the same region).
 * Cost linear in the number of moves: the sweeps are built per run of moves (one vectorised
   call per tool shape), then taken out of the material in batches of consecutive moves
-  (:data:`BATCH`). What each move removes (exact, and as sequential as one move after another)
+  (at most :data:`BATCH`; a batch starts with every pass, a longer pass is cut into the
+  fewest equal batches). What each move removes (exact, and as sequential as one move after another)
   comes from :mod:`hnc_cam.sim.area`: the overlap of the material at the batch's start with
   the move's *front band* (its sweep beyond the placement where it starts, which the move
   before swept) is an upper bound of what the move removes after the moves before it; the
