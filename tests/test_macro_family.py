@@ -363,8 +363,9 @@ def test_grooved_shaft_decides_the_ramps_insert_at_its_reach(grooved_shaft):
     assert len(pieces) == 1
     sets = [dict(fam.params, d1=d1, relief_angle=a) for d1 in (24.0, 26.0)
             for a in (29.9, 29.95, 30.0, 30.05, 31.0)]
-    # and beyond d2 37.6, where the arc groove's approach starts above the bar
-    sets += [dict(fam.params, d2=37.7, relief_angle=a) for a in (29.5, 31.3)]
+    # and at the top of the domain's d2 (beyond 37.5 the arc groove's approach would start
+    # above the 40 mm bar: outside the DOMAIN)
+    sets += [dict(fam.params, d2=37.45, relief_angle=a) for a in (29.5, 31.3)]
     tools = {a: "T02" in ctx.program(dict(fam.params, d1=26.0, relief_angle=a))
              for a in (29.95, 30.0, 30.05)}
     assert tools == {29.95: True, 30.0: True, 30.05: False}
@@ -412,26 +413,28 @@ def test_grooved_shaft_fanuc_macro_follows_20_variants_and_verifies(grooved_shaf
 
 
 @pytest.mark.slow
-def test_grooved_shaft_fanuc_holds_beyond_d2_37_6(grooved_shaft_fanuc):
-    """Beyond d2 37.6 (the arc groove's approach above the bar) with either insert for the
-    relief's ramp: the two sets where the FANUC form once failed (a rounded corner's end fitted
-    0.001 mm off with coefficients that were no law; the ramp's insert change never sampled
-    there) and sets beside each threshold."""
+def test_grooved_shaft_fanuc_holds_beside_its_thresholds(grooved_shaft_fanuc):
+    """On both sides of every threshold on a parameter, and at the top of the domain's d2
+    with either insert for the relief's ramp (the sets where the FANUC form failed were
+    beyond d2 37.6, outside the declared domain now)."""
     ctx, fam, pieces = grooved_shaft_fanuc
-    sets = [dict(fam.params, length=76.888, d1=25.636, d2=37.715, l1=29.793,
-                 relief_width=4.199, relief_depth=0.815, relief_angle=31.323,
-                 relief_radius=0.589, arc_z=54.211, arc_radius=4.911, arc_depth=1.256,
-                 chamfer=1.013),
-            dict(fam.params, length=81.267, d1=24.5, d2=37.656, l1=31.078,
-                 relief_width=3.865, relief_depth=0.809, relief_angle=28.907,
-                 relief_radius=0.609, arc_z=57.541, arc_radius=4.991, arc_depth=1.172,
-                 chamfer=1.004)]
-    sets += [dict(fam.params, d2=d2, relief_angle=a) for d2 in (37.55, 37.65, 37.79)
-             for a in (29.5, 30.5)]
+    assert len(pieces) == 1
+    sets = _beside_thresholds(grooved_shaft_fanuc)
+    sets += [dict(fam.params, d2=37.45, relief_angle=a) for a in (29.5, 30.5)]
     sets += [dict(fam.params, d1=d1, relief_angle=a) for d1 in (24.0, 26.0)
              for a in (29.95, 30.05)]
-    sets += [dict(fam.params, chamfer=c) for c in (0.96, 1.04)]
+    assert len(sets) >= 8
     assert _prove(grooved_shaft_fanuc, sets, "fanuc0it") == len(sets)
+
+
+def test_grooved_shaft_is_refused_beyond_its_domain(tmp_path, capsys):
+    """d2 37.6 is outside grooved_shaft's DOMAIN: the nominal set there is one line, exit 2."""
+    from hnc_cam.cli import main
+    assert main(["family", str(PARTS / "grooved_shaft.py"), "--macro", "--set", "d2=37.6",
+                 "--check", "0", "-o", str(tmp_path / "m.nc")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "d2=37.6 is outside the family's DOMAIN 34.5..37.5" in err[0]
+    assert not list(tmp_path.iterdir())
 
 
 @pytest.fixture(scope="module")
@@ -448,6 +451,43 @@ def threaded_stud_fanuc():
 def test_threaded_stud_fanuc_macro_follows_20_variants_and_verifies(threaded_stud_fanuc):
     sets = _random_sets(threaded_stud_fanuc) + _beside_thresholds(threaded_stud_fanuc)
     assert _prove(threaded_stud_fanuc, sets, "fanuc0it") == len(sets) >= 20
+
+
+@pytest.mark.parametrize("name, dialect", [("grooved_shaft.py", "fanuc0it"),
+                                           ("threaded_stud.py", "fanuc0it"),
+                                           ("threaded_stud.py", "siemens802")])
+def test_the_long_families_other_forms_pass_a_small_check(name, dialect, tmp_path, capsys):
+    """The FANUC forms of grooved_shaft and threaded_stud and threaded_stud's 802 form:
+    derived, one set per program through the interpreter, the simulator and verify, every
+    file written."""
+    from hnc_cam.cli import main
+    out = tmp_path / "m"
+    assert main(["family", str(PARTS / name), "--macro", "--dialect", dialect, "--check", "1",
+                 "-o", f"{out}/"]) == 0, capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert ": pass" in err
+    files = sorted(out.iterdir())
+    if dialect == "fanuc0it":
+        assert files and all("G65 P" in f.read_text() for f in files)
+    else:
+        assert any(f.suffix == ".MPF" for f in files) and any(f.suffix == ".SPF" for f in files)
+
+
+@pytest.fixture(scope="module")
+def threaded_stud_802():
+    return _derive(PARTS / "threaded_stud.py", "siemens802")
+
+
+@pytest.mark.slow
+def test_threaded_stud_802_macro_follows_20_variants_and_verifies(threaded_stud_802):
+    """The 802 form: two programs (split at collar_diameter 29, THREADED_STUD and
+    THREADED_STUD2 with their own contour subprograms), 20 sets and both sides of each
+    threshold through the 802 reader, the simulator and verify."""
+    ctx, fam, pieces = threaded_stud_802
+    assert sorted(b for pc in pieces for b in pc.bounds) == ["collar_diameter < 29",
+                                                             "collar_diameter >= 29"]
+    sets = _random_sets(threaded_stud_802) + _beside_thresholds(threaded_stud_802)
+    assert _prove(threaded_stud_802, sets, "siemens802") == len(sets) >= 20
 
 
 @pytest.mark.slow
@@ -621,20 +661,22 @@ def test_a_table_row_breaking_require_is_one_line(tmp_path, capsys, row, what):
     assert err[0].startswith(f"error: {table}:3: the family") and what in err[0]
 
 
-def test_a_chuck_slower_than_the_machine_fails_the_check(tmp_path, capsys):
-    """The macro leaves the spindle limit near the axis to the control's G96 clamp, the
-    machine's 3000 rpm; with a chuck rated 1500 rpm the check finds a move above it."""
+@pytest.mark.parametrize("check", ["2", "0"])
+def test_a_chuck_slower_than_the_machine_is_refused(tmp_path, capsys, check):
+    """The HNC-21T macro leaves the spindle limit near the axis to the control's G96 clamp,
+    the machine's 3000 rpm; with a chuck rated 1500 rpm the per-variant program switches to
+    G97 S1500 there, so the macro is refused before deriving, also with --check 0."""
     from hnc_cam.cli import main
     text = (PARTS.parent / "hnc_cam" / "data" / "machine.toml").read_text()
     assert "[chuck]" in text
     mach = tmp_path / "m.toml"
     mach.write_text(text.replace("[chuck]", "[chuck]\nmax_rpm = 1500.0", 1))
     out = tmp_path / "m.nc"
-    assert main(["family", str(FRESH / "pin.py"), "--macro", "--check", "2", "--machine",
-                 str(mach), "-o", str(out)]) == 1
+    assert main(["family", str(FRESH / "pin.py"), "--macro", "--check", check, "--machine",
+                 str(mach), "-o", str(out)]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert not out.exists() and len(err) == 1
-    assert "limit of 1500 rpm" in err[0] and "length=" in err[0]
+    assert "G97 S1500" in err[0] and "max_rpm is 1500" in err[0]
 
 
 def test_fanuc_table_rows_jump_to_their_g65_call(tmp_path):

@@ -237,7 +237,7 @@ class Ctx:
     dialect: str
     cache: dict = field(default_factory=dict)
     #: the per-variant programs a derivation may generate (a bound on its time)
-    budget: int = 600
+    budget: int = 1200
 
     def program(self, p: dict[str, Any]) -> str:
         key = tuple(sorted((k, _fmt(v)) for k, v in p.items()))
