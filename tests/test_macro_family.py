@@ -295,6 +295,24 @@ def test_every_bundled_family_gets_a_macro_or_one_clear_refusal(name, tmp_path, 
         assert len([ln for ln in err.splitlines() if ln.startswith("error:")]) == 1, err
 
 
+@pytest.mark.parametrize("name, dialect", [(n, d) for d in ("fanuc0it", "siemens802")
+                                           for n in sorted(DERIVED)
+                                           if (n, d) != ("cast_blank.py", "siemens802")])
+def test_every_bundled_family_in_the_other_dialects_passes_20_sets(name, dialect, tmp_path,
+                                                                   capsys):
+    """The FANUC and 802 forms of the bundled families over their declared domains: every
+    piece's program run for 20 sets through the dialect's reader, compared with the
+    per-variant program and verified (cast_blank's 802 form misses some sets by 0.001 mm:
+    not proven, docs/MACRO.md)."""
+    from hnc_cam.cli import main
+    out = tmp_path / "m"
+    rc = main(["family", str(PARTS / name), "--macro", "--dialect", dialect, "--check", "20",
+               "-o", f"{out}/"])
+    err = capsys.readouterr().err
+    assert rc == 0, err
+    assert "checked" in err and ": pass" in err and sorted(out.iterdir())
+
+
 def test_a_family_beyond_the_budget_is_refused_in_one_line():
     """A derivation that would need more per-variant programs than its budget is refused
     with one line, having generated no more than the budget."""
