@@ -51,7 +51,11 @@ STAGES = ("load", "plan", "render", "interpret", "simulate", "verify", "write")
 
 
 class Memory:
-    """Peak RSS, PSS and USS (MB) of every process under this one while it runs."""
+    """Peak RSS, PSS and USS (MB) of every process under this one while it runs. ``cpu``: the
+    CPU seconds all samplers have spent (reading /proc/PID/smaps of a process that maps the
+    CAD kernel costs milliseconds), taken out of the family process's CPU figure."""
+
+    cpu = 0.0
 
     def __init__(self, period: float = 0.2):
         self.period = period
@@ -77,6 +81,7 @@ class Memory:
         import psutil
         me = psutil.Process()
         while not self._stop.is_set():
+            c0 = time.thread_time()
             try:
                 kids = me.children(recursive=True)
             except psutil.Error:
@@ -91,6 +96,7 @@ class Memory:
                 old = self.peak.setdefault(p.pid, [0.0, 0.0, 0.0])
                 for i, v in enumerate((m.rss, getattr(m, "pss", 0), m.uss)):
                     old[i] = max(old[i], v / 2 ** 20)
+            Memory.cpu += time.thread_time() - c0
             self._stop.wait(self.period)
 
     def of(self, pids) -> str:
@@ -113,10 +119,11 @@ def run(table: Path, out: Path, extra: list[str]) -> tuple[float, dict[str, byte
     from hnc_cam.plan import command
     shutil.rmtree(out, ignore_errors=True)
     err = io.StringIO()
-    t0, c0 = time.perf_counter(), time.process_time()
+    t0, c0, s0 = time.perf_counter(), time.process_time(), Memory.cpu
     with contextlib.redirect_stderr(err):
         rc = main(["family", str(PART), "--table", str(table), "--out", str(out)] + extra)
-    dt, cpu = time.perf_counter() - t0, time.process_time() - c0
+    dt = time.perf_counter() - t0
+    cpu = time.process_time() - c0 - (Memory.cpu - s0)
     progs = {p.name: p.read_bytes() for p in out.glob("O*.nc")}
     if rc != 0:
         print(f"  warning: exit {rc}: {err.getvalue().strip()[:200]}")
@@ -137,7 +144,8 @@ def stage_line(last: dict) -> str:
 def overhead_line(last: dict, jobs: int) -> str:
     """Where a row's wall time goes besides its stages: the family process's own CPU per row
     (submitting the rows, taking their results, writing the programs and summary.csv: on a
-    machine with as many cores as workers it competes with them), and the wall time times the
+    machine with as many cores as workers it competes with them; the memory sampler's CPU
+    left out), and the wall time times the
     workers less the stages' sum, per row (scheduling, pickling, waiting, the cold start)."""
     n = last.get("rows") or 0
     if not n or "wall_s" not in last:
