@@ -990,6 +990,35 @@ def derive_piece(ctx: Ctx, fam: Family, lo: dict, hi: dict, nominal: dict[str, A
                 at = line_ix[allb[0][0].line] if allb[0] else 0
             slots = _fit_blocks(ctx, fam, tr, nominal, lo, hi, allb, [v.p for v in members],
                                 min(n_fit, len(members) - 2), at) if allb[0] else []
+            if allb[0]:
+                conds = tree.paths()[li] if tree is not None else []
+                for attempt in range(2):
+                    fresh = _held_out(ctx, fam, tr, lo, hi, nomp, reg, distinct[li],
+                                      list(extra) + list(conds), allb[0],
+                                      ("hold", seed, reg, li, attempt))
+                    miss = _missed(slots, allb[0], fresh)
+                    if miss is None:
+                        break
+                    if attempt == 1:
+                        s, p, got = miss
+                        b = allb[0][s.block]
+                        w = b.words[s.word]
+                        movers = _movers(ctx, fam, tr, nominal, lo, hi, at + s.block, s.word,
+                                         nb) if at is not None else []
+                        raise PlanError(
+                            f"{fam.path}: the word {w.letter}{w.text} of the family's program "
+                            f"(line {b.line}: {b.raw.strip()}) follows no exact law of the "
+                            f"parameters (moved by "
+                            f"{', '.join(movers) or 'several parameters together'}): its fit "
+                            f"on the sampled variants is {abs(got - _ev(s.node, p)):.4f} mm "
+                            f"off at {_pset(p, fam.free)}; no macro is written")
+                    # a near fit the fresh sets break: fitted again with them
+                    members += [v for v, _run in fresh]
+                    runs += [run for _v, run in fresh]
+                    allb += [[b for sec in run for b in sec.blocks] for _v, run in fresh]
+                    slots = _fit_blocks(ctx, fam, tr, nominal, lo, hi, allb,
+                                        [v.p for v in members],
+                                        min(n_fit, len(members) - 2), at)
             alts.append(Alt(members[0], runs[0], allb[0], slots, [v.p for v in members]))
         regions.append(Region(reg, alts, tree))
     # the nominal's own words, indexed on its blocks (what the fit counts)
@@ -1003,6 +1032,54 @@ def derive_piece(ctx: Ctx, fam: Family, lo: dict, hi: dict, nominal: dict[str, A
                stock=ctx.stock)
     pc.regions = regions
     return pc
+
+
+#: the fresh variants each alternative's fitted words are proven on before their laws are taken
+N_HELD = 6
+
+
+def _held_out(ctx: Ctx, fam: Family, tr: Any, lo: dict, hi: dict, nomp: Any, reg: tuple,
+              key: tuple, conds: list[tuple], ab: list[Block], seed: Any) -> list[tuple]:
+    """``N_HELD`` fresh variants inside one alternative (its decision leaf's conditions and
+    the piece's own), none of them among those its words were fitted on: (variant, its run
+    of sections). A set that falls on the other side of a threshold (exact to its bisection
+    only) or takes another branch says nothing about this alternative and is left out."""
+    from . import macro_merge as mm
+    out = []
+    shape = [[w.letter for w in b.words] for b in ab]
+    for p in sample(fam, tr, lo, hi, N_HELD, seed, limit=1000, branches=False, extra=conds):
+        _sketch_ok(fam, p)
+        if not _same_branches(tr, p):
+            continue
+        try:
+            v = mm.prog(p, ctx.program(p), ctx.dialect)
+        except PlanError:
+            continue
+        mm.align(nomp, v)
+        if mm.alt_key(nomp, v, reg) != key:
+            continue
+        run = mm.run_of(nomp, v, reg)
+        if [[w.letter for w in b.words] for sec in run for b in sec.blocks] == shape:
+            out.append((v, run))
+    return out
+
+
+def _missed(slots: list[Slot], ab: list[Block], fresh: list[tuple]):
+    """The first fitted word whose law misses a fresh variant's word by more than the
+    written precision: (slot, set, the variant's value); None where every law holds."""
+    for v, run in fresh:
+        vb = [b for sec in run for b in sec.blocks]
+        for s in slots:
+            if s.kind != "fit":
+                continue
+            got = vb[s.block].words[s.word].value
+            try:
+                want = _ev(s.node, v.p)
+            except (ValueError, ZeroDivisionError, OverflowError):
+                return s, v.p, got
+            if not math.isfinite(want) or abs(want - got) > TOL:
+                return s, v.p, got
+    return None
 
 
 def _cross_probes(tree: Any, probed: set[frozenset]) -> list[list[tuple]]:
