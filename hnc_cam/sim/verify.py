@@ -1195,9 +1195,10 @@ def _with_tails(region: BaseGeometry, reach: BaseGeometry, unreach: BaseGeometry
 
 
 #: tool kinds that reach leftover only where they went: parting and grooving blades cut
-#: where the program sends them (a groove, the part-off line), not along the whole contour, so
-#: a finishing nose's fillet in a sharp inside corner elsewhere is not theirs to clean
-BLADE_KINDS = frozenset({"part", "groove", "groove_id", "groove_face"})
+#: where the program sends them (a groove, the part-off line), and drills along the spindle
+#: axis only (their point is not a turning tool's), not along the whole contour, so a
+#: finishing nose's fillet in a sharp inside corner elsewhere is not theirs to clean
+BLADE_KINDS = frozenset({"part", "groove", "groove_id", "groove_face", "drill", "center_drill"})
 
 
 def _is_blade(m: Machined, reg: int) -> bool:
