@@ -983,3 +983,19 @@ def test_a_near_fit_the_fresh_variants_break_is_fitted_again(tmp_path, monkeypat
                  "-o", str(out)]) == 0
     assert "checked 3 parameter set(s): pass" in capsys.readouterr().err
     assert len(seen) >= 2 and out.exists()
+
+
+@pytest.mark.slow
+def test_grooved_shafts_802_rounded_corner_is_refused_not_written(tmp_path, capsys):
+    """grooved_shaft in the 802 form: the Z of the arc groove's rest-roughing rounded corner
+    (RND=0.5) has no exact law among the fit's candidates; its near fit passes the variants it
+    was fitted on but misses the fresh ones of its alternative, so the family is refused in
+    one line naming the word and the parameters that move it, and nothing is written."""
+    from hnc_cam.cli import main
+    out = tmp_path / "gs"
+    assert main(["family", str(PARTS / "grooved_shaft.py"), "--macro", "--dialect",
+                 "siemens802", "--check", "0", "-o", f"{out}/"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("error: ")
+    assert "follows no exact law" in err[0] and "RND=0.5" in err[0]
+    assert "arc_radius" in err[0] and not out.exists()
