@@ -580,15 +580,7 @@ def _blocked(obst: BaseGeometry, body: np.ndarray, u: tuple[float, float],
     ps = _polys(obst)
     if not ps:
         return np.zeros(0, dtype=object)
-    # exteriors counter-clockwise, holes clockwise: the inside on the left of every edge, the
-    # outward normal of an edge a -> b is (d_x, -d_z) for d = b - a in (z, x)
-    oriented = shapely.orient_polygons(np.array(ps, dtype=object), exterior_cw=False)
-    c, ri = shapely.get_coordinates(shapely.get_rings(oriented), return_index=True)
-    e = np.flatnonzero(ri[:-1] == ri[1:])
-    a, b = c[e], c[e + 1]
-    d = b - a
-    up = d[:, 1] * u[0] - d[:, 0] * u[1] >= -1e-12 * (np.abs(d[:, 0]) + np.abs(d[:, 1]))
-    hulls = sweep_hulls(-body, a[up], b[up])
+    hulls = sweep_hulls(-body, *_facing_edges(ps, u))
     shapely.prepare(near)
     return hulls[shapely.intersects(near, hulls)]
 
@@ -843,14 +835,23 @@ def _facing(pieces: Sequence[BaseGeometry], u: tuple[float, float]
     ps = [p for g in pieces for p in _polys(g)]
     if not ps:
         return np.zeros((0, 2)), np.zeros((0, 2))
+    a, b = _facing_edges(ps, u)
+    return (a[:, ::-1], b[:, ::-1]) if _frame(u) else (a, b)
+
+
+def _facing_edges(ps: Sequence[Polygon], u: tuple[float, float]
+                  ) -> tuple[np.ndarray, np.ndarray]:
+    """The edges (starts, ends; (z, x)) of the polygons ``ps`` that do not face away from the
+    holder's direction ``u``."""
+    # exteriors counter-clockwise, holes clockwise: the inside on the left of every edge, the
+    # outward normal of an edge a -> b is (d_x, -d_z) for d = b - a in (z, x)
     oriented = shapely.orient_polygons(np.array(ps, dtype=object), exterior_cw=False)
     c, ri = shapely.get_coordinates(shapely.get_rings(oriented), return_index=True)
     e = np.flatnonzero(ri[:-1] == ri[1:])
     a, b = c[e], c[e + 1]
     d = b - a
     up = d[:, 1] * u[0] - d[:, 0] * u[1] >= -1e-12 * (np.abs(d[:, 0]) + np.abs(d[:, 1]))
-    a, b = a[up], b[up]
-    return (a[:, ::-1], b[:, ::-1]) if _frame(u) else (a, b)
+    return a[up], b[up]
 
 
 def holder_direction(tip: int) -> tuple[float, float]:
