@@ -33,38 +33,42 @@ from ..errors import PartError, PlanError
 # ("f", fname, a) for sqrt sin cos tan atan abs | ("atan2", a, b)
 
 
-def _ev(n: tuple, env: dict[str, float], memo: dict[int, float] | None = None) -> float:
-    """The value of an expression at ``env``; each shared subexpression once (the traced
-    expressions share their parts: a plain tree walk repeats them exponentially)."""
+def walk(n: tuple, leaf: Callable[[tuple], Any], fun: dict[str, Callable[..., Any]],
+         memo: dict[int, tuple[tuple, Any]]) -> Any:
+    """The value of an expression: ``leaf`` gives a constant's (``c``) and a parameter's
+    (``p``), ``fun`` the functions (:data:`_FUN` with ``atan2``, ``min`` and ``max``), the
+    operators those of the values; each shared subexpression once (the traced expressions
+    share their parts: a plain tree walk repeats them exponentially). ``memo`` keeps each
+    node with its value (so a node's id stays its own while the memo lives)."""
     k = n[0]
-    if k == "c":
-        return n[1]
-    if k == "p":
-        return env[n[1]]
-    if memo is None:
-        memo = {}
-    else:
-        got = memo.get(id(n))
-        if got is not None:
-            return got
+    if k in ("c", "p"):
+        return leaf(n)
+    got = memo.get(id(n))
+    if got is not None and got[0] is n:
+        return got[1]
     if k == "neg":
-        v = -_ev(n[1], env, memo)
+        v = -walk(n[1], leaf, fun, memo)
     elif k == "f":
-        v = _FUN[n[1]](_ev(n[2], env, memo))
-    elif k == "atan2":
-        v = math.atan2(_ev(n[1], env, memo), _ev(n[2], env, memo))
-    elif k in ("min", "max"):
-        v = (min if k == "min" else max)(_ev(n[1], env, memo), _ev(n[2], env, memo))
+        v = fun[n[1]](walk(n[2], leaf, fun, memo))
+    elif k in ("atan2", "min", "max"):
+        v = fun[k](walk(n[1], leaf, fun, memo), walk(n[2], leaf, fun, memo))
     else:
-        a, b = _ev(n[1], env, memo), _ev(n[2], env, memo)
+        a, b = walk(n[1], leaf, fun, memo), walk(n[2], leaf, fun, memo)
         v = a + b if k == "+" else a - b if k == "-" else a * b if k == "*" else a / b
-    memo[id(n)] = v  # the root holds every node of it alive while it is evaluated
+    memo[id(n)] = (n, v)
     return v
+
+
+def _ev(n: tuple, env: dict[str, float]) -> float:
+    """The value of an expression at ``env`` (:func:`walk` with :data:`_FUN`: a root of a
+    negative number or a division by zero raises)."""
+    return walk(n, lambda m: m[1] if m[0] == "c" else env[m[1]], _SCALAR, {})
 
 
 _FUN: dict[str, Callable[[float], float]] = {
     "sqrt": math.sqrt, "sin": math.sin, "cos": math.cos, "tan": math.tan, "atan": math.atan,
     "abs": abs}
+_SCALAR: dict[str, Callable[..., float]] = dict(_FUN, atan2=math.atan2, min=min, max=max)
 
 
 def _node(v: Any) -> tuple:

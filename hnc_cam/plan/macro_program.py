@@ -44,7 +44,7 @@ from typing import Any
 
 from ..errors import HncError, PartError, PlanError
 from .macro import (Check, Family, Lets, _ev, _holds, _node, _num, _params_of,
-                    _trace, features, hnc_checks, render)
+                    _trace, features, hnc_checks, render, walk)
 
 #: what a fit may miss a written word by: the written precision (3 decimals, so half of
 #: 0.001) and the float noise of the planner's arithmetic
@@ -426,38 +426,20 @@ def _candidates(fam: Family, tr: Any, sets: list[dict[str, Any]], normals: bool 
     return nodes, mat
 
 
-_NP_FUN = {"sqrt": "sqrt", "sin": "sin", "cos": "cos", "tan": "tan", "atan": "arctan",
-           "abs": "abs"}
-
-
 def _ev_all(n: tuple, env: dict, memo: dict[int, Any], sets: list[dict]) -> Any:
-    """:func:`macro._ev` over every set at once (numpy arrays, each shared subexpression
-    once: the traced expressions share their parts, so a tree walk repeats them
-    exponentially); an undefined value (a root of a negative number, a division by zero) is
-    NaN or infinite, which the caller leaves out."""
+    """:func:`macro._ev` over every set at once (:func:`macro.walk` on numpy arrays, ``memo``
+    shared by the expressions of one call); an undefined value (a root of a negative number,
+    a division by zero) is NaN or infinite, which the caller leaves out."""
     import numpy as np
-    got = memo.get(id(n))
-    if got is not None and got[0] is n:
-        return got[1]
-    k = n[0]
-    if k == "c":
-        v = np.full(len(sets), float(n[1]))
-    elif k == "p":
-        v = env[n[1]] if n[1] in env else np.array([float(p[n[1]]) for p in sets])
-    elif k == "neg":
-        v = -_ev_all(n[1], env, memo, sets)
-    elif k == "f":
-        v = getattr(np, _NP_FUN[n[1]])(_ev_all(n[2], env, memo, sets))
-    elif k == "atan2":
-        v = np.arctan2(_ev_all(n[1], env, memo, sets), _ev_all(n[2], env, memo, sets))
-    elif k in ("min", "max"):
-        v = (np.minimum if k == "min" else np.maximum)(_ev_all(n[1], env, memo, sets),
-                                                       _ev_all(n[2], env, memo, sets))
-    else:
-        a, b = _ev_all(n[1], env, memo, sets), _ev_all(n[2], env, memo, sets)
-        v = a + b if k == "+" else a - b if k == "-" else a * b if k == "*" else a / b
-    memo[id(n)] = (n, v)  # the node kept alive with its value: its id stays its own
-    return v
+
+    def leaf(m: tuple) -> Any:
+        if m[0] == "c":
+            return np.full(len(sets), float(m[1]))
+        return env[m[1]] if m[1] in env else np.array([float(p[m[1]]) for p in sets])
+
+    fun = {"sqrt": np.sqrt, "sin": np.sin, "cos": np.cos, "tan": np.tan, "atan": np.arctan,
+           "abs": np.abs, "atan2": np.arctan2, "min": np.minimum, "max": np.maximum}
+    return walk(n, leaf, fun, memo)
 
 
 def _cross_columns(tr: Any, nb: list[Block], allb: list[list[Block]], allp: list[dict]):
