@@ -810,11 +810,13 @@ class Interp(HncMemory):
                     w[L] = v
         return w
 
-    def _dyn(self, b: Blk) -> tuple[dict, tuple, tuple]:
+    def _dyn(self, b: Blk, dyn: list | None = None) -> tuple[dict, tuple, tuple]:
+        """The block's words with its expression words (``dyn``: ``b.dyn`` unless given)
+        evaluated: (words, G codes, M codes)."""
         w = dict(b.words)
         gs = list(b.gs)
         ms = list(b.ms)
-        for L, e, col in b.dyn:
+        for L, e, col in (b.dyn if dyn is None else dyn):
             v = self._word_value(e, b.line)
             if v is None:
                 continue

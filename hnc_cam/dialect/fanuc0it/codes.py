@@ -160,16 +160,9 @@ class FanucInterp(Interp):
     def _call_words(self, b: Blk) -> tuple[dict, tuple, tuple]:
         """The words of a G65/G66 block: M, S and T are arguments (#13, #19, #20) with their
         decimals, as the reader passes them (:data:`syntax.CALL_ARGS`), not rounded to codes."""
-        args = [(L, e, col) for L, e, col in b.dyn if L in CALL_ARGS]
-        rest = [d for d in b.dyn if d[0] not in CALL_ARGS]
-        b.dyn, keep = rest or None, b.dyn
-        try:
-            w, gs, ms = self._dyn(b) if rest else (dict(b.words), b.gs, b.ms)
-        finally:
-            b.dyn = keep
-        w = dict(w)
+        w, gs, ms = self._dyn(b, [d for d in b.dyn if d[0] not in CALL_ARGS])
         ms = list(ms)
-        for L, e, col in args:
+        for L, e, col in (d for d in b.dyn if d[0] in CALL_ARGS):
             v = self._word_value(e, b.line)
             if v is None:
                 continue
