@@ -151,8 +151,9 @@ def _add_report(p: argparse.ArgumentParser, junit: bool) -> None:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    ap = _Parser(prog="hnc-cam", description="Lathe programs for HNC-21/22T, FANUC 0i-T "
-                                 "and Haas controls: generate from CAD, run, simulate, verify")
+    ap = _Parser(prog="hnc-cam", description="Lathe programs for HNC-21/22T, FANUC 0i-T, "
+                                 "Haas and SINUMERIK 802 controls: generate from CAD, run, "
+                                 "simulate, verify")
     from . import __version__
     ap.add_argument("--version", action="version", version=f"hnc-cam {__version__}")
     sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND",
@@ -205,7 +206,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=("hnc_cam.check", "verify_command"))
 
     p = sub.add_parser("generate", help="plan and write a lathe program for a part in the "
-                                        "dialect of --dialect (HNC-21T, FANUC 0i-T, Haas)")
+                                        "dialect of --dialect (HNC-21T, FANUC 0i-T, Haas, "
+                                        "SINUMERIK 802)")
     p.add_argument("part", help="part file (parts/....py) or .step/.stp file")
     _add_set(p)
     _add_gen_options(p)
