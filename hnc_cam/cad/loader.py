@@ -289,6 +289,21 @@ def family_parameters(mod: ModuleType) -> dict[str, Any]:
             and p.kind in (p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY)}
 
 
+def kwargs_hint(mod: ModuleType) -> str:
+    """A hint for a family whose ``part`` takes ``**kwargs``: such arguments are no
+    parameters (only keyword arguments with defaults are), whatever ``part`` forwards them
+    to; empty when ``part`` takes none."""
+    part = getattr(mod, "part", None)
+    try:
+        sig = inspect.signature(part) if callable(part) else None
+    except (TypeError, ValueError):
+        return ""
+    if sig is None or not any(p.kind is p.VAR_KEYWORD for p in sig.parameters.values()):
+        return ""
+    return (" (the family's parameters are part()'s keyword arguments with defaults; its "
+            "**kwargs declares none: write them out, e.g. def part(d1=12.0, l1=20.0))")
+
+
 def _number(name: str, value: Any, default: Any, where: str) -> Any:
     if isinstance(value, bool):
         raise PartError(f"{where}: parameter {name}={value!r} is not a number")
@@ -315,7 +330,8 @@ def resolve_params(mod: ModuleType, params: dict[str, Any] | None, where: str) -
     unknown = [k for k in params if k not in known]
     if unknown:
         raise PartError(f"{where}: unknown parameter{'s' if len(unknown) > 1 else ''} "
-                        f"{', '.join(unknown)}; known: {', '.join(known) or '(none)'}")
+                        f"{', '.join(unknown)}; known: {', '.join(known) or '(none)'}"
+                        + kwargs_hint(mod))
     out = dict(known)
     for k, v in params.items():
         out[k] = _number(k, v, known[k], where)
