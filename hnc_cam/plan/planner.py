@@ -1624,6 +1624,32 @@ def _run_on_warning(what: str, past: float, z_min: float, stock: Stock, machine:
             + "; the thread's full depth stops short of the left end")
 
 
+def _flank_hits(chain: Sequence[Segment], internal: bool, z_tip: float, r_tip: float,
+                half: float, z_thread_end: float, crest: Any) -> tuple[float, float] | None:
+    """Where the part stands inside a threading insert's flank toward -Z (6 mm long, as the
+    simulator draws it), the insert's tip at ``(r_tip, z_tip)``, and beyond the thread's
+    crest ``crest(z)`` (a wall; what the flank takes below the crest is the thread's own
+    run-out): the first such (z, radius) from the tip on, or None. The scan starts past the
+    thread's own end ``z_thread_end``."""
+    span = 6.0 * math.sin(half)
+    sgn = -1.0 if internal else 1.0
+    lo, hi = z_tip - span, min(z_tip, z_thread_end) - 1e-4
+    if hi <= lo:
+        return None
+    n = max(2, int((hi - lo) / 0.01) + 1)
+    zs = {hi - (hi - lo) * i / n for i in range(n + 1)}
+    zs |= {p[1] for s in chain for p in (s.start, s.end) if lo <= p[1] <= hi}
+    zs |= {p[1] - 1e-4 for s in chain for p in (s.start, s.end) if lo <= p[1] - 1e-4 <= hi}
+    for z in sorted(zs, reverse=True):
+        r = an.radius_at(chain, z, internal)
+        if r is None:
+            continue
+        flank = r_tip + sgn * (z_tip - z) / math.tan(half)
+        if sgn * (r - flank) > 0.005 and sgn * (r - crest(z)) > 0.005:
+            return z, r
+    return None
+
+
 def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stock: Stock,
                  lib: ToolLibrary, machine: Machine, opts: Options, r_stock: float,
                  params: dict[str, Any] | None = None, past: float = 0.0,
@@ -1780,6 +1806,35 @@ def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stoc
                         f"{_fmt(max(0.0, z_lo - z_wall))} mm before the wall at Z{_fmt(z_wall)}, and "
                         f"the threading insert needs {_fmt(need)} mm (half the lead plus 0.2 mm) "
                         f"clear of its flank")
+    method = "passes" if opts.thread_cycle == "g82" else "cycle"
+    shifted = ""
+    if z_wall is not None and not ran_on and not run_r:
+        # the thread ends in a relief in front of a wall: the insert's flank toward the wall
+        # (6 mm long, as the simulator draws it) must clear it with the tip at the end; a
+        # multiple-pass cycle's single-flank infeed ends each pass its depth x tan(half angle)
+        # further (HNC-21T G76), which a narrow relief does not leave room for: then single
+        # passes with radial infeed, which end at the thread's end
+        shift = depth * math.tan(half) if method == "cycle" else 0.0
+        def crest(z: float) -> float:
+            return r_crest + dr(z)
+
+        hit = _flank_hits(chain, th.internal, z_end - shift, r_root + dr(z_end), half, z_lo,
+                          crest)
+        if hit is not None and method == "cycle" and _flank_hits(
+                chain, th.internal, z_end, r_root + dr(z_end), half, z_lo, crest) is None:
+            method = "passes"
+            shifted = (f"; single passes with radial infeed: the multiple-pass cycle's flank "
+                       f"infeed ends its last pass {_fmt(shift)} mm further, where the "
+                       f"insert's flank meets the part at Z{_fmt(hit[0])} (diameter "
+                       f"{_fmt(2 * hit[1])})")
+        elif hit is not None:
+            room = z_end - z_wall
+            span = 6.0 * math.sin(half)
+            raise PlanError(f"{label}: the relief after the thread is {_fmt(room)} mm long, and "
+                            f"the threading insert's flank, {_fmt(span)} mm long along Z, meets "
+                            f"the part at Z{_fmt(hit[0])} (diameter {_fmt(2 * hit[1])}) with its "
+                            f"tip at the thread's end Z{_fmt(z_end)}: the relief must reach "
+                            f"further, or the wall after it must stand lower")
     # start point: clear of everything to the right of the thread
     xs = [s.bbox()[2] if not th.internal else s.bbox()[0] for s in chain
           if s.bbox()[3] >= z_hi - 1e-9]
@@ -1800,7 +1855,7 @@ def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stoc
                     start_angles=[360.0 * i / th.starts for i in range(th.starts)],
                     first_depth=q, min_depth=0.05, finish_allowance=0.05, finish_passes=1,
                     runout_z=run_r, runout_x=run_e, taper=-th.taper / 2)
-    if opts.thread_cycle == "g82":
+    if method == "passes":
         npass = max(3, math.ceil((depth / q) ** 2))
         passes = [r_crest + dr(z_end) - sgn * depth * math.sqrt(i / npass)
                   for i in range(1, npass + 1)]
@@ -1815,5 +1870,5 @@ def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stoc
     return Operation(
         name="thread", kind="thread", tool=t,
         reason=(f"{label}: {how}, depth {_fmt(depth)} mm ("
-                f"{'0.5413' if th.internal else '0.6134'} x pitch), with {describe(t)}"),
+                f"{'0.5413' if th.internal else '0.6134'} x pitch), with {describe(t)}{shifted}"),
         start=(x_a, z_a), spindle="rpm", speed=rpm, feed=lead, thread=cut, passes=passes)
