@@ -24,29 +24,35 @@ def _thread_ends(prog):
     return [m.end[1] for m in legs]
 
 
-@pytest.mark.parametrize("dialect", ["hnc21t", "fanuc0it", "siemens802"])
-def test_a_relief_too_narrow_for_the_flank_infeed_is_threaded_in_radial_passes(dialect):
-    """Relief 3.5 mm, head at diameter 26: the cycle's last pass would end 0.531 mm past
+@pytest.mark.parametrize("dialect", ["hnc21t", "fanuc0it", "haas", "siemens802"])
+def test_a_relief_too_narrow_for_the_flank_infeed(dialect):
+    """Relief 3.5 mm, head at diameter 26. HNC-21T: G76's last pass would end 0.531 mm past
     Z-22, its flank 3 mm further at Z-25.53 and above diameter 24 — into the head's face at
-    Z-25.5. Radial passes end at Z-22, the flank at Z-25, and the part verifies."""
+    Z-25.5; radial passes end at Z-22, the flank at Z-25. The other dialects' cycles end
+    every pass on Z-22 and keep their cycle. Either way the part verifies."""
     prog = generate(PART, dialect=dialect)
     assert prog.report is not None and prog.report.passed
     ends = _thread_ends(prog)
     assert len(ends) >= 4
     assert ends == pytest.approx([-22.0] * len(ends), abs=1e-6)
     thread = next(op for op in prog.plan.operations if op.kind == "thread")
-    assert thread.thread.method == "passes"
+    assert thread.thread.method == ("passes" if dialect == "hnc21t" else "cycle")
 
 
-def test_the_cycle_is_kept_where_its_flank_clears_the_wall():
+@pytest.mark.parametrize("dialect", ["hnc21t", "fanuc0it", "haas", "siemens802"])
+def test_the_cycle_is_kept_where_its_flank_clears_the_wall(dialect):
     """A head no higher than diameter 19 stands below the flank wherever the last pass ends:
-    the multiple-pass cycle stays, its passes ending further by their depth along the flank."""
-    prog = generate(PART, params={"dh": "19"})
+    the multiple-pass cycle stays; the HNC-21T's passes end further by their depth along the
+    flank (the dialect feature thread_end_on_flank the planner reads), the others' on Z-22."""
+    from hnc_cam.dialect import get
+    prog = generate(PART, params={"dh": "19"}, dialect=dialect)
     assert prog.report is not None and prog.report.passed
     thread = next(op for op in prog.plan.operations if op.kind == "thread")
     assert thread.thread.method == "cycle"
-    assert min(_thread_ends(prog)) == pytest.approx(-22.0 - DEPTH * math.tan(math.radians(30)),
-                                                    abs=2e-3)
+    shifted = get(dialect).has("thread_end_on_flank")
+    assert shifted == (dialect == "hnc21t")
+    want = -22.0 - (DEPTH * math.tan(math.radians(30)) if shifted else 0.0)
+    assert min(_thread_ends(prog)) == pytest.approx(want, abs=2e-3)
 
 
 def test_a_relief_shorter_than_the_flank_is_refused():

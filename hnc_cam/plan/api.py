@@ -208,6 +208,17 @@ def dialect_of(dialect: str | None, machine: Machine | None) -> str:
     return dialect or getattr(machine, "controller", None) or DEFAULT_DIALECT
 
 
+def thread_end_on_flank(dialect: str) -> bool:
+    """Whether ``dialect``'s multiple-pass thread cycle ends each pass further along the
+    thread by its depth x tan(half angle) (:class:`~hnc_cam.plan.planner.Options`
+    ``thread_end_shift``); an unknown name is taken for the worst case."""
+    from ..dialect import get
+    try:
+        return get(dialect).has("thread_end_on_flank")
+    except ValueError:
+        return True
+
+
 def _interpret(text: str, machine: Machine, file: str, dialect: str = "hnc21t"):
     try:
         from ..nc import run
@@ -319,9 +330,10 @@ def generate(part: Any, stock: str | Stock | None = None, *, params: Mapping[str
                    partoff=bool(partoff),
                    partoff_dia=float(partoff_dia) if partoff_dia is not None else -1.0,
                    drill_style=drill_style)
+    dia = dialect_of(dialect, mach)
+    opts.thread_end_shift = thread_end_on_flank(dia)
     t1 = perf_counter()
     plan = make_plan(prof, st, lib, mach, opts, name=name, params=pparams, version=__version__)
-    dia = dialect_of(dialect, mach)
     t2 = perf_counter()
     text = render(plan, dialect=dia, templates=templates, number_format=number_format,
                   block_numbers=block_numbers)

@@ -100,6 +100,10 @@ class Options:
     comp: str = "cam"
     program_number: int = 1
     thread_cycle: str = "g76"  # g76 | g82
+    #: the dialect's multiple-pass thread cycle ends each pass its depth x tan(half angle)
+    #: further along the thread (HNC-21T G76's single-flank infeed; the dialect feature
+    #: ``thread_end_on_flank``); without it every pass ends on the thread's end
+    thread_end_shift: bool = True
     face_cycle: str = "g81"  # g81 | g01
     clearance: float = 1.0  # radial clearance of start points above the stock, mm
     z_clear: float = 2.0  # axial clearance in front of the face, mm
@@ -1814,7 +1818,7 @@ def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stoc
         # multiple-pass cycle's single-flank infeed ends each pass its depth x tan(half angle)
         # further (HNC-21T G76), which a narrow relief does not leave room for: then single
         # passes with radial infeed, which end at the thread's end
-        shift = depth * math.tan(half) if method == "cycle" else 0.0
+        shift = depth * math.tan(half) if method == "cycle" and opts.thread_end_shift else 0.0
         def crest(z: float) -> float:
             return r_crest + dr(z)
 

@@ -484,7 +484,7 @@ def generate_setups(part: Any, stock: Any = None, *, params: Any = None, tools: 
     lib2, ax, az = api.with_material(lib, mat_name, allowance)
     opts = Options(comp=comp, program_number=n1 + 1, thread_cycle=thread_cycle,
                    face_cycle=face_cycle, allowance_x=ax / 2, allowance_z=az, partoff=False,
-                   drill_style=drill_style)
+                   drill_style=drill_style, thread_end_shift=api.thread_end_on_flank(dia))
     plan2 = make_plan(prof2, st2, lib2, mach2, opts, name=name, params=pparams,
                       version=__version__)
     plan2.notes.insert(0, f"SETUP 2 OF 2: the part turned around, held in soft jaws on "

@@ -48,7 +48,11 @@ DIALECT = Dialect(
     cycles=_cycles,
     cycle_motion=codes.CYCLE_MOTION,
     m_cnc=codes.M_CNC,
-    features=frozenset({"g90_g91", "g36_g37", "if_while", "level_locals", "comp_d_word"}),
+    # thread_end_on_flank: G76's single-flank infeed shifts each pass, its end too, by its
+    # depth x tan(half angle) toward the thread's end (the other dialects' multiple-pass
+    # thread cycles end every pass on the programmed Z)
+    features=frozenset({"g90_g91", "g36_g37", "if_while", "level_locals", "comp_d_word",
+                        "thread_end_on_flank"}),
     executor=_executor,
     repeatable_groups=codes.REPEATABLE,
     messages=codes.MESSAGES,
