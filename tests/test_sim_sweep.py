@@ -281,3 +281,45 @@ def test_an_arcs_points_come_from_the_one_sampler():
         assert np.allclose(np.hypot(got[:, 0] - c[0], got[:, 1] - c[1]), r, rtol=0, atol=1e-9)
         mid = (got[1:] + got[:-1]) / 2  # sagitta of every chord within the chord error
         assert (r - np.hypot(mid[:, 0] - c[0], mid[:, 1] - c[1]) <= CHORD + 1e-12).all()
+
+
+@pytest.mark.parametrize("seed", range(2))
+def test_paths_swept_together_give_each_path_s_own_polygon(seed):
+    """The rings of several paths built and buffered at once (as a run's arcs are) are the
+    same polygons, vertex for vertex, as each path's alone; a path of one piece or with a
+    zero-length piece gives none, and the union of its hulls is taken for it."""
+    rng = np.random.default_rng(200 + seed)
+    K = _outlines()[int(rng.integers(10))]
+    paths = []
+    for _ in range(12):
+        r = float(np.exp(rng.uniform(np.log(0.1), np.log(30.0))))
+        paths.append(_arc(rng.uniform(-5, 5, 2), r, rng.uniform(0, 2 * np.pi),
+                          rng.uniform(0.05, np.pi) * rng.choice([-1, 1])))
+    paths.insert(3, paths[0][:2])  # one piece
+    paths.insert(7, np.concatenate([paths[1][:3], paths[1][2:]]))  # a zero-length piece
+    P = np.concatenate([p[:-1] for p in paths])
+    Q = np.concatenate([p[1:] for p in paths])
+    cnt = np.array([len(p) - 1 for p in paths])
+    p0 = np.cumsum(cnt) - cnt
+    got = S._ring_sweeps(K, P, Q, p0, cnt)
+    assert got[3] is None and got[7] is None
+    for k, p in enumerate(paths):
+        alone = S._ring_sweep(K, p[:-1], p[1:])
+        if alone is None:
+            assert got[k] is None
+            continue
+        assert got[k].equals_exact(alone, 0)
+        want = shapely.union_all(sweep_hulls(K, p[:-1], p[1:]))
+        assert got[k].symmetric_difference(want).area <= 1e-9 * max(1.0, want.area)
+    # a run's sweeps: every arc move's region is the union of its pieces' hulls
+    machine = load_machine()
+    tp = run(WAVY.replace("G01 X44\n", "G02 X40 Z-24 R6\nG01 X44\n"), machine,
+             start=(50.0, 80.0))
+    run_ = S._Sweeper(machine, tp.moves).run(list(tp.moves))
+    arcs = [k for k, m in enumerate(tp.moves) if m.kind == "arc"]
+    assert len(arcs) == 3
+    for k in arcs:
+        path = run_.path(k)
+        want = shapely.union_all(sweep_hulls(run_.pieces[int(run_.move_group[k])][0],
+                                             path[:-1], path[1:]))
+        assert run_.sweeps[k].symmetric_difference(want).area <= 1e-9 * want.area

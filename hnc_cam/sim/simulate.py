@@ -517,30 +517,77 @@ def _path_sweep(K: np.ndarray, P: np.ndarray, Q: np.ndarray) -> BaseGeometry:
 def _ring_sweep(K: np.ndarray, P: np.ndarray, Q: np.ndarray) -> BaseGeometry | None:
     """:func:`_path_sweep`'s one polygon, or None where it gives none (a zero-length piece,
     a single piece, a result that is not one polygon)."""
+    return _ring_sweeps(K, P, Q, np.zeros(1, dtype=np.int64),
+                        np.array([len(P)], dtype=np.int64))[0]
+
+
+def _ring_sweeps(K: np.ndarray, P: np.ndarray, Q: np.ndarray, p0: np.ndarray,
+                 cnt: np.ndarray) -> np.ndarray:
+    """:func:`_ring_sweep` of each path k, the pieces p0[k] <= i < p0[k] + cnt[k] of P -> Q:
+    the same rings and the same zero-distance buffer, built for all the paths with one
+    vectorised call per step (None for a path that gives no polygon)."""
     K = np.asarray(K, dtype=float)
     z, x = K[:, 0], K[:, 1]
     if float(z[:-1] @ x[1:] - z[1:] @ x[:-1] + z[-1] * x[0] - z[0] * x[-1]) < 0:
         K = K[::-1]
-    if len(P) > 1 and np.all(np.any(P != Q, axis=1)):
-        i_min, i_max = extremes(K, P, Q)
-        m = len(K)
-        front = K[(i_min[-1] + np.arange((i_max[-1] - i_min[-1]) % m + 1)) % m] + Q[-1]
-        back = K[(i_max[0] + np.arange((i_min[0] - i_max[0]) % m + 1)) % m] + P[0]
-        ring = np.concatenate([_side(K, i_min, P, Q), front,
-                               _side(K, i_max[::-1], Q[::-1], P[::-1]), back])
-        try:
-            g = shapely.buffer(shapely.polygons(ring), 0)
-        except shapely.errors.GEOSException:
-            g = None
-        if g is not None and g.geom_type == "Polygon" and not g.is_empty:
-            return g
-    return None
+    n, m = len(p0), len(K)
+    out = np.full(n, None, dtype=object)
+    p0 = np.asarray(p0, dtype=np.int64)
+    cnt = np.asarray(cnt, dtype=np.int64)
+    # the paths of two pieces or more, none of zero length
+    own = np.repeat(np.arange(n), cnt)
+    idx = np.arange(len(own)) - np.repeat(np.cumsum(cnt) - cnt, cnt) + p0[own]
+    zero = ~np.any(P[idx] != Q[idx], axis=1)
+    use = (cnt > 1) & (np.bincount(own[zero], minlength=n) == 0)
+    if not use.any():
+        return out
+    ks = np.flatnonzero(use)
+    c = cnt[ks]
+    own = np.repeat(np.arange(len(ks)), c)
+    first = np.cumsum(c) - c
+    last = first + c - 1
+    idx = np.arange(len(own)) - first[own] + p0[ks][own]
+    A, B = P[idx], Q[idx]
+    i_min, i_max = extremes(K, A, B)
+    # K's chain facing the motion at each path's end, the chain behind it at its start
+    nf = (i_max[last] - i_min[last]) % m + 1
+    fo = np.repeat(np.arange(len(ks)), nf)
+    fj = np.arange(int(nf.sum())) - np.repeat(np.cumsum(nf) - nf, nf)
+    front = K[(i_min[last][fo] + fj) % m] + B[last][fo]
+    nb = (i_min[first] - i_max[first]) % m + 1
+    bo = np.repeat(np.arange(len(ks)), nb)
+    bj = np.arange(int(nb.sum())) - np.repeat(np.cumsum(nb) - nb, nb)
+    back = K[(i_max[first][bo] + bj) % m] + A[first][bo]
+    right, ro = _side(K, i_min, A, B, own, last)
+    rev = first[own] + last[own] - np.arange(len(own))  # each path's pieces backwards
+    left, lo = _side(K, i_max[rev], B[rev], A[rev], own, last)
+    key = np.concatenate([4 * ro, 4 * fo + 1, 4 * lo + 2, 4 * bo + 3])
+    order = np.argsort(key, kind="stable")
+    coords = np.concatenate([right, front, left, back])[order]
+    polys = shapely.polygons(shapely.linearrings(coords, indices=key[order] // 4))
+    try:
+        gs = shapely.buffer(polys, 0)
+    except shapely.errors.GEOSException:
+        gs = np.full(len(polys), None, dtype=object)
+        for i, p in enumerate(polys.tolist()):
+            try:
+                gs[i] = shapely.buffer(p, 0)
+            except shapely.errors.GEOSException:
+                pass
+    good = np.array([g is not None for g in gs.tolist()], dtype=bool)
+    good[good] = (shapely.get_type_id(gs[good]) == 3) & ~shapely.is_empty(gs[good])
+    out[ks[good]] = gs[good]
+    return out
 
 
-def _side(K: np.ndarray, ext: np.ndarray, P: np.ndarray, Q: np.ndarray) -> np.ndarray:
+def _side(K: np.ndarray, ext: np.ndarray, P: np.ndarray, Q: np.ndarray,
+          own: np.ndarray | None = None, last: np.ndarray | None = None
+          ) -> tuple[np.ndarray, np.ndarray]:
     """One side of :func:`_path_sweep`'s ring: for each piece P[i] -> Q[i], the outline's
     vertex ``ext[i]`` at both ends, then the outline's vertices on to ``ext[i + 1]`` at Q[i]
-    in the direction the path turns there."""
+    in the direction the path turns there. With ``own`` (each piece's path) and ``last``
+    (the last piece of each path), the sides of several paths at once. Returns the points
+    and each point's path."""
     n, m = len(P), len(K)
     d = Q - P
     cr = d[:-1, 0] * d[1:, 1] - d[:-1, 1] * d[1:, 0]
@@ -549,12 +596,15 @@ def _side(K: np.ndarray, ext: np.ndarray, P: np.ndarray, Q: np.ndarray) -> np.nd
     cnt = np.zeros(n, dtype=np.int64)
     sgn[:-1] = np.where(cr >= 0, 1, -1)
     cnt[:-1] = np.where(cr >= 0, (nxt - ext[:-1]) % m, (ext[:-1] - nxt) % m)
+    if last is not None:
+        sgn[last], cnt[last] = 1, 0
     L = 2 + cnt
     off = np.cumsum(L) - L
     owner = np.repeat(np.arange(n), L)
     j = np.arange(int(L.sum())) - off[owner]
     kidx = (ext[owner] + sgn[owner] * np.maximum(j - 1, 0)) % m
-    return K[kidx] + np.where((j == 0)[:, None], P[owner], Q[owner])
+    pts = K[kidx] + np.where((j == 0)[:, None], P[owner], Q[owner])
+    return pts, (np.zeros(len(pts), dtype=np.int64) if own is None else own[owner])
 
 
 def _polygons(rings: list[np.ndarray]) -> np.ndarray:
@@ -628,8 +678,15 @@ class _Run:
                 cnt = p1 - p0
                 one = cnt == 1
                 sw[ks[one]] = sweep_hulls(K, P[p0[one]], Q[p0[one]])
-                for k, a, c in zip(ks[~one].tolist(), p0[~one].tolist(), cnt[~one].tolist()):
-                    sw[k] = _path_sweep(K, P[a:a + c], Q[a:a + c])
+                if not one.all():
+                    # the paths of several pieces (sampled arcs): their rings built and
+                    # buffered together, the union of the hulls where that gives none
+                    many = ks[~one]
+                    gs = _ring_sweeps(K, P, Q, p0[~one], cnt[~one])
+                    for k, g, a, c in zip(many.tolist(), gs.tolist(), p0[~one].tolist(),
+                                          cnt[~one].tolist()):
+                        sw[k] = g if g is not None else union_of(sweep_hulls(K, P[a:a + c],
+                                                                             Q[a:a + c]))
         return sw[idx]
 
     def sweep(self, k: int) -> BaseGeometry | None:
