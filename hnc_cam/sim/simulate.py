@@ -614,10 +614,21 @@ def _polygons(rings: list[np.ndarray]) -> np.ndarray:
                                                 indices=np.repeat(np.arange(len(rings)), sizes)))
 
 
+#: :func:`_ccw_outline` by the shape's key (a tool's outline is the same for every program)
+_CCW: dict[tuple, np.ndarray] = {}
+
+
 def _ccw_outline(shape: ToolShape) -> np.ndarray:
+    K = _CCW.get(shape.key) if shape.key else None
+    if K is not None:
+        return K
     K = np.asarray(shape.outline, dtype=float)
     if float(np.sum(K[:, 0] * np.roll(K[:, 1], -1) - np.roll(K[:, 0], -1) * K[:, 1])) < 0:
         K = K[::-1]
+    if shape.key:
+        if len(_CCW) >= 256:
+            _CCW.clear()
+        _CCW[shape.key] = K
     return K
 
 

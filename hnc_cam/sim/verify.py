@@ -495,8 +495,9 @@ def _depths(polys: Sequence[Polygon], segs: Sequence[Segment] | SegmentTable,
     # per polygon the deepest point, the first measured on a tie
     order = np.lexsort((-f, pp))
     first = np.flatnonzero(np.r_[True, pp[order][1:] != pp[order][:-1]])
-    for i in order[first]:
-        out[int(pp[i])] = Deviation(z=float(pts[i, 0]), x=float(pts[i, 1]), size_mm=float(f[i]))
+    top = order[first]
+    for k, (z, x), v in zip(pp[top].tolist(), pts[top].tolist(), f[top].tolist()):
+        out[k] = Deviation(z=z, x=x, size_mm=v)
     return out
 
 
@@ -1265,7 +1266,9 @@ def _size(g: BaseGeometry) -> str:
 
 def _of(ps: Sequence[Polygon]) -> BaseGeometry:
     """One geometry of the polygons ``ps`` (pieces of one valid overlay)."""
-    return ps[0] if len(ps) == 1 else (shapely.MultiPolygon(list(ps)) if len(ps) else Polygon())
+    if len(ps) == 1:
+        return ps[0]
+    return shapely.multipolygons(np.array(ps, dtype=object)) if len(ps) else Polygon()
 
 
 def _over_under(model_poly: BaseGeometry, material: BaseGeometry, z_min: float
