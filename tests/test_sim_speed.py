@@ -232,3 +232,28 @@ def test_distances_by_blocks_equal_every_point_against_every_segment():
     for i in rnd.choice(len(pts), 50, replace=False).tolist():
         p = (float(pts[i, 1]), float(pts[i, 0]))
         assert d[i] == pytest.approx(min(s.distance_to(p) for s in segs), abs=1e-9)
+
+
+@pytest.mark.parametrize("kinds", ["lines", "arcs", "both"])
+def test_pairs_of_one_kind_of_segment_equal_each_segment_s_distance(kinds):
+    from hnc_cam.geometry import Arc, Line
+    from hnc_cam.sim.measure import SegmentTable, _arc_dist, _line_dist
+    rnd = np.random.default_rng(11)
+    lines = [Line((10.0, 0.0), (10.0, -8.0)), Line((10.0, -8.0), (14.0, -12.0)),
+             Line((3.0, -3.0), (3.0, -3.0))]
+    arcs = [Arc((14.0, -12.0), (16.0, -14.0), (14.0, -14.0), True),
+            Arc((16.0, -14.0), (18.0, -16.0), (18.0, -14.0), False),
+            Arc((5.0, 0.0), (5.0, -10.0), (5.0, -5.0), True)]  # half a turn
+    segs = {"lines": lines, "arcs": arcs, "both": arcs[:1] + lines + arcs[1:]}[kinds]
+    pts = rnd.uniform([-20, -2], [4, 22], (3000, 2))
+    pts[:50] = [(s.end[1], s.end[0]) for s in segs] * (50 // len(segs)) + \
+        [(segs[0].start[1], segs[0].start[0])] * (50 % len(segs))
+    d, w = SegmentTable(segs).pairs(pts)
+    px, pz = pts[:, 1], pts[:, 0]
+    best = np.full(len(pts), np.inf)
+    which = np.full(len(pts), -1)
+    for k, s in enumerate(segs):
+        dk = _arc_dist(px, pz, s) if isinstance(s, Arc) else _line_dist(px, pz, s.start, s.end)
+        better = dk < best
+        best[better], which[better] = dk[better], k
+    assert np.array_equal(d, best) and np.array_equal(w, which)

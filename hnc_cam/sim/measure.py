@@ -61,8 +61,12 @@ class SegmentTable:
         if len(ai):
             k = cols[ai]
             sw = self.sweep[k]
-            arcs = (self.center[k, 0], self.center[k, 1], self.radius[k], self.a0[k], sw,
-                    self.start[k, 0], self.start[k, 1], self.end[k, 0], self.end[k, 1], sw > 0)
+            ccw = sw > 0
+            # the angle from the arc's start in its own sense, and the most it may be
+            arcs = (self.center[k, 0], self.center[k, 1], self.radius[k],
+                    np.where(ccw, self.a0[k], -self.a0[k]), np.where(ccw, 1.0, -1.0),
+                    np.where(ccw, sw, -sw) + 1e-12,
+                    self.start[k, 0], self.start[k, 1], self.end[k, 0], self.end[k, 1])
         return len(cols), li, ai, lines, arcs
 
     def pairs(self, pts: np.ndarray, cols: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
@@ -82,28 +86,50 @@ class SegmentTable:
             return best, which
         if len(li):
             a, dx, dz, point, L2s, any_point = lines
+            a0_, a1_ = a[:, 0], a[:, 1]
         if len(ai):
-            cx, cz, r, a0, sw, sx, sz, ex, ez, ccw = arcs
+            cx, cz, r, a0s, sgn, lim, sx, sz, ex, ez = arcs
+        only = m == len(li) or m == len(ai)  # one kind: its matrix is D
         step = max(1, (1 << 16) // m)
         for i0 in range(0, n, step):
             pz, px = pts[i0:i0 + step, 0, None], pts[i0:i0 + step, 1, None]
-            D = np.empty((len(pz), m))
+            D = None if only else np.empty((len(pz), m))
             if len(li):
-                ex_ = px - a[:, 0]
-                ez_ = pz - a[:, 1]
-                t = np.clip((ex_ * dx + ez_ * dz) / L2s, 0.0, 1.0)
-                d = np.hypot(px - (a[:, 0] + t * dx), pz - (a[:, 1] + t * dz))
+                ex_ = px - a0_
+                ez_ = pz - a1_
+                t = ex_ * dx
+                t += ez_ * dz
+                t /= L2s
+                np.clip(t, 0.0, 1.0, out=t)
+                u = t * dx
+                u += a0_
+                np.subtract(px, u, out=u)
+                t *= dz
+                t += a1_
+                np.subtract(pz, t, out=t)
+                d = np.hypot(u, t, out=u)
                 if any_point:
                     d[:, point] = np.hypot(ex_[:, point], ez_[:, point])
-                D[:, li] = d
+                if only:
+                    D = d
+                else:
+                    D[:, li] = d
             if len(ai):  # as :func:`_arc_dist`, every arc at once
-                ang = np.arctan2(px - cx, pz - cz)
-                inside = np.where(ccw, np.mod(ang - a0, 2 * math.pi) <= sw + 1e-12,
-                                  np.mod(a0 - ang, 2 * math.pi) <= -sw + 1e-12)
-                rc = np.hypot(px - cx, pz - cz)
-                d_on = np.abs(rc - r)
+                qx, qz = px - cx, pz - cz
+                ang = np.arctan2(qx, qz)
+                # mod(ang - a0) for a counter-clockwise arc, mod(a0 - ang) for a clockwise one
+                ang *= sgn
+                ang -= a0s
+                inside = np.mod(ang, 2 * math.pi, out=ang) <= lim
+                rc = np.hypot(qx, qz)
+                inside &= rc > 1e-12
+                d_on = np.abs(rc - r, out=rc)
                 d_ends = np.minimum(np.hypot(px - sx, pz - sz), np.hypot(px - ex, pz - ez))
-                D[:, ai] = np.where(inside & (rc > 1e-12), d_on, d_ends)
+                d = np.where(inside, d_on, d_ends)
+                if only:
+                    D = d
+                else:
+                    D[:, ai] = d
             w = np.argmin(D, axis=1)
             best[i0:i0 + step] = D[np.arange(len(w)), w]
             which[i0:i0 + step] = w
