@@ -418,3 +418,28 @@ def test_many_departures_share_one_budget_and_keep_the_figures():
         assert d.departure == pytest.approx(g1.departure, abs=2e-5)
         assert dist(d.at, (g1.at[0], g1.at[1] - 4.0 * k)) < 1e-3
         assert many.distance_to(d.at) - r == pytest.approx(d.departure, abs=1e-9)
+
+
+def test_grid_distances_and_stretch_points_are_the_segments_own_bit_for_bit():
+    """The nearest-distance grid and the departure measurement take each segment's distance
+    and points from functions with its radius, angles and direction worked out once: the
+    same values as ``distance_to`` and ``point_at``, to the last bit."""
+    import random
+
+    from hnc_cam.geometry.offset import _distance_fn, _point, _point_fn
+    rnd = random.Random(3)
+    segs = [Line((10.0, 0.0), (10.0, -8.0)), Line((10.0, -8.0), (14.5, -12.25)),
+            Line((3.0, -3.0), (3.0, -3.0)),
+            Arc((14.0, -12.0), (16.0, -14.0), (14.0, -14.0), True),
+            Arc((16.0, -14.0), (18.0, -16.0), (18.0, -14.0), False),
+            Arc((5.0, 0.0), (5.0, -10.0), (5.0, -5.0), True),
+            Arc((0.0, 4.0), (4.0, 0.0), (0.0, 0.0), False)]  # three quarters of a turn
+    for g in segs:
+        d = _distance_fn(g)
+        pts = [g.start, g.end, getattr(g, "center", g.start)]
+        pts += [(rnd.uniform(-5, 25), rnd.uniform(-20, 8)) for _ in range(400)]
+        for p in pts:
+            assert d(p) == g.distance_to(p)
+        at = _point_fn(g)
+        for t in [0.0, 1.0, -0.5, 1.5] + [rnd.random() for _ in range(100)]:
+            assert at(t) == _point(g, t)

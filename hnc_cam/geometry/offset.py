@@ -652,6 +652,7 @@ class _SegmentGrid:
             uniq.setdefault(k, g)
         self.segs = list(uniq.values())
         self.boxes = [g.bbox() for g in self.segs]
+        self.dist = [_distance_fn(g) for g in self.segs]
         n = len(self.segs)
         x0 = min(b[0] for b in self.boxes)
         z0 = min(b[1] for b in self.boxes)
@@ -686,7 +687,9 @@ class _SegmentGrid:
     def distance(self, p: Point) -> float:
         """Exact distance from ``p`` to the nearest segment."""
         h, x0, z0, nx, nz = self.h, self.x0, self.z0, self.nx, self.nz
-        segs, boxes, cells, stamp = self.segs, self.boxes, self.cells, self.stamp
+        fns, boxes, cells, stamp = self.dist, self.boxes, self.cells, self.stamp
+        hypot = math.hypot
+        px, pz = p
         self.tick += 1
         tick = self.tick
         cx, cz = self._ix(p[0]), self._iz(p[1])
@@ -702,9 +705,11 @@ class _SegmentGrid:
                         if stamp[i] == tick:
                             continue
                         stamp[i] = tick
-                        if _point_box_gap(p, boxes[i]) >= best:
+                        b = boxes[i]  # _point_box_gap, inline
+                        if hypot(max(0.0, b[0] - px, px - b[2]),
+                                 max(0.0, b[1] - pz, pz - b[3])) >= best:
                             continue
-                        d = segs[i].distance_to(p)
+                        d = fns[i](p)
                         if d < best:
                             best = d
             if lo_x <= 0 and lo_z <= 0 and hi_x >= nx - 1 and hi_z >= nz - 1:
@@ -717,6 +722,76 @@ class _SegmentGrid:
             if best <= margin:
                 return best
             k += 1
+
+
+def _distance_fn(g: Segment):
+    """``g.distance_to`` as a function of the point with the segment's own quantities (an
+    arc's radius, start angle and sweep; a line's direction) worked out once: the same
+    arithmetic in the same order, so the same value bit for bit."""
+    hypot, atan2, sin, cos = math.hypot, math.atan2, math.sin, math.cos
+    if type(g) is Line:
+        s0, s1 = g.start
+        dx, dz = g.end[0] - s0, g.end[1] - s1
+        L2 = dx * dx + dz * dz
+        if L2 < EPS * EPS:
+            return lambda p: hypot(p[0] - s0, p[1] - s1)
+
+        def line(p: Point) -> float:
+            t = ((p[0] - s0) * dx + (p[1] - s1) * dz) / L2
+            t = min(1.0, max(0.0, t))
+            return hypot(p[0] - (s0 + t * dx), p[1] - (s1 + t * dz))
+        return line
+    if type(g) is Arc:
+        c0, c1 = g.center
+        r, a0, sw = g.radius, g.start_angle, g.sweep
+        st, en = g.start, g.end
+        two_pi = 2 * math.pi
+
+        def arc(p: Point) -> float:
+            ang = atan2(p[0] - c0, p[1] - c1)
+            if hypot(p[0] - c0, p[1] - c1) > EPS:
+                d = ang - a0
+                if sw > 0:
+                    on = d % two_pi <= sw + 1e-12
+                else:
+                    on = (-d) % two_pi <= -sw + 1e-12
+                if on:
+                    q = (c0 + r * sin(ang), c1 + r * cos(ang))
+                    return hypot(p[0] - q[0], p[1] - q[1])
+            q = st if hypot(p[0] - st[0], p[1] - st[1]) <= hypot(p[0] - en[0], p[1] - en[1]) else en
+            return hypot(p[0] - q[0], p[1] - q[1])
+        return arc
+    return g.distance_to
+
+
+def _point_fn(e: Segment):
+    """:func:`_point` of ``e`` as a function of t, an arc's radius, start angle and sweep
+    worked out once (the same arithmetic, the same points bit for bit)."""
+    s, n = e.start, e.end
+    if type(e) is Arc:
+        c0, c1 = e.center
+        r, a0, sw = e.radius, e.start_angle, e.sweep
+        sin, cos = math.sin, math.cos
+
+        def arc(t: float) -> Point:
+            if t <= 0.0:
+                return s
+            if t >= 1.0:
+                return n
+            ang = a0 + sw * t
+            return (c0 + r * sin(ang), c1 + r * cos(ang))
+        return arc
+    if type(e) is Line:
+        dx, dz = n[0] - s[0], n[1] - s[1]
+
+        def line(t: float) -> Point:
+            if t <= 0.0:
+                return s
+            if t >= 1.0:
+                return n
+            return (s[0] + dx * t, s[1] + dz * t)
+        return line
+    return lambda t: _point(e, t)
 
 
 def _measure(res: OffsetResult, part, reg, index: _SegmentGrid | None = None,
@@ -739,8 +814,11 @@ def _measure(res: OffsetResult, part, reg, index: _SegmentGrid | None = None,
         return math.inf, p
     grid = index if index is not None else _SegmentGrid(path)
 
+    at = {q: _point_fn(part[q]) for q, _, _ in reg}
+    distance = grid.distance
+
     def f(q: int, t: float) -> float:
-        return grid.distance(_point(part[q], t)) - r
+        return distance(at[q](t)) - r
 
     best_v, best_at = -math.inf, (reg[0][0], reg[0][1])
     heap: list[tuple[float, int, float, float, float, float]] = []
