@@ -848,3 +848,215 @@ def _depth(s: str) -> int:
         elif ch in "])":
             d -= 1
     return m
+
+
+# ------------------------------------------------------------------------------------------
+# rounded corners of offset contours
+# ------------------------------------------------------------------------------------------
+
+def _a(a: tuple, b: tuple) -> tuple: return ("+", a, b)
+def _s(a: tuple, b: tuple) -> tuple: return ("-", a, b)
+def _m(a: tuple, b: tuple) -> tuple: return ("*", a, b)
+def _d(a: tuple, b: tuple) -> tuple: return ("/", a, b)
+def _k(v: float) -> tuple: return ("c", float(v))
+
+
+def _elements(tr: _Trace) -> list[list[tuple]]:
+    """Each traced segment as the element a path offset from it follows, per segment (an arc
+    drawn by its radius alone has two possible centres: both): ``("L", (x0, z0), (ux, uz),
+    (nx, nz))`` a line through its start, its unit direction and normal (radius and Z);
+    ``("C", (cx, cz), r)`` a circle."""
+    out: list[list[tuple]] = []
+    for seg in tr.segments:
+        x0, z0, x1, z1 = _node(seg[1][0]), _node(seg[1][1]), _node(seg[2][0]), _node(seg[2][1])
+        dx, dz = _s(x1, x0), _s(z1, z0)
+        ln = ("f", "sqrt", _a(_m(dx, dx), _m(dz, dz)))
+        if seg[0] == "L":
+            out.append([("L", (x0, z0), (_d(dx, ln), _d(dz, ln)),
+                         (("neg", _d(dz, ln)), _d(dx, ln)))])
+            continue
+        r = _node(seg[4])
+        if seg[3] is not None:
+            out.append([("C", (_node(seg[3][0]), _node(seg[3][1])), r)])
+            continue
+        h = ("f", "sqrt", _s(_m(r, r), _d(_m(ln, ln), _k(4.0))))
+        mx, mz = _d(_a(x0, x1), _k(2.0)), _d(_a(z0, z1), _k(2.0))
+        ux, uz = _d(("neg", dz), ln), _d(dx, ln)
+        out.append([("C", (_a(mx, _m(ux, h)), _a(mz, _m(uz, h))), r),
+                    ("C", (_s(mx, _m(ux, h)), _s(mz, _m(uz, h))), r)])
+    return out
+
+
+def _offset(el: tuple, o: float) -> tuple:
+    """``el`` offset by ``o`` (a line along its normal, a circle's radius)."""
+    if el[0] == "L":
+        (x, z), u, n = el[1], el[2], el[3]
+        return ("L", (_a(x, _m(_k(o), n[0])), _a(z, _m(_k(o), n[1]))), u, n)
+    return ("C", el[1], _a(el[2], _k(o)))
+
+
+def _meet(e1: tuple, e2: tuple) -> list[tuple[tuple, tuple]]:
+    """Where two elements meet, in closed form (both roots where there are two): a line and a
+    line, a line and a circle (the circle's centre projected on the line, plus or less the
+    root of the radius squared less the centre's distance squared), two circles."""
+    if e1[0] == "C" and e2[0] == "L":
+        e1, e2 = e2, e1
+    if e1[0] == "L" and e2[0] == "L":
+        (q1, u1), (q2, u2) = (e1[1], e1[2]), (e2[1], e2[2])
+        cross = _s(_m(u1[0], u2[1]), _m(u1[1], u2[0]))
+        wx, wz = _s(q2[0], q1[0]), _s(q2[1], q1[1])
+        t = _d(_s(_m(wx, u2[1]), _m(wz, u2[0])), cross)
+        return [(_a(q1[0], _m(t, u1[0])), _a(q1[1], _m(t, u1[1])))]
+    if e1[0] == "L":
+        (q, u), (c, rho) = (e1[1], e1[2]), (e2[1], e2[2])
+        wx, wz = _s(c[0], q[0]), _s(c[1], q[1])
+        along = _a(_m(u[0], wx), _m(u[1], wz))
+        h = _s(_m(wx, u[1]), _m(wz, u[0]))
+        sq = ("f", "sqrt", _s(_m(rho, rho), _m(h, h)))
+        return [(_a(q[0], _m(t, u[0])), _a(q[1], _m(t, u[1])))
+                for t in (_a(along, sq), _s(along, sq))]
+    (c1, r1), (c2, r2) = (e1[1], e1[2]), (e2[1], e2[2])
+    dx, dz = _s(c2[0], c1[0]), _s(c2[1], c1[1])
+    d2 = _a(_m(dx, dx), _m(dz, dz))
+    dd = ("f", "sqrt", d2)
+    a = _d(_a(_s(_m(r1, r1), _m(r2, r2)), d2), _m(_k(2.0), dd))
+    h = ("f", "sqrt", _s(_m(r1, r1), _m(a, a)))
+    ex, ez = _d(dx, dd), _d(dz, dd)
+    bx, bz = _a(c1[0], _m(a, ex)), _a(c1[1], _m(a, ez))
+    return [(_s(bx, _m(h, ez)), _a(bz, _m(h, ex))), (_a(bx, _m(h, ez)), _s(bz, _m(h, ex)))]
+
+
+def _touch(el: tuple, o: float, f: tuple, of: float) -> tuple:
+    """Where a circle centred at ``f`` on ``el`` offset by ``of`` touches ``el`` offset by
+    ``o`` (a fillet's tangent point): on a line the centre moved back along the normal, on a
+    circle the centre scaled from the circle's centre."""
+    if el[0] == "L":
+        n = el[3]
+        return (_s(f[0], _m(_k(of - o), n[0])), _s(f[1], _m(_k(of - o), n[1])))
+    c, r = el[1], el[2]
+    k = _d(_a(r, _k(o)), _a(r, _k(of)))
+    return (_a(c[0], _m(_s(f[0], c[0]), k)), _a(c[1], _m(_s(f[1], c[1]), k)))
+
+
+def corner_points(tr: _Trace, offsets: list[float], roundings: list[float],
+                  reach: int = 2) -> list[tuple[tuple, tuple]]:
+    """The corners of a path offset from the traced contour (a rest-roughing contour: the part
+    offset by the nose radius plus the allowance; the part itself at offset 0, where the
+    802 writes a traced fillet as ``RND=`` at its lines' corner), as (radius, Z) expressions: for each two
+    segments at most ``reach`` apart (a traced fillet or chamfer between them) and each
+    offset ``d`` (either side of each), the point where the offset elements meet (the corner
+    the SINUMERIK 802 writes with ``RND=``), and for each rounding ``r`` the tangent points
+    of the fillet of radius ``r`` between them (its centre where the elements offset by
+    ``d + r`` or ``d - r`` meet)."""
+    els = _elements(tr)
+    out: list[tuple[tuple, tuple]] = []
+    for i in range(len(els)):
+        for j in range(i + 1, min(len(els), i + 1 + reach)):
+            for e1 in els[i]:
+                for e2 in els[j]:
+                    for d in offsets:
+                        for s1 in (1.0, -1.0):
+                            for s2 in (1.0, -1.0):
+                                o1, o2 = s1 * d, s2 * d
+                                if d or s1 == s2 == 1.0:  # (no offset: the traced corner)
+                                    out += _meet(_offset(e1, o1), _offset(e2, o2))
+                                for rf in roundings:
+                                    for g in (1.0, -1.0):
+                                        f1, f2 = o1 + s1 * g * rf, o2 + s2 * g * rf
+                                        for f in _meet(_offset(e1, f1), _offset(e2, f2)):
+                                            out += [_touch(e1, o1, f, f1), _touch(e2, o2, f, f2)]
+    return out
+
+
+def corner_law(tr: _Trace, allb: list, allp: list[dict], bi: int, wi: int, y: Any,
+               tol: float, ev_all: Callable[..., Any]) -> tuple | None:
+    """Word ``wi`` of block ``bi`` (an X on diameter or a Z, ``y`` its values over the
+    variants ``allb`` at the sets ``allp``) as a corner of a path offset from the traced
+    contour (:func:`corner_points`) shifted by a constant (the tool's tip from its nose's
+    centre, an allowance), within ``tol`` at every variant; None where none is. The offsets
+    are 0 and the alternative's radii that no variant changes (``RND=``, ``CR=``, ``R``),
+    the roundings those of the block and the next."""
+    import numpy as np
+    letter = allb[0][bi].words[wi].letter
+    if letter not in ("X", "Z"):
+        return None
+
+    def radii(rows: range) -> list[float]:
+        out: list[float] = []
+        for k in rows:
+            for m, w in enumerate(allb[0][k].words):
+                if w.letter in ("RND", "CR", "R") and 0 < w.value <= 3 and all(
+                        vb[k].words[m].text == w.text for vb in allb) and w.value not in out:
+                    out.append(w.value)
+        return out
+
+    offsets = [0.0] + radii(range(len(allb[0])))
+    roundings = radii(range(bi, min(bi + 2, len(allb[0]))))
+    env = {k: np.array([float(p[k]) for p in allp]) for k in allp[0]
+           if isinstance(allp[0][k], float)}
+    memo: dict[int, Any] = {}
+    for px, pz in corner_points(tr, offsets, roundings):
+        n = _m(_k(2.0), px) if letter == "X" else pz
+        try:
+            with np.errstate(all="ignore"):
+                v = ev_all(n, env, memo, allp)
+        except (ValueError, ZeroDivisionError, OverflowError):
+            continue
+        if not np.all(np.isfinite(v)) or np.ptp(v) < 1e-9:
+            continue
+        for nd in (1, 2, 3):
+            const = round(float(y[0] - v[0]), nd)
+            if np.max(np.abs(v + const - y)) <= tol:
+                return _a(n, _k(const)) if const else n
+    return None
+
+
+# ------------------------------------------------------------------------------------------
+# laws of two features that move together
+# ------------------------------------------------------------------------------------------
+
+#: the largest denominator of a law's coefficient (a dimension's own law: halves, fifths, ...)
+DENOMINATOR = 12
+
+
+def collinear_fractions(y: Any, x1: Any, x2: Any, n_fit: int,
+                        tol: float) -> tuple[list[float], float] | None:
+    """``y = a*x1 + b*x2 + c`` within ``tol`` at every row, ``a`` and ``b`` small fractions
+    (denominators up to :data:`DENOMINATOR`) and ``c`` a number of 3, 4 or 6 decimals: (``[a,
+    b]``, ``c``), else None. For two features that move together over the variants (a
+    segment's ``1/n_x`` and ``n_z/n_x`` over a narrow range of angles), least squares over
+    the written values (rounded to 0.001) leaves the coefficients far from the law's
+    (0.56 and 0.36 for the planner's allowance 1/2 and 2/5): each fraction ``a`` near the
+    least-squares value is tried, ``b`` then fitted alone (no longer collinear) and snapped;
+    of the laws that hold, the one of the smallest denominators, then the closest."""
+    import numpy as np
+    from fractions import Fraction
+    one = np.ones(n_fit)
+    a0 = np.column_stack([x1[:n_fit], x2[:n_fit], one])
+    sol, *_ = np.linalg.lstsq(a0, y[:n_fit], rcond=None)
+    if np.max(np.abs(a0 @ sol - y[:n_fit])) > 4 * tol:
+        return None  # the two features do not make the word
+    span = max(0.5, abs(float(sol[0])))
+    lo_, hi_ = float(sol[0]) - span, float(sol[0]) + span
+    fr = {Fraction(p, q) for q in range(1, DENOMINATOR + 1)
+          for p in range(math.floor(lo_ * q), math.ceil(hi_ * q) + 1)}
+    best: tuple | None = None
+    b0 = np.column_stack([x2[:n_fit], one])
+    for a in fr:
+        if a == 0:
+            continue
+        r = y - float(a) * x1
+        (b, _c), *_ = np.linalg.lstsq(b0, r[:n_fit], rcond=None)
+        bf = Fraction(float(b)).limit_denominator(DENOMINATOR)
+        if bf == 0 or abs(float(bf) - b) > 0.05 * max(1.0, abs(b)):
+            continue
+        res = r - float(bf) * x2
+        mid = float((res.max() + res.min()) / 2)
+        for const in (round(mid, 3), round(mid, 4), round(mid, 6)):
+            err = float(np.max(np.abs(res - const)))
+            if err <= tol:
+                key = (a.denominator + bf.denominator, err)
+                if best is None or key < best[0]:
+                    best = (key, [float(a), float(bf)], const)
+                break
+    return None if best is None else (best[1], best[2])

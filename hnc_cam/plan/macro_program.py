@@ -44,7 +44,8 @@ from typing import Any
 
 from ..errors import HncError, PartError, PlanError
 from .macro import (Check, Family, Lets, _ev, _holds, _node, _num, _params_of,
-                    _trace, features, hnc_checks, render, walk)
+                    _trace, collinear_fractions, corner_law, features, hnc_checks, render,
+                    walk)
 
 #: what a fit may miss a written word by: the written precision (3 decimals, so half of
 #: 0.001) and the float noise of the planner's arithmetic
@@ -549,6 +550,10 @@ def _fit_word(y, mat, n_fit: int, simple: bool = False):
     n, m = mat.shape
 
     def attempt(idx: tuple[int, ...]):
+        if len(idx) == 2:  # the law of the smallest fractions first
+            got = collinear_fractions(y, mat[:, idx[0]], mat[:, idx[1]], n_fit, TOL)
+            if got is not None:
+                return idx, *got
         a = np.column_stack([mat[:n_fit, list(idx)], np.ones(n_fit)]) if idx else \
             np.ones((n_fit, 1))
         sol, *_ = np.linalg.lstsq(a, y[:n_fit], rcond=None)
@@ -817,6 +822,12 @@ def _fit_blocks(ctx: Ctx, fam: Family, tr: Any, nominal: dict, lo: dict, hi: dic
                     slots.append(Slot(bi, wi, "fit", node, rounded=True))
                     crossed.append((y, slots[-1]))
                     continue
+            # a rounded corner of an offset contour (the 802's RND= corner, a fillet's
+            # tangent point) before a fit of unrounded coefficients
+            node = corner_law(tr, allb, allp, bi, wi, y, TOL, _ev_all)
+            if node is not None:
+                slots.append(Slot(bi, wi, "fit", node))
+                continue
             if r is not None:
                 slots.append(Slot(bi, wi, "fit", _combine(nodes, *r)))
                 continue
