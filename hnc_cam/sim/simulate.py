@@ -922,6 +922,9 @@ def _drop_specks(g: BaseGeometry) -> BaseGeometry:
     """``g`` without the polygons and holes of area below :data:`SPECK`: where what a batch
     removed meets the material its boundary vertices are rounded intersection points, and the
     overlay can leave slivers some 1e-15 mm wide there."""
+    if (shapely.get_type_id(g) == 3 and shapely.get_num_interior_rings(g) == 0
+            and _lib_area(g) >= SPECK):
+        return g  # one polygon without holes, not a speck (most batches): as it is
     parts = polygons(g)
     if not parts:
         return g
@@ -1102,6 +1105,8 @@ def _settle(material: BaseGeometry, chuck: BaseGeometry | None,
     """The material after a batch: rounding specks dropped, pieces cut loose from the chucked
     end fallen off (into ``fallen``)."""
     material = _drop_specks(material)
+    if shapely.get_type_id(material) == 3:
+        return material  # one piece: nothing falls
     parts = polygons(material)
     if len(parts) > 1 and chuck is not None:
         keep = [p for p in parts if p.intersects(chuck)]
