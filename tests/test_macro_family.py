@@ -682,24 +682,6 @@ def test_a_table_row_breaking_require_is_one_line(tmp_path, capsys, row, what):
     assert err[0].startswith(f"error: {table}:3: the family") and what in err[0]
 
 
-@pytest.mark.parametrize("check", ["2", "0"])
-def test_a_chuck_slower_than_the_machine_is_refused(tmp_path, capsys, check):
-    """The HNC-21T macro leaves the spindle limit near the axis to the control's G96 clamp,
-    the machine's 3000 rpm; with a chuck rated 1500 rpm the per-variant program switches to
-    G97 S1500 there, so the macro is refused before deriving, also with --check 0."""
-    from hnc_cam.cli import main
-    text = (PARTS.parent / "hnc_cam" / "data" / "machine.toml").read_text()
-    assert "[chuck]" in text
-    mach = tmp_path / "m.toml"
-    mach.write_text(text.replace("[chuck]", "[chuck]\nmax_rpm = 1500.0", 1))
-    out = tmp_path / "m.nc"
-    assert main(["family", str(FRESH / "pin.py"), "--macro", "--check", check, "--machine",
-                 str(mach), "-o", str(out)]) == 2
-    err = capsys.readouterr().err.strip().splitlines()
-    assert not out.exists() and len(err) == 1
-    assert "G97 S1500" in err[0] and "max_rpm is 1500" in err[0]
-
-
 def test_fanuc_table_rows_jump_to_their_g65_call(tmp_path):
     from hnc_cam.cli import main
     from hnc_cam.errors import NCError

@@ -35,27 +35,6 @@ def _rows(path: str) -> list[tuple[int, dict[str, str]]]:
     return out
 
 
-def _spindle_limit_below_clamp(ctx: Any, fam: Any, mach: Any) -> None:
-    """The HNC-21T's G96 has no clamp word: the control clamps it at the machine's max rpm (a
-    system parameter), and the per-variant program switches to ``G97 S<limit>`` near the
-    axis where the chuck's or the tool's limit is lower. Where that switch falls follows the
-    parameters, and the macro leaves it to the control's clamp: where the nominal program
-    needs such a switch, the macro would turn the spindle past that limit, so it is refused
-    (before deriving, whatever ``--check`` says)."""
-    from .macro_program import blocks
-    for b in blocks(ctx.program(fam.params)):
-        if b.droppable:
-            s = next(float(w.text) for w in b.words if w.letter == "S")
-            if s < mach.max_rpm - 0.5:
-                raise PlanError(
-                    f"{fam.path}: the family's program switches to G97 S{s:g} near the axis "
-                    f"(line {b.line}: the chuck's or the tool's spindle limit, below the "
-                    f"machine's {mach.max_rpm:g} rpm), where the HNC-21T macro leaves the "
-                    f"spindle to the control's G96 clamp at {mach.max_rpm:g} rpm: give a "
-                    f"machine file whose max_rpm is {s:g}, or the per-row mode (--table "
-                    f"--out); no macro is written")
-
-
 def _row_refused(fam: Any, table: str, line: int, r: dict[str, Any]) -> None:
     """A table row the family refuses, named with its line: the sketch's own message with the
     row's values (its ``require`` checks), else the traced check it breaks."""
@@ -140,8 +119,6 @@ def macro_command(args: argparse.Namespace) -> int:
         stock = family_stock(fam, fam.lo, fam.hi,
                              sample(fam, fam.trace, fam.lo, fam.hi, 20, "stock") + full_rows)
     ctx = Ctx(args.part, gen, stock, dia)
-    if dia == "hnc21t":
-        _spindle_limit_below_clamp(ctx, fam, mach)
     fixed = fix_unmachinable(ctx, fam)
     for i, r in enumerate(full_rows, 1):
         for k, why in fixed.items():

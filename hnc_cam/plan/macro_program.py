@@ -240,6 +240,19 @@ class Ctx:
     #: the per-variant programs a derivation may generate (a bound on its time)
     budget: int = 1200
 
+    def rpm_limit(self, tool: int) -> float:
+        """The spindle limit of tool ``tool`` (:func:`planner.rpm_limit`: the lowest of the
+        machine's, the chuck's and the tool's)."""
+        from .api import _load_machine, _load_tools
+        from .planner import rpm_limit
+        lib = _load_tools(self.opts.get("tools"))
+        mach = _load_machine(self.opts.get("machine"), lib)
+        t = lib.by_number(tool) if tool else None
+        if t is not None:
+            return rpm_limit(t, mach)
+        return min(mach.max_rpm, mach.chuck_max_rpm) if mach.chuck_max_rpm > 0 else \
+            mach.max_rpm
+
     def program(self, p: dict[str, Any]) -> str:
         key = tuple(sorted((k, _fmt(v)) for k, v in p.items()))
         if key not in self.cache:
@@ -523,6 +536,15 @@ def _corner_crossing(tr: Any, allb: list[list[Block]], allp: list[dict], bi: int
     return None
 
 
+def _rounds_to(v: float, written: float) -> bool:
+    """``v`` written to 0.001 is ``written``; at a tie (a half of the last digit, which the
+    planner's arithmetic and the control's may break either way) either neighbour."""
+    if abs(round(v, 3) - written) < 1e-9:
+        return True
+    k = v * 1000.0
+    return abs(abs(k - math.floor(k)) - 0.5) < 1e-6 and abs(v - written) < 0.0005 + 1e-9
+
+
 def _fit_single(y, nodes: list[tuple], cols: list) -> tuple | None:
     """``y`` as one crossing plus a constant."""
     import numpy as np
@@ -723,6 +745,19 @@ def _local_law(y, mat, nodes, allp, fam: Family, nominal: dict, near: int = 8):
             best = (node, off)
     if best is not None and len(best[1]) <= len(allp) - 6:
         return best
+    # two laws over about half the sets each (a split point that jumps where the control's
+    # compensation stops following it): smaller subsets, more of them
+    for _ in range(48):
+        sub = [0] + rnd.sample(others, min(3, len(others)))
+        r = _fit_word(y[sub], mat[sub], len(sub))
+        if r is None or not _simple(r[1]):
+            continue
+        node = _combine(nodes, *r)
+        off = [i for i in order if abs(_ev(node, allp[i]) - y[i]) > TOL]
+        if best is None or len(off) < len(best[1]):
+            best = (node, off)
+    if best is not None and len(best[1]) <= len(allp) - 6:
+        return best
     return None
 
 
@@ -757,6 +792,9 @@ class Alt:
     blocks: list[Block]
     slots: list[Slot]
     sets: list[dict[str, Any]]
+    #: HNC-21T: the spindle switches the variants make at different blocks, by gap
+    #: (:func:`spindle_gaps`)
+    spin: dict[int, "SpinGap"] = field(default_factory=dict)
 
 
 @dataclass
@@ -807,6 +845,22 @@ def _fit_blocks(ctx: Ctx, fam: Family, tr: Any, nominal: dict, lo: dict, hi: dic
                 if r2 is not None:
                     slots.append(Slot(bi, wi, "fit", _combine(nodes2, *r2)))
                     continue
+            if r is not None and w.letter == "Z" and _simple(r[1]):
+                # a crossing of a line of simple slope (a 45 deg chamfer) at a diameter the
+                # program holds constant is an affine law too, but the program writes it
+                # rounded; where the rounding shows (a variant off the exact law), the macro
+                # rounds it as the program does (the compensated path follows the corner the
+                # rounding leaves)
+                node = _combine(nodes, *r)
+                if max(abs(_ev(node, p) - yy) for p, yy in zip(allp, y)) > 1e-6:
+                    if cross is None:
+                        cross = _cross_columns(tr, nb, allb, allp)
+                    cn = _fit_single(y, *cross)
+                    if cn is not None and all(_rounds_to(_ev(cn, p), yy)
+                                              for p, yy in zip(allp, y)):
+                        slots.append(Slot(bi, wi, "fit", cn, rounded=True))
+                        crossed.append((y, slots[-1]))
+                        continue
             if r is not None and (_simple(r[1]) or w.letter != "Z"):
                 slots.append(Slot(bi, wi, "fit", _combine(nodes, *r)))
                 continue
@@ -968,6 +1022,7 @@ def derive_piece(ctx: Ctx, fam: Family, lo: dict, hi: dict, nominal: dict[str, A
     allv = [nomp] + progs
     line_ix = {b.line: i for i, b in enumerate(nb)}
     regions: list[Region] = []
+    spins: list[tuple] = []  # HNC-21T: (alternative, its variants, conditions, seed)
     for reg, distinct, labels, tree in layout:
         alts = []
         for li in range(len(distinct)):
@@ -983,6 +1038,7 @@ def derive_piece(ctx: Ctx, fam: Family, lo: dict, hi: dict, nominal: dict[str, A
                 at = line_ix[allb[0][0].line] if allb[0] else 0
             slots = _fit_blocks(ctx, fam, tr, nominal, lo, hi, allb, [v.p for v in members],
                                 min(n_fit, len(members) - 2), at) if allb[0] else []
+            spare: list[tuple] = []  # the fresh variants the laws held on
             if allb[0]:
                 conds = tree.paths()[li] if tree is not None else []
                 for attempt in range(2):
@@ -993,6 +1049,7 @@ def derive_piece(ctx: Ctx, fam: Family, lo: dict, hi: dict, nominal: dict[str, A
                     # variant, a near fit passes the fit's 0.00055 only by the margin above it
                     miss = _missed(slots, allb[0], fresh, HALF if attempt == 0 else TOL)
                     if miss is None:
+                        spare = fresh
                         break
                     if attempt == 1:
                         s, p, got = miss
@@ -1015,8 +1072,23 @@ def derive_piece(ctx: Ctx, fam: Family, lo: dict, hi: dict, nominal: dict[str, A
                     # averages out)
                     slots = _fit_blocks(ctx, fam, tr, nominal, lo, hi, allb,
                                         [v.p for v in members], len(members) - 1, at)
-            alts.append(Alt(members[0], runs[0], allb[0], slots, [v.p for v in members]))
+            alt = Alt(members[0], runs[0], allb[0], slots, [v.p for v in members])
+            if ctx.dialect == "hnc21t" and allb[0]:
+                conds = tree.paths()[li] if tree is not None else []
+                spins.append((alt, list(zip(members, runs)) + spare,
+                              list(extra) + list(conds), (seed, reg, li)))
+            alts.append(alt)
         regions.append(Region(reg, alts, tree))
+    # the spindle switches, once every alternative's words are fitted: an S may follow an X
+    # of another section (a cycle's speed at its contour's largest diameter)
+    pool = [n for rg in regions if rg.tree is None for a in rg.alts
+            for i, b in enumerate(a.blocks) if _codes(b) & {0.0, 1.0, 2.0, 3.0}
+            for n in [_word_node(a.blocks, {(s.block, s.word): s for s in a.slots}, i, "X")]
+            if n is not None]
+    for alt, seen, conds, key in spins:
+        dom = sample(fam, tr, lo, hi, N_SPIN, ("spin",) + key, extra=conds)
+        alt.spin = spindle_gaps(fam, tr, seen, alt.blocks, alt.slots,
+                                _prev_x(alt.rep, alt.secs), ctx.rpm_limit, dom, pool)
     # the nominal's own words, indexed on its blocks (what the fit counts)
     flat = []
     for rg in regions:
@@ -1029,6 +1101,10 @@ def derive_piece(ctx: Ctx, fam: Family, lo: dict, hi: dict, nominal: dict[str, A
     pc.regions = regions
     return pc
 
+
+#: the sets of an alternative's domain the planner's spindle rule is evaluated at (no
+#: per-variant program: the blocks' expressions), for switches no variant showed
+N_SPIN = 400
 
 #: the fresh variants each alternative's fitted words are proven on before their laws are taken
 N_HELD = 6
@@ -1298,6 +1374,382 @@ def derive_pieces(ctx: Ctx, fam: Family, max_pieces: int = 12, **kw: Any) -> lis
 
 
 # ------------------------------------------------------------------------------------------
+# spindle switches (HNC-21T: G96 has no clamp word)
+# ------------------------------------------------------------------------------------------
+
+@dataclass
+class SpinGap:
+    """What the HNC-21T macro writes before core block ``at`` of an alternative (``at`` its
+    number of blocks: after the last) where the variants' spindle switches differ.
+
+    ``kind`` "s": every variant switches there with the same blocks, their S words differ:
+    each such S is a law of the parameters (``laws``: (block of the gap, word) -> law, see
+    :func:`_s_value`). ``kind`` "switch": the variants switch there or not, or to another
+    mode: one block ``G[#g] S[#s]`` whose mode and speed are ``yes`` where ``cond`` holds,
+    else ``no`` (``cond`` None: always ``yes``, written as it is), the two variables set
+    before the alternative's first block (a compound cycle's profile takes no IF)."""
+    at: int
+    kind: str
+    laws: dict = field(default_factory=dict)
+    cond: tuple | None = None
+    yes: tuple[float, float] = (97.0, 0.0)
+    no: tuple[float, float] = (96.0, 0.0)
+
+
+@dataclass
+class _Run:
+    """A variant's run of an alternative's sections, by gap: the floating blocks before each
+    core block (index ``n``: after the last), the spindle (G96/G97, S) each core block runs
+    at (``n``: after the run), the G96 speed last set, the tool in force, and the spindle's
+    direction (3, 4, 5) where each gap starts."""
+    p: dict[str, Any]
+    gaps: list[list[Block]]
+    at: list[tuple[float, float]]
+    vc: list[float]
+    tool: list[int]
+    on: list[int]
+
+
+def _run_gaps(text: str, run: list, n: int, p: dict[str, Any]) -> _Run | None:
+    """:class:`_Run` of a variant's text and its run of sections; None where the run does not
+    have ``n`` core blocks."""
+    lines = {ln for sec in run for ln in range(sec.a + 1, sec.b + 1)}
+    r = _Run(p, [[] for _ in range(n + 1)], [(97.0, 0.0)] * (n + 1), [0.0] * (n + 1),
+             [0] * (n + 1), [0] * (n + 1))
+    mode, s, vc, tool, on = 97.0, 0.0, 0.0, 0, 5
+    k, started = 0, False
+    for b in blocks(text):
+        inside = b.line in lines
+        if inside:
+            if not started:  # the gap's spindle direction where it starts
+                r.on[k], started = on, True
+            if b.floating:
+                r.gaps[k].append(b)
+            else:
+                if k >= n:
+                    return None
+                r.at[k], r.vc[k], r.tool[k] = (mode, s), vc, tool
+                k, started = k + 1, False
+        for w in b.words:
+            if w.letter == "G" and w.value in (96.0, 97.0):
+                mode = w.value
+            elif w.letter == "S":
+                s = w.value
+            elif w.letter == "T":
+                tool = int(w.value) // 100
+            elif w.letter == "M" and w.value in (3.0, 4.0, 5.0):
+                on = int(w.value)
+        if mode == 96.0:
+            vc = s
+        if inside:
+            r.at[n], r.vc[n], r.tool[n] = (mode, s), vc, tool
+    if k != n:
+        return None
+    for i in range(k, n + 1):
+        if not started or i > k:
+            r.on[i] = on
+    return r
+
+
+def _gap_sig(gap: list[Block], shape: bool = False) -> tuple:
+    return tuple(tuple((w.letter, None if shape and w.letter == "S" else w.text)
+                       for w in b.words) for b in gap)
+
+
+def _codes(b: Block, letter: str = "G") -> set[float]:
+    return {w.value for w in b.words if w.letter == letter}
+
+
+def _word_node(ab: list[Block], words: dict, bi: int, letter: str) -> tuple | None:
+    """The expression of block ``bi``'s word ``letter``: its law, or the number written."""
+    for wi, w in enumerate(ab[bi].words):
+        if w.letter == letter:
+            s = words.get((bi, wi))
+            return s.node if s is not None and s.kind == "fit" else ("c", w.value)
+    return None
+
+
+def _s_value(law: tuple, p: dict[str, Any]) -> float:
+    """An S word's law at ``p``: ``("node", n)`` an expression; ``("rpm", K, x, cap, half)``
+    the rpm of a surface speed at the diameter ``x`` (``K`` = 1000 vc / pi), to the nearest
+    whole rpm (``half`` 0.5) or the whole rpm below it (0), at most ``cap`` (0: none)."""
+    if law[0] == "node":
+        return _ev(law[1], p)
+    _k, k, xn, cap, half = law
+    v = float(math.floor(k / abs(_ev(xn, p)) + half))
+    return min(cap, v) if cap else v
+
+
+def _s_text(lets: Lets, law: tuple) -> str:
+    if law[0] == "node":
+        e = lets.expr(law[1])
+        return e if e.startswith("[") else f"[{e}]"
+    _k, k, xn, cap, half = law
+    e = f"INT[{f'{k:.6f}'.rstrip('0')}/ABS[{lets.expr(xn)}]{'+0.5' if half else ''}]"
+    if cap:
+        e = f"[{_num(cap)}+{e}-ABS[{_num(cap)}-{e}]]/2"
+    return f"[{e}]"
+
+
+def _s_law(fam: Family, tr: Any, ps: list[dict], ys: list[float], vcs: list[float],
+           ab: list[Block], words: dict, at: int, pool: list[tuple] = ()) -> tuple | None:
+    """The law of an S word that differs between the variants: the rpm of the cutting speed
+    in force (``vcs``, G96) at the diameter of one of the blocks' X, the next ones first (the
+    planner's G97 of a roughing cycle's inner part, at the speed of its top, rounded; of a
+    cycle run wholly in G97, at the speed of its largest diameter, the whole rpm below),
+    capped at the highest value where some variants reach it; else an exact affine fit."""
+    import numpy as np
+    order = list(range(at, len(ab))) + list(range(at - 1, -1, -1))
+    xs = [_word_node(ab, words, bi, "X") for bi in order
+          if _codes(ab[bi]) & {0.0, 1.0, 2.0, 3.0}] + list(pool)
+    for xn in xs:
+        if xn is None:
+            continue
+        try:
+            dx = [abs(_ev(xn, p)) for p in ps]
+        except (ValueError, ZeroDivisionError, OverflowError):
+            continue
+        if min(dx) <= 1e-6:
+            continue
+        for cap in (0.0, max(ys)):
+            for half in (0.5, 0.0):
+                # the surface speeds every variant's S allows (a capped one: at least the cap)
+                lo_v, hi_v = 0.0, math.inf
+                for d, y in zip(dx, ys):
+                    if cap and y >= cap:
+                        lo_v = max(lo_v, math.pi * d * (cap - half) / 1000.0)
+                    else:
+                        lo_v = max(lo_v, math.pi * d * (y - half) / 1000.0)
+                        hi_v = min(hi_v, math.pi * d * (y + 1 - half) / 1000.0)
+                if lo_v >= hi_v:
+                    continue
+                # the speed in force before the switch where it fits, else the roundest
+                vc = next((v for v in dict.fromkeys(vcs) if lo_v <= v < hi_v), None)
+                for nd in range(0, 4):
+                    if vc is not None:
+                        break
+                    c = math.ceil(lo_v * 10 ** nd) / 10 ** nd
+                    vc = c if c < hi_v else None
+                if vc is None:
+                    continue
+                law = ("rpm", vc * 1000.0 / math.pi, xn, cap, half)
+                try:
+                    if all(abs(_s_value(law, p) - y) < 1e-6 for p, y in zip(ps, ys)):
+                        return law
+                except (ValueError, ZeroDivisionError, OverflowError):
+                    continue
+    nodes, mat = _candidates(fam, tr, ps)
+    r = _fit_word(np.array(ys), mat, len(ps))
+    if r is not None and _simple(r[1]):
+        return ("node", _combine(nodes, *r))
+    return None
+
+
+def _holds_all(cond: tuple, ps: list[dict]):
+    """Whether ``cond`` (a comparison with a number) holds at each set, at once; None where
+    it is undefined at one of them."""
+    import numpy as np
+    env = {k: np.array([float(p[k]) for p in ps]) for k in ps[0]
+           if isinstance(ps[0][k], (int, float))}
+    with np.errstate(all="ignore"):
+        v = _ev_all(cond[1], env, {}, ps)
+    if not np.all(np.isfinite(v)):
+        return None
+    return v < cond[2][1]
+
+
+class _Spin:
+    """The positions an alternative's blocks start from and end at, as expressions: what the
+    planner's switch decides on (:func:`_switch_cond`)."""
+
+    def __init__(self, tr: Any, ab: list[Block], slots: list[Slot], prev_x: tuple | None,
+                 limit_of: Any):
+        self.tr, self.ab, self.prev_x, self.limit_of = tr, ab, prev_x, limit_of
+        self.words = {(s.block, s.word): s for s in slots}
+
+    def motion(self, i: int) -> bool:
+        return i < len(self.ab) and bool(_codes(self.ab[i]) & {0.0, 1.0, 2.0, 3.0})
+
+    def low(self, i: int) -> tuple | None:
+        """The lowest diameter of block ``i``'s span from where the tool is to its end (the
+        planner's ``lo`` of ``_cap_contour``, without an arc's inner lowest point); None where
+        the blocks do not say where the tool is (a cycle before it)."""
+        if not self.motion(i):
+            return None
+        prev = self.prev_x
+        for j in range(i - 1, -1, -1):
+            if any(w.letter == "X" for w in self.ab[j].words):
+                prev = _word_node(self.ab, self.words, j, "X") if self.motion(j) else None
+                break
+        cur = _word_node(self.ab, self.words, i, "X")
+        if prev is None:
+            return None
+        if cur is None or cur is prev or (cur[0] == prev[0] == "c" and cur[1] == prev[1]):
+            return ("f", "abs", prev)
+        return ("min", ("f", "abs", prev), ("f", "abs", cur))
+
+    def candidates(self, i: int) -> list[tuple]:
+        """What decides a switch before block ``i``: its own span's lowest diameter, an arc's
+        lowest point, the lowest diameter of the whole contour (a roughing cycle run in G97
+        when its G96 would pass the limit anywhere), each X written."""
+        out = []
+        lo = self.low(i)
+        if lo is not None:
+            out.append(lo)
+            if 2.0 in _codes(self.ab[i]) or 3.0 in _codes(self.ab[i]):
+                for seg in self.tr.segments:  # an arc's lowest point: centre less radius
+                    if seg[0] == "A" and seg[3] is not None:
+                        out.append(("min", lo, ("*", ("c", 2.0),
+                                                ("-", _n(seg[3][0]), _n(seg[4])))))
+        seen: set = set()
+        for j in range(len(self.ab)):
+            n = _word_node(self.ab, self.words, j, "X") if self.motion(j) else None
+            key = n[1] if n is not None and n[0] == "c" else id(n)
+            if n is not None and key not in seen:  # (the shared trees: by identity)
+                seen.add(key)
+                out.append(("f", "abs", n))
+        return out
+
+    def critical(self, vc: float, tool: int) -> float:
+        """The diameter inside which G96 at ``vc`` needs more than the tool's limit."""
+        return vc * 1000.0 / (math.pi * self.limit_of(tool))
+
+
+def _switch_cond(sp: _Spin, i: int, runs: list[_Run], targets: list[tuple],
+                 states: list[tuple]) -> tuple | None:
+    """The condition under which the variants run G97 (the others G96) at core block ``i``:
+    one of :meth:`_Spin.candidates` inside the critical diameter 1000 vc / (pi limit) of the
+    G96 speed and the tool's limit. (condition, G97 state, G96 state), else None."""
+    if sorted(s[0] for s in states) != [96.0, 97.0]:
+        return None
+    rpm, css = (states[0], states[1]) if states[0][0] == 97.0 else (states[1], states[0])
+    tools = {r.tool[i] for r in runs}
+    if css[1] <= 0 or len(tools) != 1:
+        return None
+    dc = sp.critical(css[1], tools.pop())
+    want = [t == rpm for t in targets]
+    ps = [r.p for r in runs]
+    for c in sp.candidates(i):
+        cond = ("<", c, ("c", dc - 2e-9))
+        got = _holds_all(cond, ps)
+        if got is not None and list(got) == want:
+            return cond, rpm, css
+    return None
+
+
+def spindle_gaps(fam: Family, tr: Any, seen: list[tuple[Any, list]], ab: list[Block],
+                 slots: list[Slot], prev_x: tuple | None, limit_of: Any,
+                 dom: list[dict[str, Any]], pool: list[tuple] = ()) -> dict[int, SpinGap]:
+    """The HNC-21T's G96 has no clamp word: where G96 would need more than the tool's limit
+    (the lowest of the machine's, the chuck's and the tool's), the per-variant program runs
+    G97 (``_cap_contour``: G97 S<limit> before each block that comes inside the critical
+    diameter and back to G96 after; a roughing cycle that reaches inside it run wholly in
+    G97, or split with its inner part in G97; the facing passes' centre). Which block that
+    is follows the parameters. Over the variants ``seen`` (each with its run of this
+    alternative's sections), each gap between core blocks where their switches differ
+    becomes a :class:`SpinGap` written at the control; so does each block whose switch the
+    planner's rule (its span inside the critical diameter) moves over the sets ``dom`` of
+    the alternative's domain though no variant showed it, and the block after each such
+    block. A gap whose switch follows no condition the macro can write is refused."""
+    n = len(ab)
+    runs = [r for v, run in seen if (r := _run_gaps(v.text, run, n, v.p)) is not None]
+    if not runs:
+        return {}
+    sp = _Spin(tr, ab, slots, prev_x, limit_of)
+    ps = [r.p for r in runs]
+    out: dict[int, SpinGap] = {}
+    for i in range(n + 1):
+        if len({_gap_sig(r.gaps[i]) for r in runs}) <= 1:
+            continue
+        where = (f"before line {ab[i].line} [{ab[i].raw.strip()}]" if i < n else
+                 f"after line {ab[-1].line} [{ab[-1].raw.strip()}]")
+        if len({_gap_sig(r.gaps[i], True) for r in runs}) == 1:
+            laws = {}
+            for j, b in enumerate(runs[0].gaps[i]):
+                for wi, w in enumerate(b.words):
+                    ys = [r.gaps[i][j].words[wi].value for r in runs]
+                    if w.letter != "S" or len(set(ys)) == 1:
+                        continue
+                    vcs = [r.vc[i] for r in runs]  # the G96 speed before the switch
+                    law = _s_law(fam, tr, ps, ys, vcs, ab, sp.words, i, pool)
+                    if law is None:
+                        raise PlanError(
+                            f"{fam.path}: the spindle speed {where} of the family's program "
+                            f"(S{_num(min(ys))} to S{_num(max(ys))} over the variants) follows "
+                            f"no law of the parameters; no macro is written")
+                    laws[(j, wi)] = law
+            out[i] = SpinGap(i, "s", laws=laws)
+            continue
+        # a spindle start in a switch: only where the spindle turns that way already
+        if any(w.letter == "M" and (w.value not in (3.0, 4.0) or w.value != r.on[i])
+               for r in runs for b in r.gaps[i] for w in b.words):
+            raise PlanError(f"{fam.path}: the spindle starts {where} in some variants of the "
+                            f"family's program only; no macro is written")
+        targets = [r.at[i] for r in runs]
+        states = list(dict.fromkeys(targets))
+        if len(states) == 1:
+            out[i] = SpinGap(i, "switch", yes=states[0])
+            continue
+        got = _switch_cond(sp, i, runs, targets, states) if len(states) == 2 else None
+        if got is None:
+            raise PlanError(
+                f"{fam.path}: the spindle switch {where} of the family's program ("
+                + ", ".join(f"G{s[0]:g} S{_num(s[1])}" for s in states)
+                + " over the variants) follows no condition on the diameters the HNC-21T "
+                  "macro can write; no macro is written")
+        cond, yes, no = got
+        out[i] = SpinGap(i, "switch", cond=cond, yes=yes, no=no)
+    if not dom:
+        return out
+    # the planner's rule over the domain: a block whose span comes inside the critical
+    # diameter at some sets though at none of the variants, and the block after each block
+    # whose spindle the parameters decide (where the spindle goes back)
+    after_cond = False
+    for i in range(n):
+        if i in out:
+            after_cond = out[i].kind == "switch" and out[i].cond is not None
+            continue
+        lo = sp.low(i)
+        vcs, tools = {r.vc[i] for r in runs}, {r.tool[i] for r in runs}
+        if lo is None or len(vcs) != 1 or len(tools) != 1 or min(vcs) <= 0:
+            after_cond = False
+            continue
+        vc, tool = vcs.pop(), tools.pop()
+        lim, dc = sp.limit_of(tool), sp.critical(vc, tool)
+        cond = ("<", lo, ("c", dc - 2e-9))
+        on_runs = _holds_all(cond, ps)
+        if on_runs is None or any(((97.0, lim) if h else (96.0, vc)) != r.at[i]
+                                  for h, r in zip(on_runs.tolist(), runs)):
+            after_cond = False  # no block the planner switches before (an approach, a cycle)
+            continue
+        on_dom = _holds_all(cond, dom)
+        seen_on = set(on_runs.tolist()) | (set(on_dom.tolist()) if on_dom is not None else set())
+        if len(seen_on) > 1:
+            out[i] = SpinGap(i, "switch", cond=cond, yes=(97.0, lim), no=(96.0, vc))
+            after_cond = True
+        elif after_cond:  # every set runs this block alike, the block before it not
+            out[i] = SpinGap(i, "switch", yes=(97.0, lim) if seen_on.pop() else (96.0, vc))
+            after_cond = False
+    return out
+
+
+def _prev_x(alt_rep: Any, secs: list) -> tuple | None:
+    """The X the tool is at when an alternative's first block starts, as the representative
+    program writes it before the alternative (a number; None where it writes none)."""
+    if not secs:
+        return None
+    first = secs[0].a + 1
+    x = None
+    for b in blocks(alt_rep.text):
+        if b.line >= first:
+            break
+        for w in b.words:
+            if w.letter == "X":
+                x = ("c", w.value)
+    return x
+
+
+# ------------------------------------------------------------------------------------------
 # rendering
 # ------------------------------------------------------------------------------------------
 
@@ -1336,6 +1788,50 @@ def _word(lets: Lets, s: Slot) -> str:
     return lets.rounded(s.node) if s.rounded else lets.expr(s.node)
 
 
+def _spin_vars(lets: Lets, alt: Alt) -> None:
+    """The variables of an alternative's conditional spindle switches (:class:`SpinGap`),
+    assigned once per writer: ``#g=96``, ``#s=<vc>``, then ``IF [cond]`` ``#g=97``
+    ``#s=<limit>`` ``ENDIF`` (a comment names the critical diameter)."""
+    ops = {"<": "LT", "<=": "LE", ">": "GT", ">=": "GE"}
+    for i, g in sorted(alt.spin.items()):
+        key = ("spin", id(alt), i)
+        for law in g.laws.values():  # an S law's parts: assigned before the blocks
+            _s_text(lets, law)
+        if g.kind != "switch" or g.cond is None or key in lets._memo:
+            continue
+        op, a, c = g.cond
+        parts, todo = [], [a]
+        while todo:  # the lower of several diameters inside: any of them inside
+            x = todo.pop(0)
+            if x[0] == "min":
+                todo[:0] = [x[1], x[2]]
+            else:
+                parts.append(x)
+        cx = lets.expr(c)
+        test = " OR ".join(f"[{lets.expr(x)} {ops[op]} {cx}]" for x in parts)
+        same = ("spin", test, g.yes, g.no)  # another block of the same condition: its pair
+        if same in lets._memo:
+            lets._memo[key] = lets._memo[same]
+            continue
+        gv, sv = lets._assign(_num(g.no[0])), lets._assign(_num(g.no[1]))
+        lets._memo[same] = (gv, sv)
+        lets.lines += [f"(G{_num(g.yes[0])} S{_num(g.yes[1])} INSIDE DIAMETER "
+                       f"{_num(round(g.cond[2][1], 3))}, ELSE G{_num(g.no[0])} "
+                       f"S{_num(g.no[1])})",
+                       f"IF [{test}]" if len(parts) > 1 else f"IF {test}",
+                       f"{gv}={_num(g.yes[0])}",
+                       f"{sv}={_num(g.yes[1])}", "ENDIF"]
+        lets._memo[key] = (gv, sv)
+
+
+def _spin_line(lets: Lets, alt: Alt, g: SpinGap) -> str:
+    """The block of a switch gap: ``G[#g] S[#s]``, or the one state all variants take."""
+    if g.cond is None:
+        return f"G{_num(g.yes[0])} S{_num(g.yes[1])}"
+    gv, sv = lets._memo[("spin", id(alt), g.at)]
+    return f"G[{gv}] S[{sv}]"
+
+
 def _emit_alt(alt: Alt, lets: Lets, body: list[str], notes: list[str], counter: list[int],
               fanuc: bool) -> None:
     """An alternative's lines from its representative program, its words replaced by their
@@ -1346,20 +1842,41 @@ def _emit_alt(alt: Alt, lets: Lets, body: list[str], notes: list[str], counter: 
     for s in alt.slots:
         if s.kind == "fit":
             _word(lets, s)
+    _spin_vars(lets, alt)
     body += lets.lines
     lets.lines.clear()
     lines = alt.rep.text.splitlines()
     a, b = alt.secs[0].a, alt.secs[-1].b
+    bmap = {blk.line: i for i, blk in enumerate(alt.blocks)}
+    hnc = lets.dialect == "hnc21t"
+    # the HNC-21T keeps every spindle switch (its G96 has no clamp word); the others leave a
+    # G97 at the limit to the clamp their program sets (G50 S, LIMS=)
+    floating = {blk.line: blk.droppable and not hnc
+                for blk in blocks(alt.rep.text) if blk.floating}
+    # each floating block's gap (the core block it comes before) and place in it
+    gap_of: dict[int, tuple[int, int, Block]] = {}
+    k, j = 0, 0
+    for blk in blocks(alt.rep.text):
+        if not a < blk.line <= b:
+            continue
+        if blk.line in bmap:
+            k, j = bmap[blk.line] + 1, 0
+        elif blk.floating:
+            gap_of[blk.line] = (k, j, blk)
+            j += 1
+    spin = alt.spin if hnc else {}
+    # the switch gaps' own blocks give way to one block each (:func:`_spin_line`)
+    gone = {ln for ln, (gi, _j, _b) in gap_of.items()
+            if gi in spin and spin[gi].kind == "switch"}
     nmap: dict[str, int] = {}
     for i in range(a, b):
         m = _LEAD_N.match(lines[i])
-        if m:
+        if m and i + 1 not in gone:
             counter[0] += 1
             nmap[m.group(2)] = counter[0]
     for k, v in nmap.items():
         counter[1][(id(alt.rep), k)] = v
-    bmap = {blk.line: i for i, blk in enumerate(alt.blocks)}
-    floating = {blk.line: blk.droppable for blk in blocks(alt.rep.text) if blk.floating}
+    written: set[int] = set()
     by_block: dict[int, list[Slot]] = {}
     for s in alt.slots:
         by_block.setdefault(s.block, []).append(s)
@@ -1367,11 +1884,33 @@ def _emit_alt(alt: Alt, lets: Lets, body: list[str], notes: list[str], counter: 
     def renum(t: str) -> str:
         m = _LEAD_N.match(t)
         return t if not m else f"{m.group(1)}N{nmap[m.group(2)]}{t[m.end():]}"
+
+    def switch(gi: int) -> None:  # a switch gap's block, once, where its gap begins
+        g = spin.get(gi)
+        if g is not None and g.kind == "switch" and gi not in written:
+            written.add(gi)
+            body.append(_spin_line(lets, alt, g))
     for i in range(a, b):
         raw, ln = lines[i], i + 1
         if raw.strip() == "%":
             continue
         bi = bmap.get(ln)
+        if bi is None and ln in gap_of and spin:
+            gi, gj, blk = gap_of[ln]
+            g = spin.get(gi)
+            switch(gi)
+            if g is not None and g.kind == "switch":
+                continue  # the gap's own switches: the one block above holds them
+            if g is not None:  # "s": the same blocks, each S its law
+                out = raw
+                for wi, w in sorted(enumerate(blk.words), key=lambda t: -t[1].span[0]):
+                    law = g.laws.get((gj, wi))
+                    if law is not None:
+                        out = out[:w.span[0]] + _s_text(lets, law) + out[w.span[1]:]
+                body.append(renum(out))
+                continue
+        if bi is not None:
+            switch(bi)
         if bi is None:
             if ln in floating and floating[ln]:
                 continue
@@ -1406,6 +1945,7 @@ def _emit_alt(alt: Alt, lets: Lets, body: list[str], notes: list[str], counter: 
         if lets.dialect != "siemens802" and re.search(r"\bM30\b", out):
             out = re.sub(r"\bM30\b", "M99", out)
         body.append(out)
+    switch(len(alt.blocks))  # after the last block, where no floating block of it was
 
 
 def _resolve_labels(line: str, counter: list[Any], pc: Piece) -> str:
@@ -1685,6 +2225,8 @@ def render_program(pieces_or_one: Piece, dialect: str = "hnc21t", values: dict |
             for s in rg.alts[0].slots:
                 if s.kind == "fit":
                     _word(lets, s)
+            if dialect == "hnc21t":
+                _spin_vars(lets, rg.alts[0])
     pre = list(lets.lines)
     lets.lines.clear()
     notes: list[str] = []
@@ -1717,11 +2259,30 @@ def render_program(pieces_or_one: Piece, dialect: str = "hnc21t", values: dict |
 # proof
 # ------------------------------------------------------------------------------------------
 
+def _moving(moves: Any) -> list:
+    """The moves a toolpath comparison takes: a move of no length (a compensation corner at a
+    tangent) moves nothing, and a compensation corner (an arc a line block makes) that
+    leaves its chord by less than half the comparison's 0.001 mm (the corner the written
+    0.001 mm leaves between two pieces of one line, 0.0005 mm off its direction) is one in
+    one program and none in the other: both are left out, the moves around them compared."""
+    out = []
+    for m in moves:
+        if m.kind == "dwell":
+            continue
+        dx, dz = m.end[0] - m.start[0], m.end[1] - m.start[1]
+        if abs(dx) <= 1e-3 and abs(dz) <= 1e-3:
+            continue
+        if m.kind == "arc" and m.op in ("G00", "G01") and m.center is not None:
+            r = math.hypot(m.start[0] - m.center[0], m.start[1] - m.center[1])
+            d = math.hypot(dx, dz)
+            if r - math.sqrt(max(0.0, r * r - d * d / 4)) < 0.0005:
+                continue
+        out.append(m)
+    return out
+
+
 def _compare(a: Any, b: Any, where: str) -> str | None:
-    def moving(tp):  # a move of no length (a compensation corner at a tangent) moves nothing
-        return [m for m in tp.moves if m.kind != "dwell"
-                and (abs(m.end[0] - m.start[0]) > 1e-3 or abs(m.end[1] - m.start[1]) > 1e-3)]
-    ma, mb = moving(a), moving(b)
+    ma, mb = _moving(a.moves), _moving(b.moves)
     if len(ma) != len(mb):
         return f"{where}: {len(ma)} moves where the per-variant program makes {len(mb)}"
     worst = 0.0
@@ -1756,6 +2317,29 @@ def _over_limit(tp: Any, machine: Any, tools: Any) -> str | None:
     return None
 
 
+def _spindle_compare(text: str, ref_text: str, machine: Any, dialect: str) -> str | None:
+    """The commanded spindle of each move (mode and S) against the per-variant program's:
+    both run on the machine without its G96 clamp (a G96 move then turns at the rpm of its
+    own surface speed, G97 at its S, so a mode or a speed that differs shows), each move's
+    rpm within 0.5 rpm and 0.01 % (the 0.001 mm the positions may differ by)."""
+    import dataclasses
+
+    from ..nc import run
+    free = dataclasses.replace(machine, max_rpm=1.0e9)
+    a = run(text, machine=free, file="<macro>", start="reference", dialect=dialect).moves
+    b = run(ref_text, machine=free, file="<variant>", start="reference", dialect=dialect).moves
+
+    a, b = _moving(a), _moving(b)
+    if len(a) != len(b):
+        return f"spindle: {len(a)} moves where the per-variant program makes {len(b)}"
+    for x, y in zip(a, b):
+        if abs(x.spindle - y.spindle) > 0.5 + 1e-4 * abs(y.spindle):
+            return (f"spindle: the move of line {x.line} turns at {x.spindle:.0f} rpm unclamped "
+                    f"where the per-variant program's (line {y.line}) turns at "
+                    f"{y.spindle:.0f} rpm: another spindle mode or speed")
+    return None
+
+
 def check_program(ctx: Ctx, pc: Piece, sets: list[tuple[str, dict[str, Any], Any]],
                   machine: Any, tools: Any, tol: float) -> list[dict[str, Any]]:
     """Run each (label, parameter set, rendered program) through the interpreter, simulate
@@ -1778,6 +2362,8 @@ def check_program(ctx: Ctx, pc: Piece, sets: list[tuple[str, dict[str, Any], Any
         ref = run(ctx.program(p), machine=machine, file="<variant>", start="reference",
                   dialect=ctx.dialect)
         diff = _compare(tp, ref, "toolpath") or _over_limit(tp, machine, tools)
+        if diff is None and ctx.dialect == "hnc21t":  # its G96 has no clamp word
+            diff = _spindle_compare(rend.text, ctx.program(p), machine, ctx.dialect)
         if diff:
             res["message"] = diff
             out.append(res)
