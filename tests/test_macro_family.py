@@ -383,9 +383,11 @@ def test_grooved_shaft_decides_the_ramps_insert_at_its_reach(grooved_shaft):
     assert len(pieces) == 1
     sets = [dict(fam.params, d1=d1, relief_angle=a) for d1 in (24.0, 26.0)
             for a in (29.9, 29.95, 30.0, 30.05, 31.0)]
-    # and at the top of the domain's d2 (beyond 37.5 the arc groove's approach would start
-    # above the 40 mm bar: outside the DOMAIN)
-    sets += [dict(fam.params, d2=37.45, relief_angle=a) for a in (29.5, 31.3)]
+    # and at the top of the domain's d2, on both sides of 37.6 (from there the arc groove's
+    # approach starts above the 40 mm bar) and just below it (where the planner makes no
+    # program at 37.5945 for some sets, which must not move the threshold)
+    sets += [dict(fam.params, d2=d2, relief_angle=a) for d2 in (37.597, 37.599, 37.6, 37.95)
+             for a in (29.5, 31.3)]
     tools = {a: "T02" in ctx.program(dict(fam.params, d1=26.0, relief_angle=a))
              for a in (29.95, 30.0, 30.05)}
     assert tools == {29.95: True, 30.0: True, 30.05: False}
@@ -435,12 +437,13 @@ def test_grooved_shaft_fanuc_macro_follows_20_variants_and_verifies(grooved_shaf
 @pytest.mark.slow
 def test_grooved_shaft_fanuc_holds_beside_its_thresholds(grooved_shaft_fanuc):
     """On both sides of every threshold on a parameter, and at the top of the domain's d2
-    with either insert for the relief's ramp (the sets where the FANUC form failed were
-    beyond d2 37.6, outside the declared domain now)."""
+    (on both sides of 37.6, where the arc groove's approach starts above the bar) with either
+    insert for the relief's ramp."""
     ctx, fam, pieces = grooved_shaft_fanuc
     assert len(pieces) == 1
     sets = _beside_thresholds(grooved_shaft_fanuc)
-    sets += [dict(fam.params, d2=37.45, relief_angle=a) for a in (29.5, 30.5)]
+    sets += [dict(fam.params, d2=d2, relief_angle=a) for d2 in (37.45, 37.599, 37.6, 37.95)
+             for a in (29.5, 30.5)]
     sets += [dict(fam.params, d1=d1, relief_angle=a) for d1 in (24.0, 26.0)
              for a in (29.95, 30.05)]
     assert len(sets) >= 8
@@ -448,12 +451,13 @@ def test_grooved_shaft_fanuc_holds_beside_its_thresholds(grooved_shaft_fanuc):
 
 
 def test_grooved_shaft_is_refused_beyond_its_domain(tmp_path, capsys):
-    """d2 37.6 is outside grooved_shaft's DOMAIN: the nominal set there is one line, exit 2."""
+    """d2 38.1 is outside grooved_shaft's DOMAIN (beyond 38 the family's STOCK is the 45 mm
+    bar): the nominal set there is one line, exit 2."""
     from hnc_cam.cli import main
-    assert main(["family", str(PARTS / "grooved_shaft.py"), "--macro", "--set", "d2=37.6",
+    assert main(["family", str(PARTS / "grooved_shaft.py"), "--macro", "--set", "d2=38.1",
                  "--check", "0", "-o", str(tmp_path / "m.nc")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and "d2=37.6 is outside the family's DOMAIN 34.5..37.5" in err[0]
+    assert len(err) == 1 and "d2=38.1 is outside the family's DOMAIN 34.5..38" in err[0]
     assert not list(tmp_path.iterdir())
 
 
@@ -990,10 +994,11 @@ def test_grooved_shaft_802_macro_follows_20_variants_and_verifies(grooved_shaft_
     assert re.search(r"RND=0\.5", spf) and "SQRT(" in render_program(pieces[0],
                                                                      "siemens802").text
     sets = _random_sets(grooved_shaft_802) + _beside_thresholds(grooved_shaft_802)
-    sets += [dict(fam.params, d2=37.45, relief_angle=a) for a in (29.5, 31.3)]
+    sets += [dict(fam.params, d2=d2, relief_angle=a) for d2 in (37.45, 37.599, 37.6, 37.95)
+             for a in (29.5, 31.3)]
     sets += [dict(fam.params, d1=d1, relief_angle=a) for d1 in (24.0, 26.0)
              for a in (29.95, 30.05)]
-    assert _prove(grooved_shaft_802, sets, "siemens802") == len(sets) >= 26
+    assert _prove(grooved_shaft_802, sets, "siemens802") == len(sets) >= 32
 
 
 # ------------------------------------------------------------------------------------------

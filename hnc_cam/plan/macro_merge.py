@@ -256,18 +256,25 @@ def _refine(fam: Any, f: tuple, p0: dict, p1: dict, test: Any, right: set,
         def at(t: float, q0=q0, q1=q1) -> dict:
             return {k: (q0[k] + t * (q1[k] - q0[k]) if k in fam.free else q0[k]) for k in q0}
 
+        def label(t: float, q0=q0, q1=q1, at=at) -> Any:
+            lab = side(q0, q1, t)
+            if lab is None:  # no program there: the set a control holds (0.001) beside it
+                near = {k: (round(v, 3) if k in fam.free else v) for k, v in at(t).items()}
+                lab = side(near, near, 0.0)
+            return lab
+
         def on(lab: Any) -> int | None:  # 0 left, 1 right, None: an alternative of neither
             if lab is None:  # no program, or one no sampled set has: counted with the right
                 return 1
             return 0 if test(lab) else 1 if lab in right or not right else None
-        if q0 is not p0 and on(side(q0, q1, 0.0)) != 0:
+        if q0 is not p0 and on(label(0.0)) != 0:
             continue
-        if q1 is not p1 and on(side(q0, q1, 1.0)) != 1:
+        if q1 is not p1 and on(label(1.0)) != 1:
             continue
         a, b = 0.0, 1.0
         for _ in range(BISECT):
             m = (a + b) / 2
-            s = on(side(q0, q1, m))
+            s = on(label(m))
             if s is None:
                 break
             if s == 0:
@@ -355,7 +362,7 @@ def _build(fam: Any, tr: Any, sets: list[dict], labels: list[int], side: Any,
                               order[:k], order[k:]))
         found.sort(key=lambda c: c[0], reverse=True)
         best = None
-        for cand in found[:TRIES] if strict else []:
+        for cand in found[:TRIES]:  # (also where the tree is not strict: node by node)
             _score, desc, f, ia, ib, test, lidx, ridx = cand
             ends = _refine(fam, f, sets[ia], sets[ib], test,
                            {labels[i] for i in ridx} - {labels[i] for i in lidx}, side)
