@@ -28,7 +28,10 @@ rendering, in the interpreter, simulating and verifying (in the workers) and wri
 program (in the family process), summed over the rows of the warm run and divided by its rows,
 with each stage's share: where the next speed-up has to come from.
 
-The load average is printed beside the figures: on a shared machine they scale with it.
+The load average is printed beside the figures: on a shared machine they scale with it. The
+workers' CPU per row (their user and system time, sampled with their memory, summed over the
+run's workers and divided by its rows) changes much less with it than the wall figures and the
+stages (wall time in the workers) do: the figure to compare two trees with on a busy machine.
 
 Run: python benchmarks/family.py [--rows 200] [--repeat 2] [--no-cluster] [--no-reference]
 """
@@ -51,15 +54,17 @@ STAGES = ("load", "plan", "render", "interpret", "simulate", "verify", "write")
 
 
 class Memory:
-    """Peak RSS, PSS and USS (MB) of every process under this one while it runs. ``cpu``: the
-    CPU seconds all samplers have spent (reading /proc/PID/smaps of a process that maps the
-    CAD kernel costs milliseconds), taken out of the family process's CPU figure."""
+    """Peak RSS, PSS and USS (MB) of every process under this one while it runs, and each one's
+    CPU seconds (user and system) at its last sample (``used``). ``cpu``: the CPU seconds all
+    samplers have spent (reading /proc/PID/smaps of a process that maps the CAD kernel costs
+    milliseconds), taken out of the family process's CPU figure."""
 
     cpu = 0.0
 
     def __init__(self, period: float = 0.2):
         self.period = period
         self.peak: dict[int, list[float]] = {}
+        self.used: dict[int, float] = {}
         self.names: dict[int, str] = {}
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._run, daemon=True)
@@ -91,6 +96,8 @@ class Memory:
                     m = p.memory_full_info()
                     if p.pid not in self.names:
                         self.names[p.pid] = " ".join(p.cmdline())
+                    t = p.cpu_times()
+                    self.used[p.pid] = t.user + t.system
                 except psutil.Error:
                     continue
                 old = self.peak.setdefault(p.pid, [0.0, 0.0, 0.0])
@@ -104,6 +111,11 @@ class Memory:
         if not rows:
             return "n/a"
         return ", ".join(f"{r:.0f}/{p:.0f}/{u:.0f}" for r, p, u in rows)
+
+    def cpu_ms(self, pids, rows: int) -> str:
+        """The CPU of the processes ``pids`` (at their last samples) in ms per row."""
+        got = [self.used[p] for p in pids if p in self.used]
+        return f"{1000 * sum(got) / rows:.1f}" if got and rows else "n/a"
 
     def server(self, workers) -> str:
         """The fork server(s): what runs the fork server's main and is no worker."""
@@ -250,6 +262,11 @@ def main() -> None:
             report(f"local pool --jobs {jobs}", times, progs, mem_s,
                    base if jobs == 2 else None)
             print(f"  {'':32s}per row, ms: {stage_line(best)}")
+            if jobs > 1:
+                print(f"  {'':32s}workers' CPU per row, ms: cold "
+                      f"{mem.cpu_ms(lasts[0].get('workers', {}), lasts[0].get('rows') or 0)}, "
+                      f"warm " + ", ".join(mem.cpu_ms(x.get('workers', {}), x.get('rows') or 0)
+                                           for x in lasts[1:]))
             print(f"  {'':32s}{first_line(lasts[0], best)}")
             print(f"  {'':32s}overhead: {overhead_line(best, jobs)}")
             print(f"  {'':32s}{counts_line(best)}")
