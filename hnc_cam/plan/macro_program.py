@@ -1097,10 +1097,20 @@ def derive_piece(ctx: Ctx, fam: Family, lo: dict, hi: dict, nominal: dict[str, A
             for i, b in enumerate(a.blocks) if _codes(b) & {0.0, 1.0, 2.0, 3.0}
             for n in [_word_node(a.blocks, {(s.block, s.word): s for s in a.slots}, i, "X")]
             if n is not None]
+    decisions = []  # the conditions the program decides at the control
+
+    def walk_tree(node: Any) -> None:
+        if node is not None and node.leaf is None:
+            decisions.append(node.cond)
+            walk_tree(node.yes)
+            walk_tree(node.no)
+    for rg in regions:
+        walk_tree(rg.tree)
     for alt, seen, conds, key in spins:
         dom = sample(fam, tr, lo, hi, N_SPIN, ("spin",) + key, extra=conds)
         alt.spin = spindle_gaps(fam, tr, seen, alt.blocks, alt.slots,
-                                _prev_x(alt.rep, alt.secs), ctx.rpm_limit, dom, pool)
+                                _prev_x(alt.rep, alt.secs), ctx.rpm_limit, dom, pool,
+                                decisions)
     # the nominal's own words, indexed on its blocks (what the fit counts)
     flat = []
     for rg in regions:
@@ -1487,6 +1497,8 @@ def _s_value(law: tuple, p: dict[str, Any]) -> float:
     whole rpm (``half`` 0.5) or the whole rpm below it (0), at most ``cap`` (0: none)."""
     if law[0] == "node":
         return _ev(law[1], p)
+    if law[0] == "cond":
+        return law[2] if _holds(law[1], p) else law[3]
     _k, k, xn, cap, half = law
     v = float(math.floor(k / abs(_ev(xn, p)) + half))
     return min(cap, v) if cap else v
@@ -1496,6 +1508,16 @@ def _s_text(lets: Lets, law: tuple) -> str:
     if law[0] == "node":
         e = lets.expr(law[1])
         return e if e.startswith("[") else f"[{e}]"
+    if law[0] == "cond":  # a variable set before the blocks by the decision's own condition
+        key = ("slaw", id(law))
+        if key not in lets._memo:
+            op, f, c = law[1]
+            ops = {"<": "LT", "<=": "LE", ">": "GT", ">=": "GE"}
+            fx, cx = lets.expr(f), lets.expr(c)
+            v = lets._assign(_num(law[3]))
+            lets.lines += [f"IF [{fx} {ops[op]} {cx}]", f"{v}={_num(law[2])}", "ENDIF"]
+            lets._memo[key] = f"[{v}]"
+        return lets._memo[key]
     _k, k, xn, cap, half = law
     e = f"INT[{f'{k:.6f}'.rstrip('0')}/ABS[{lets.expr(xn)}]{'+0.5' if half else ''}]"
     if cap:
@@ -1504,7 +1526,8 @@ def _s_text(lets: Lets, law: tuple) -> str:
 
 
 def _s_law(fam: Family, tr: Any, ps: list[dict], ys: list[float], vcs: list[float],
-           ab: list[Block], words: dict, at: int, pool: list[tuple] = ()) -> tuple | None:
+           ab: list[Block], words: dict, at: int, pool: list[tuple] = (),
+           decisions: list[tuple] = ()) -> tuple | None:
     """The law of an S word that differs between the variants: the rpm of the cutting speed
     in force (``vcs``, G96) at the diameter of one of the blocks' X, the next ones first (the
     planner's G97 of a roughing cycle's inner part, at the speed of its top, rounded; of a
@@ -1550,6 +1573,19 @@ def _s_law(fam: Family, tr: Any, ps: list[dict], ys: list[float], vcs: list[floa
                         return law
                 except (ValueError, ZeroDivisionError, OverflowError):
                     continue
+    # two speeds, one per side of a decision the program takes at the control (the cutting
+    # speed of the insert an earlier decision chose)
+    if len(set(ys)) == 2:
+        a = ys[0]
+        for cond in decisions:
+            try:
+                side = [_holds(cond, p) for p in ps]
+            except (ValueError, ZeroDivisionError, OverflowError):
+                continue
+            for yes in (a, next(y for y in ys if y != a)):
+                no = next(y for y in ys if y != yes)
+                if all((y == yes) == h for y, h in zip(ys, side)):
+                    return ("cond", cond, yes, no)
     nodes, mat = _candidates(fam, tr, ps)
     r = _fit_word(np.array(ys), mat, len(ps))
     if r is not None and _simple(r[1]):
@@ -1651,7 +1687,8 @@ def _switch_cond(sp: _Spin, i: int, runs: list[_Run], targets: list[tuple],
 
 def spindle_gaps(fam: Family, tr: Any, seen: list[tuple[Any, list]], ab: list[Block],
                  slots: list[Slot], prev_x: tuple | None, limit_of: Any,
-                 dom: list[dict[str, Any]], pool: list[tuple] = ()) -> dict[int, SpinGap]:
+                 dom: list[dict[str, Any]], pool: list[tuple] = (),
+                 decisions: list[tuple] = ()) -> dict[int, SpinGap]:
     """The HNC-21T's G96 has no clamp word: where G96 would need more than the tool's limit
     (the lowest of the machine's, the chuck's and the tool's), the per-variant program runs
     G97 (``_cap_contour``: G97 S<limit> before each block that comes inside the critical
@@ -1683,7 +1720,7 @@ def spindle_gaps(fam: Family, tr: Any, seen: list[tuple[Any, list]], ab: list[Bl
                     if w.letter != "S" or len(set(ys)) == 1:
                         continue
                     vcs = [r.vc[i] for r in runs]  # the G96 speed before the switch
-                    law = _s_law(fam, tr, ps, ys, vcs, ab, sp.words, i, pool)
+                    law = _s_law(fam, tr, ps, ys, vcs, ab, sp.words, i, pool, decisions)
                     if law is None:
                         raise PlanError(
                             f"{fam.path}: the spindle speed {where} of the family's program "
