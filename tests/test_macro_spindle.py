@@ -278,3 +278,26 @@ def test_a_switch_no_diameter_explains_is_refused():
     assert (g.yes, g.no) == ((97.0, 3000.0), (96.0, 180.0))
     assert list(_holds_all(g.cond, [{"d": 0.95}, {"d": 0.96}])) == [True, False]
     assert gaps[n4 + 1].cond is None and gaps[n4 + 1].yes == (96.0, 180.0)
+
+
+def test_a_switch_no_variant_showed_is_written_from_the_domain():
+    """The sampled variants all run the block at G96 (its diameter 20 d outside 19.099 at
+    d 1 and 1.05), but the domain reaches d 0.9: the planner's condition, evaluated over the
+    domain's sets, gives the block its conditional switch, and the next one (which starts
+    where the block ends) its own."""
+    from hnc_cam.plan.macro_program import Slot, _holds_all, spindle_gaps
+    a = _toy(_TOY.format(a="", b=""), {"d": 1.0})
+    b = _toy(_TOY.format(a="", b="").replace("X20", "X21"), {"d": 1.05})
+    ab = [blk for sec in a[1] for blk in sec.blocks]
+    fam = SimpleNamespace(path="toy.py", free=["d"])
+    tr = SimpleNamespace(segments=[])
+    n4 = next(i for i, blk in enumerate(ab) if blk.raw.startswith("N4 "))
+    x = next(i for i, w in enumerate(ab[n4].words) if w.letter == "X")
+    law = Slot(n4, x, "fit", ("*", ("c", 20.0), ("p", "d")))
+    assert spindle_gaps(fam, tr, [a, b], ab, [law], None, lambda t: 3000.0, []) == {}
+    dom = [{"d": 0.9 + 0.01 * k} for k in range(20)]
+    gaps = spindle_gaps(fam, tr, [a, b], ab, [law], None, lambda t: 3000.0, dom)
+    assert sorted(gaps) == [n4, n4 + 1]
+    for g in gaps.values():
+        assert (g.yes, g.no) == ((97.0, 3000.0), (96.0, 180.0))
+        assert list(_holds_all(g.cond, [{"d": 0.95}, {"d": 0.96}])) == [True, False]
