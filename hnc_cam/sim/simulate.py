@@ -532,6 +532,22 @@ def _ring_sweeps(K: np.ndarray, P: np.ndarray, Q: np.ndarray, p0: np.ndarray,
         K = K[::-1]
     n, m = len(p0), len(K)
     out = np.full(n, None, dtype=object)
+    if n == 1:  # one path (a batch's region): the same ring without the paths' bookkeeping
+        a, c = int(p0[0]), int(cnt[0])
+        A, B = P[a:a + c], Q[a:a + c]
+        if c > 1 and np.all(np.any(A != B, axis=1)):
+            i_min, i_max = extremes(K, A, B)
+            front = K[(i_min[-1] + np.arange((i_max[-1] - i_min[-1]) % m + 1)) % m] + B[-1]
+            back = K[(i_max[0] + np.arange((i_min[0] - i_max[0]) % m + 1)) % m] + A[0]
+            ring = np.concatenate([_side(K, i_min, A, B)[0], front,
+                                   _side(K, i_max[::-1], B[::-1], A[::-1])[0], back])
+            try:
+                g = shapely.buffer(shapely.polygons(ring), 0)
+            except shapely.errors.GEOSException:
+                g = None
+            if g is not None and g.geom_type == "Polygon" and not g.is_empty:
+                out[0] = g
+        return out
     p0 = np.asarray(p0, dtype=np.int64)
     cnt = np.asarray(cnt, dtype=np.int64)
     # the paths of two pieces or more, none of zero length
