@@ -1123,3 +1123,28 @@ def test_two_features_that_move_together_take_their_law_of_small_fractions():
     assert np.allclose(coefs[0] * uf + coefs[1] * vf + const, 0.5 * uf + 0.4 * vf - 0.4)
     y[3] += 0.002
     assert collinear_fractions(y, u, v, 11, TOL) is None
+
+
+def test_a_way_point_without_a_program_takes_the_set_a_control_holds_beside_it():
+    """A decision's threshold bisected along its parameter: where the planner makes no
+    program at a value no control holds (1.5625, which the bisection meets), the
+    label is that of the set 0.001 beside it, so the threshold stays where the programs
+    change (1.6), not where the planner failed."""
+    from types import SimpleNamespace
+
+    from hnc_cam.plan.macro_merge import _refine, _roundest
+    fam = SimpleNamespace(free=["a", "b"])
+    calls = []
+
+    def side(q0, q1, t):
+        a = q0["a"] + t * (q1["a"] - q0["a"])
+        calls.append(a)
+        if 1.562 < a < 1.563 and abs(a - round(a, 3)) > 1e-9:
+            return None  # no program there
+        return 0 if a < 1.6 else 1
+
+    p0, p1 = {"a": 1.0, "b": 3.0}, {"a": 2.0, "b": 3.5}
+    fa, fb = _refine(fam, ("p", "a"), p0, p1, lambda lab: lab == 0, {1}, side)
+    assert fa < 1.6 <= fb and fb - fa < 1 / 2000
+    assert _roundest(fa, fb) == 1.6
+    assert any(1.562 < a < 1.563 for a in calls)  # the failing point was met on the way
