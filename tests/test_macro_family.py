@@ -1148,3 +1148,22 @@ def test_a_way_point_without_a_program_takes_the_set_a_control_holds_beside_it()
     assert fa < 1.6 <= fb and fb - fa < 1 / 2000
     assert _roundest(fa, fb) == 1.6
     assert any(1.562 < a < 1.563 for a in calls)  # the failing point was met on the way
+
+
+def test_of_two_features_the_plainest_law_that_holds_is_taken():
+    """A word x + u/2 (written to 0.001) over a narrow range where another feature w moves
+    almost as 3u/2 (0.00003 off there): x + w/3 holds on the variants too, and comes first
+    in the columns' order; the law of halves is taken, which holds further on where the
+    other misses by 0.001 mm."""
+    import numpy as np
+    from hnc_cam.plan.macro_program import _fit_word
+    rnd = random.Random(11)
+    x = np.array([rnd.uniform(30, 32) for _ in range(14)])
+    u = np.array([rnd.uniform(0.6, 0.7) for _ in range(14)])
+    w = 1.5 * u + 0.2 * (u - 0.65) ** 3
+    y = np.round(x + 0.5 * u, 3)
+    assert np.max(np.abs(x + w / 3 - y)) <= 0.00055  # the near law holds on the variants
+    idx, coefs, const = _fit_word(y, np.column_stack([x, w, u]), 11)
+    assert list(idx) == [0, 2] and coefs == [1.0, 0.5] and const == 0
+    uf = np.array([0.9])
+    assert abs((1.5 * uf + 0.2 * (uf - 0.65) ** 3) / 3 - uf / 2)[0] > 0.001
