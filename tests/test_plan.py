@@ -3,6 +3,7 @@ CAD kernel); programs run through the interpreter without alarm in both compensa
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import pytest
 
@@ -256,3 +257,28 @@ def test_tool_tables_parsed_once_per_file_version(tmp_path):
     os.utime(src, ns=(1, 1))
     b = _load_tools(src)
     assert b is not a and b.by_number(1).depth == 1.25 and a.by_number(1).depth == 1.5
+
+
+def test_a_rest_roughing_zone_ends_where_it_starts_whatever_the_last_digit():
+    """grooved_shaft at d2 37.5945 (the 0.4 mm above the arc groove's level is 37.9945 on the
+    diameter, a tie the last bit decides): the rest-roughing zone's G71 type II profile
+    starts and ends on that level written alike (one digit lower at its end would be a
+    profile G71 refuses, and the program an interpreter alarm), and the part verifies."""
+    import re
+    from hnc_cam.plan.api import generate
+    params = dict(d2="37.5945", length="81.14", d1="25.678", l1="29.708",
+                  relief_width="4.036", relief_depth="0.809", relief_angle="28.898",
+                  relief_radius="0.579", arc_z="54.624", arc_radius="5.086", arc_depth="1.149",
+                  chamfer="1.016")
+    prog = generate(Path(__file__).parent.parent / "parts" / "grooved_shaft.py", comp="control",
+                    stock="40x101+2", params=params)
+    assert prog.report is not None and prog.report.passed
+    lines = prog.text.splitlines()
+    zones = [i for i, ln in enumerate(lines) if re.search(r"\bG71\b.*\bE", ln)]
+    assert zones
+    for i in zones:
+        p, q = (int(v) for v in re.search(r"P(\d+) Q(\d+)", lines[i]).groups())
+        body = [ln for ln in lines if re.match(rf"N(\d+) ", ln)
+                and p <= int(re.match(r"N(\d+)", ln).group(1)) <= q]
+        xs = [float(m.group(1)) for ln in body for m in [re.search(r"X(-?[\d.]+)", ln)] if m]
+        assert xs[-1] >= xs[0] - 1e-9

@@ -65,7 +65,7 @@ Rules (each operation records its reason, which the program prints as a comment)
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, Sequence
 
 from ..errors import PlanError
@@ -1193,6 +1193,12 @@ def _zone_op(p: an.Pocket, t: Tool, opts: Options, r_stock: float, tag: str,
     path = _allowance_path(chain, t, opts)
     top = p.level + a
     path = _clip_above(path, top)
+    # the points at the level (the start, the cut where the path rises back to it) are that
+    # level, one value written alike (the last bit rounded the other way can write the end
+    # one digit below the start, a profile G71 refuses)
+    path = [replace(q, **{k: (top, getattr(q, k)[1]) for k in ("start", "end")
+                          if abs(getattr(q, k)[0] - top) < 1e-7})
+            for q in path]
     x_start = top + opts.retract + 0.5
     start = (x_start, path[0].start[1])
     ns, nf = f"{tag}_ns", f"{tag}_nf"
