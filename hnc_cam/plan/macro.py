@@ -631,7 +631,9 @@ def _declared_domain(mod: Any, path: str, full: dict[str, Any],
     out: dict[str, tuple[float, float]] = {}
     for k, rng in dom.items():
         if k not in full:
-            raise PartError(f"{path}: DOMAIN names {k!r}, which sketch() does not take")
+            from ..cad.loader import kwargs_hint
+            raise PartError(f"{path}: DOMAIN names {k!r}, which is not one of the family's "
+                            f"parameters ({', '.join(full) or 'none'})" + kwargs_hint(mod))
         try:
             a, b = (float(x) for x in rng)
         except (TypeError, ValueError):
