@@ -608,17 +608,7 @@ def test_bad_input_is_one_line_exit_2_nothing_written(tmp_path, capsys):
     assert len([ln for ln in err.splitlines() if ln.startswith("error:")]) == 1
     assert not out.exists()
     # a DOMAIN over a part(**kwargs), which declares no parameters: the way to declare them
-    kw = tmp_path / "kw.py"
-    kw.write_text("from hnc_cam.cad.sketch import Outline, revolve\n"
-                  "DOMAIN = {'d1': (10.0, 14.0)}\n"
-                  "def sketch(d1=12.0, l1=20.0):\n"
-                  "    s = Outline((0.0, 0.0))\n"
-                  "    s.line_to(d1 / 2, 0.0)\n"
-                  "    s.line_to(d1 / 2, -l1)\n"
-                  "    s.line_to(0.0, -l1)\n"
-                  "    return s.segments()\n"
-                  "def part(**kw):\n"
-                  "    return revolve(sketch(**kw))\n")
+    kw = FRESH / "kw_pin.py"
     assert main(["family", str(kw), "--macro", "-o", str(out)]) == 2
     err = capsys.readouterr().err
     assert "DOMAIN names 'd1'" in err and "def part(" in err and not out.exists()

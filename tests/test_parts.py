@@ -172,20 +172,11 @@ def test_unknown_parameter_lists_known():
     assert "unknown parameter lenght" in msg and "outer_diameter" in msg and "length" in msg
 
 
-def test_kwargs_part_declares_no_parameters(tmp_path):
+def test_kwargs_part_declares_no_parameters():
     """A family whose part() only forwards **kwargs to its sketch has no parameters: --set of
     a sketch argument is refused with the way to declare them; without --set the part loads
     with the sketch's own defaults."""
-    f = tmp_path / "kw_pin.py"
-    f.write_text("from hnc_cam.cad.sketch import Outline, revolve\n"
-                 "def sketch(d1=12.0, l1=20.0):\n"
-                 "    s = Outline((0.0, 0.0))\n"
-                 "    s.line_to(d1 / 2, 0.0)\n"
-                 "    s.line_to(d1 / 2, -l1)\n"
-                 "    s.line_to(0.0, -l1)\n"
-                 "    return s.segments()\n"
-                 "def part(**kw):\n"
-                 "    return revolve(sketch(**kw))\n")
+    f = Path(__file__).parent / "data" / "families" / "kw_pin.py"
     with pytest.raises(PartError) as e:
         load_part(f, {"d1": "13"})
     assert "unknown parameter d1" in str(e.value) and "def part(" in str(e.value)

@@ -205,9 +205,23 @@ def test_shaft_program_verifies_the_same_with_the_rule_off():
     assert col.bounds[3] == pytest.approx(15.0, abs=1e-6)
 
 
+
+def _each_segment_in_turn(pts, segs):
+    """The reference: each segment's distance in turn, the first nearest kept."""
+    from hnc_cam.geometry import Arc
+    from hnc_cam.sim.measure import _arc_dist, _line_dist
+    px, pz = pts[:, 1], pts[:, 0]
+    best = np.full(len(pts), np.inf)
+    which = np.full(len(pts), -1)
+    for k, s in enumerate(segs):
+        dk = _arc_dist(px, pz, s) if isinstance(s, Arc) else _line_dist(px, pz, s.start, s.end)
+        better = dk < best
+        best[better], which[better] = dk[better], k
+    return best, which
+
 def test_distances_by_blocks_equal_every_point_against_every_segment():
     from hnc_cam.geometry import Arc, Line
-    from hnc_cam.sim.measure import _line_dist, _arc_dist, distances
+    from hnc_cam.sim.measure import distances
     # a wavy chain of 400 short lines, two arcs and a zero-length line; points along it (a
     # boundary's order) and scattered
     pts_chain = [(15 + 0.1 * math.sin(-0.1 * i * 0.5), -0.1 * i) for i in range(401)]
@@ -219,14 +233,7 @@ def test_distances_by_blocks_equal_every_point_against_every_segment():
     pts = np.column_stack([-40 * t, 15 + 0.1 * np.sin(-40 * t * 0.5) + rnd.normal(0, 0.05, len(t))])
     pts = np.vstack([pts, rnd.uniform([-70, -5], [5, 30], (2000, 2))])
     d, w = distances(pts, segs)
-    # reference: each segment's distance in turn, the first nearest kept
-    px, pz = pts[:, 1], pts[:, 0]
-    best = np.full(len(pts), np.inf)
-    which = np.full(len(pts), -1)
-    for k, s in enumerate(segs):
-        dk = _arc_dist(px, pz, s) if isinstance(s, Arc) else _line_dist(px, pz, s.start, s.end)
-        better = dk < best
-        best[better], which[better] = dk[better], k
+    best, which = _each_segment_in_turn(pts, segs)  # the first nearest kept
     assert np.array_equal(d, best) and np.array_equal(w, which)
     # and the kernel's own distances
     for i in rnd.choice(len(pts), 50, replace=False).tolist():
@@ -237,7 +244,7 @@ def test_distances_by_blocks_equal_every_point_against_every_segment():
 @pytest.mark.parametrize("kinds", ["lines", "arcs", "both"])
 def test_pairs_of_one_kind_of_segment_equal_each_segment_s_distance(kinds):
     from hnc_cam.geometry import Arc, Line
-    from hnc_cam.sim.measure import SegmentTable, _arc_dist, _line_dist
+    from hnc_cam.sim.measure import SegmentTable
     rnd = np.random.default_rng(11)
     lines = [Line((10.0, 0.0), (10.0, -8.0)), Line((10.0, -8.0), (14.0, -12.0)),
              Line((3.0, -3.0), (3.0, -3.0))]
@@ -249,11 +256,5 @@ def test_pairs_of_one_kind_of_segment_equal_each_segment_s_distance(kinds):
     pts[:50] = [(s.end[1], s.end[0]) for s in segs] * (50 // len(segs)) + \
         [(segs[0].start[1], segs[0].start[0])] * (50 % len(segs))
     d, w = SegmentTable(segs).pairs(pts)
-    px, pz = pts[:, 1], pts[:, 0]
-    best = np.full(len(pts), np.inf)
-    which = np.full(len(pts), -1)
-    for k, s in enumerate(segs):
-        dk = _arc_dist(px, pz, s) if isinstance(s, Arc) else _line_dist(px, pz, s.start, s.end)
-        better = dk < best
-        best[better], which[better] = dk[better], k
+    best, which = _each_segment_in_turn(pts, segs)
     assert np.array_equal(d, best) and np.array_equal(w, which)

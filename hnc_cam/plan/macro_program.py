@@ -742,34 +742,24 @@ def _local_law(y, mat, nodes, allp, fam: Family, nominal: dict, near: int = 8):
         off = [i for i in order if abs(_ev(node, allp[i]) - y[i]) > TOL]
         return node, off
     # another law passes near the nominal: the law of the most sets with the nominal among
-    # them, from small random subsets
+    # them, from small random subsets (24 of 5 sets); then, for two laws over about half the
+    # sets each (a split point that jumps where the control's compensation stops following
+    # it), 48 simple laws of 3 sets
     rnd = random.Random(0)
     best = None
     others = [int(i) for i in order if i != 0]
-    for _ in range(24):
-        sub = [0] + rnd.sample(others, min(5, len(others)))
-        r = _fit_word(y[sub], mat[sub], len(sub))
-        if r is None:
-            continue
-        node = _combine(nodes, *r)
-        off = [i for i in order if abs(_ev(node, allp[i]) - y[i]) > TOL]
-        if best is None or len(off) < len(best[1]):
-            best = (node, off)
-    if best is not None and len(best[1]) <= len(allp) - 6:
-        return best
-    # two laws over about half the sets each (a split point that jumps where the control's
-    # compensation stops following it): smaller subsets, more of them
-    for _ in range(48):
-        sub = [0] + rnd.sample(others, min(3, len(others)))
-        r = _fit_word(y[sub], mat[sub], len(sub))
-        if r is None or not _simple(r[1]):
-            continue
-        node = _combine(nodes, *r)
-        off = [i for i in order if abs(_ev(node, allp[i]) - y[i]) > TOL]
-        if best is None or len(off) < len(best[1]):
-            best = (node, off)
-    if best is not None and len(best[1]) <= len(allp) - 6:
-        return best
+    for rounds, size, simple in ((24, 5, False), (48, 3, True)):
+        for _ in range(rounds):
+            sub = [0] + rnd.sample(others, min(size, len(others)))
+            r = _fit_word(y[sub], mat[sub], len(sub))
+            if r is None or (simple and not _simple(r[1])):
+                continue
+            node = _combine(nodes, *r)
+            off = [i for i in order if abs(_ev(node, allp[i]) - y[i]) > TOL]
+            if best is None or len(off) < len(best[1]):
+                best = (node, off)
+        if best is not None and len(best[1]) <= len(allp) - 6:
+            return best
     return None
 
 
