@@ -53,6 +53,8 @@ the check's name (:data:`CHECKS`), e.g. ``"collision: rapid move cuts material .
   spindle stopped, as under G95, the move is one ``spindle`` finding);
 * ``non-cutting``: a feed move that removes material with a side of the tool that is not a
   cutting edge (the back of a rhombic insert, the top of a grooving blade);
+* ``tool``: thread moves with an offset register whose insert is not a threading insert (the
+  tool library does not match the program's tool numbers), once per register;
 * ``collision: chuck jaw``: any move whose tool outline touches the chuck's jaws (modelled
   as a solid when the machine gives a grip, :func:`hnc_cam.sim.region.jaw_region`), once per
   program line.
@@ -122,7 +124,8 @@ CHECKS = {"collision": "collision",
           "thread-spindle": "spindle stopped",
           "feed": "zero feed",
           "non-cutting": "non-cutting edge",
-          "rapid-sliver": "rapid shaves a sliver"}
+          "rapid-sliver": "rapid shaves a sliver",
+          "tool": "wrong tool"}
 
 
 @dataclass
@@ -322,14 +325,21 @@ class _Sweeper:
         if thread_regs is not None:
             self.thread_regs = dict(thread_regs)
             moves = ()
+        #: the registers whose insert is not a threading insert but that make thread moves,
+        #: each with its first such move
+        self.not_threading: dict[int, Move] = {}
         moves = moves if isinstance(moves, (list, tuple)) else list(moves)
         for c0 in range(0, len(moves), CHUNK):
             cm = moves[c0:c0 + CHUNK]
             for k in np.flatnonzero(columns(cm)["kind"] == _THREAD).tolist():
                 m = cm[k]
-                if m.register not in self.thread_regs \
-                        and machine.register(m.register).insert is None:
+                if m.register in self.thread_regs or m.register in self.not_threading:
+                    continue
+                ins = machine.register(m.register).insert
+                if ins is None:
                     self.thread_regs[m.register] = m.thread_angle if m.thread_angle > 0 else 60.0
+                elif ins.kind != "thread":
+                    self.not_threading[m.register] = m
 
     def shape(self, m: Move) -> ToolShape:
         ta = None
@@ -1000,6 +1010,13 @@ def _simulate(toolpath, stock, machine, tools, model, batch, snapshots, on_snaps
     issues: list[Issue] = []
     notes: list[Issue] = []
     sweeper = _Sweeper(machine, moves)
+    for reg, m in sweeper.not_threading.items():
+        ins = machine.register(reg).insert
+        issues.append(Issue(m.line, toolpath.block(m.line),
+                            f"thread move with offset register {reg}, whose tool is not a "
+                            f"threading tool (its insert {ins.code} is a {ins.kind} insert): "
+                            f"the program's tool numbers do not match the tool library's "
+                            f"(--tools FILE gives the shop's)", "tool"))
     fallen: list[BaseGeometry] = []
     per_move = {"kind": np.zeros(n, dtype=np.int8), "register": np.zeros(n, dtype=np.int32),
                 "duration": np.zeros(n)}
