@@ -827,7 +827,7 @@ def test_a_declared_domain_is_the_macros_domain(tmp_path):
 
 @pytest.mark.parametrize("dom, what", [('{"length": (40, 30)}', "no range"),
                                        ('{"length": ("a", 3)}', "two numbers"),
-                                       ('{"width": (1, 3)}', "does not take"),
+                                       ('{"width": (1, 3)}', "not one of the family's"),
                                        ('{"length": (40, 50)}', "outside"),
                                        ('[1, 2]', "must be a dict")])
 def test_a_bad_declared_domain_is_one_line_exit_2(tmp_path, capsys, dom, what):
