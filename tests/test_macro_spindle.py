@@ -301,3 +301,20 @@ def test_a_switch_no_variant_showed_is_written_from_the_domain():
     for g in gaps.values():
         assert (g.yes, g.no) == ((97.0, 3000.0), (96.0, 180.0))
         assert list(_holds_all(g.cond, [{"d": 0.95}, {"d": 0.96}])) == [True, False]
+
+
+@pytest.mark.slow
+def test_a_kink_beside_the_planners_switch_is_not_written(tmp_path, capsys):
+    """The spacer over d1 17.1-18.6: the G71's split X is the larger of X19.1 and d1 + 1.22,
+    but the planner switches between them near d1 17.9, not where they cross (17.88); the
+    sampled sets miss that band, and a macro written with the larger of the two laws was
+    0.0025 mm off at d1 17.885. The variants beside the kink show it: no macro is written."""
+    from hnc_cam.cli import main
+    fam = tmp_path / "spacer.py"
+    fam.write_text(SPACER.read_text().replace('DOMAIN = {"d1": (17.95, 18.6)}',
+                                              'DOMAIN = {"d1": (17.1, 18.6)}'))
+    out = tmp_path / "m.nc"
+    rc = main(["family", str(fam), "--macro", "--check", "5", "-o", str(out)])
+    err = capsys.readouterr().err
+    assert rc == 2 and not out.exists()
+    assert len([ln for ln in err.splitlines() if ln.startswith("error:")]) == 1

@@ -1047,6 +1047,9 @@ def derive_piece(ctx: Ctx, fam: Family, lo: dict, hi: dict, nominal: dict[str, A
                     fresh = _held_out(ctx, fam, tr, lo, hi, nomp, reg, distinct[li],
                                       list(extra) + list(conds), allb[0],
                                       ("hold", seed, reg, li, attempt))
+                    fresh += _kink_probes(ctx, fam, tr, lo, hi, nomp, reg, distinct[li],
+                                          list(extra) + list(conds), allb[0], slots,
+                                          [v.p for v in members])
                     # first to the written half digit: an exact law is within it at every
                     # variant, a near fit passes the fit's 0.00055 only by the margin above it
                     miss = _missed(slots, allb[0], fresh, HALF if attempt == 0 else TOL)
@@ -1145,6 +1148,64 @@ def _held_out(ctx: Ctx, fam: Family, tr: Any, lo: dict, hi: dict, nomp: Any, reg
         run = mm.run_of(nomp, v, reg)
         if [[w.letter for w in b.words] for sec in run for b in sec.blocks] == shape:
             out.append((v, run))
+    return out
+
+
+#: how far beside the kink of a word fitted as the larger or smaller of two laws its probes
+#: lie, either way (the word's own units: three written digits, and one)
+KINK = (0.003, 0.001)
+
+
+def _kink_probes(ctx: Ctx, fam: Family, tr: Any, lo: dict, hi: dict, nomp: Any, reg: tuple,
+                 key: tuple, conds: list[tuple], ab: list[Block], slots: list[Slot],
+                 sets: list[dict]) -> list[tuple]:
+    """Variants beside the kink of each word fitted as the larger or smaller of two laws:
+    where the two laws differ by :data:`KINK` either way, on the line between the two sets
+    nearest the kink on either side of it (variant, its run of sections), inside the
+    alternative as :func:`_held_out`'s. Sampled sets seldom fall there, and the planner's
+    own switch between the laws need not be where they cross: a kink beside it is off in
+    between."""
+    from . import macro_merge as mm
+    shape = [[w.letter for w in b.words] for b in ab]
+    out: list[tuple] = []
+    seen: set[tuple] = set()
+    for sl in slots:
+        if sl.kind != "fit" or not isinstance(sl.node, tuple) or sl.node[0] not in ("max", "min"):
+            continue
+        _kind, n1, n2 = sl.node
+        try:
+            d = [(_ev(n1, p) - _ev(n2, p), p) for p in sets]
+        except (ValueError, ZeroDivisionError, OverflowError):
+            continue
+        pos = [x for x in d if x[0] > 0]
+        neg = [x for x in d if x[0] < 0]
+        if not pos or not neg:
+            continue
+        da, pa = min(pos, key=lambda x: x[0])
+        db, pb = max(neg, key=lambda x: x[0])
+        for delta in KINK:
+            for want in (delta, -delta):
+                t = (da - want) / (da - db)
+                p = dict(pa)
+                for k in fam.free:
+                    p[k] = round(pa[k] + t * (pb[k] - pa[k]), 3)  # what a control holds
+                at = tuple(p[k] for k in fam.free)
+                if at in seen or not _valid(fam, tr, p, lo, hi, False, conds):
+                    continue
+                seen.add(at)
+                _sketch_ok(fam, p)
+                if not _same_branches(tr, p):
+                    continue
+                try:
+                    v = mm.prog(p, ctx.program(p), ctx.dialect)
+                except PlanError:
+                    continue
+                mm.align(nomp, v)
+                if mm.alt_key(nomp, v, reg) != key:
+                    continue
+                run = mm.run_of(nomp, v, reg)
+                if [[w.letter for w in b.words] for sec in run for b in sec.blocks] == shape:
+                    out.append((v, run))
     return out
 
 
