@@ -1825,6 +1825,7 @@ def _plan_thread(th: Thread, od: list[Segment], bore: list[Segment] | None, stoc
         # further (HNC-21T G76), which a narrow relief does not leave room for: then single
         # passes with radial infeed, which end at the thread's end
         shift = depth * math.tan(half) if method == "cycle" and opts.thread_end_shift else 0.0
+
         def crest(z: float) -> float:
             return r_crest + dr(z)
 
