@@ -203,3 +203,18 @@ def test_json_to_stdout_is_pure_json_and_unwritable_output_is_bad_input(tmp_path
     umask = os.umask(0)
     os.umask(umask)
     assert stat.S_IMODE(out.stat().st_mode) == 0o666 & ~umask
+
+
+@pytest.mark.parametrize("cmd", ["simulate", "verify"])
+def test_a_path_that_is_no_program_is_said_before_the_missing_stock(files, capsys, cmd):
+    """Without --stock the stock comes from the program's header; a directory or a missing
+    file named as the program is said as such (one line, exit 2), not as a program without
+    a (STOCK ...) line."""
+    for bad, what in ((files, "a directory"), (files / "none.nc", "No such file")):
+        args = [cmd, str(bad)] + (["--model", str(files / "part.py")] if cmd == "verify" else [])
+        assert main(args) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and what in err[0] and "STOCK" not in err[0], err
+    assert main([cmd, str(files / "good.nc")]
+                + (["--model", str(files / "part.py")] if cmd == "verify" else [])) == 2
+    assert "STOCK" in capsys.readouterr().err
