@@ -239,6 +239,9 @@ class Ctx:
     cache: dict = field(default_factory=dict)
     #: the per-variant programs a derivation may generate (a bound on its time)
     budget: int = 1200
+    #: the last change of the program's shape the derivation split the domain at: (the
+    #: piece's nominal set, the :class:`TopologyChange`), named where the budget runs out
+    last_change: Any = None
 
     def rpm_limit(self, tool: int) -> float:
         """The spindle limit of tool ``tool`` (:func:`planner.rpm_limit`: the lowest of the
@@ -257,10 +260,18 @@ class Ctx:
         key = tuple(sorted((k, _fmt(v)) for k, v in p.items()))
         if key not in self.cache:
             if len(self.cache) >= self.budget:
+                last = ""
+                if self.last_change is not None:
+                    nom, ch = self.last_change
+                    moved = [k for k in ch.p if isinstance(ch.p[k], float)
+                             and abs(ch.p[k] - nom.get(k, ch.p[k])) > 1e-9]
+                    last = (f"; the last change it split at: {ch.diff}, between "
+                            f"{', '.join(f'{k}={_fmt(nom[k])}' for k in moved)} and "
+                            f"{', '.join(f'{k}={_fmt(ch.p[k])}' for k in moved)}")
                 raise PlanError(f"{self.path}: deriving the macro took {self.budget} "
                                 f"per-variant programs without one law over the domain (its "
                                 f"program changes in more places than decisions and pieces "
-                                f"hold); no macro is written")
+                                f"hold{last}); no macro is written")
             from .api import generate
             try:
                 prog = generate(self.path, self.stock, params={k: _fmt(v) for k, v in p.items()},
@@ -1390,6 +1401,7 @@ def derive_pieces(ctx: Ctx, fam: Family, max_pieces: int = 12, **kw: Any) -> lis
             continue
         except TopologyChange as t:
             change = t
+        ctx.last_change = (dict(nominal), change)
         if len(done) + len(todo) + 2 > max_pieces:
             raise PlanError(f"{fam.path}: the family's program changes shape in more than "
                             f"{max_pieces} places over the domain ({change.diff}); no macro is "
