@@ -825,6 +825,29 @@ def test_a_declared_domain_is_the_macros_domain(tmp_path):
         assert bool(got) == moves, length
 
 
+def test_a_single_value_in_the_domain_holds_the_parameter(tmp_path, capsys):
+    """``DOMAIN = {"d": 32.0, ...}``: d is the macro's constant, not one of its variables
+    (the header lists it as FIXED, the main program sets no variable for it, every checked set
+    has d = 32); a table row or a --set with another d is refused in one line."""
+    from hnc_cam.cli import main
+    fam = tmp_path / "spacer.py"
+    fam.write_text(_SPACER % '{"d": 32.0, "length": (26, 34)}')
+    out = tmp_path / "m.nc"
+    assert main(["family", str(fam), "--macro", "--check", "2", "-o", str(out)]) == 0
+    text = out.read_text()
+    assert "(FIXED D=32)" in text and "(D)" not in text and "(LENGTH)" in text
+    assert "pitch stays" not in capsys.readouterr().err
+    table = tmp_path / "rows.csv"
+    table.write_text("length,d\n30,32\n28,30\n")
+    assert main(["family", str(fam), "--macro", "--table", str(table), "-o",
+                 str(tmp_path / "t.nc")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "d=30" in err[0] and not (tmp_path / "t.nc").exists()
+    assert main(["family", str(fam), "--macro", "--set", "d=30", "-o",
+                 str(tmp_path / "s.nc")]) == 2
+    assert "holds d at 32" in capsys.readouterr().err
+
+
 @pytest.mark.parametrize("dom, what", [('{"length": (40, 30)}', "no range"),
                                        ('{"length": ("a", 3)}', "two numbers"),
                                        ('{"width": (1, 3)}', "not one of the family's"),

@@ -634,11 +634,22 @@ def _declared_domain(mod: Any, path: str, full: dict[str, Any],
             from ..cad.loader import kwargs_hint
             raise PartError(f"{path}: DOMAIN names {k!r}, which is not one of the family's "
                             f"parameters ({', '.join(full) or 'none'})" + kwargs_hint(mod))
+        if isinstance(rng, (int, float)) and not isinstance(rng, bool):
+            # one number: the parameter stays at that value (a thread's pitch, a standard
+            # size): the macro's constant, not a variable
+            v = float(rng)
+            if not math.isfinite(v):
+                raise PartError(f"{path}: DOMAIN[{k!r}] = {rng!r} is not a number")
+            if abs(full[k] - v) > 1e-12:
+                raise PartError(f"{path}: {k}={full[k]:g}, where the family's DOMAIN holds "
+                                f"{k} at {v:g}")
+            out[k] = (v, v)
+            continue
         try:
             a, b = (float(x) for x in rng)
         except (TypeError, ValueError):
-            raise PartError(f"{path}: DOMAIN[{k!r}] must be two numbers (low, high), not "
-                            f"{rng!r}") from None
+            raise PartError(f"{path}: DOMAIN[{k!r}] must be two numbers (low, high) or one "
+                            f"(the value it stays at), not {rng!r}") from None
         if not (math.isfinite(a) and math.isfinite(b) and a < b):
             raise PartError(f"{path}: DOMAIN[{k!r}] = ({a:g}, {b:g}) is no range (low < high)")
         if k not in free:
@@ -675,6 +686,15 @@ def load_family(path: str, base: dict[str, Any], rows: list[dict[str, Any]] | No
     declared = _declared_domain(mod, path, full, free)
     for k, (a, b) in declared.items():
         lo[k], hi[k] = a, b
+    held = [k for k, (a, b) in declared.items() if a == b]  # DOMAIN's single values
+    for r in rows:
+        for k in held:
+            if r[k] != full[k]:
+                raise PartError(f"{path}: the table gives {k}={r[k]:g}, where the family's "
+                                f"DOMAIN holds {k} at {full[k]:g}")
+    free = [k for k in free if k not in held]
+    for k in held:
+        del lo[k], hi[k]
     for r in rows:
         for k in free:
             if k in declared and not lo[k] <= r[k] <= hi[k]:
