@@ -1142,24 +1142,35 @@ def _held_out(ctx: Ctx, fam: Family, tr: Any, lo: dict, hi: dict, nomp: Any, reg
     the piece's own), none of them among those its words were fitted on: (variant, its run
     of sections). A set that falls on the other side of a threshold (exact to its bisection
     only) or takes another branch says nothing about this alternative and is left out."""
-    from . import macro_merge as mm
     out = []
-    shape = [[w.letter for w in b.words] for b in ab]
     for p in sample(fam, tr, lo, hi, N_HELD, seed, limit=1000, branches=False, extra=conds):
-        _sketch_ok(fam, p)
-        if not _same_branches(tr, p):
-            continue
-        try:
-            v = mm.prog(p, ctx.program(p), ctx.dialect)
-        except PlanError:
-            continue
-        mm.align(nomp, v)
-        if mm.alt_key(nomp, v, reg) != key:
-            continue
-        run = mm.run_of(nomp, v, reg)
-        if [[w.letter for w in b.words] for sec in run for b in sec.blocks] == shape:
-            out.append((v, run))
+        got = _in_alternative(ctx, fam, tr, nomp, reg, key, ab, p)
+        if got is not None:
+            out.append(got)
     return out
+
+
+def _in_alternative(ctx: Ctx, fam: Family, tr: Any, nomp: Any, reg: tuple, key: tuple,
+                    ab: list[Block], p: dict) -> tuple | None:
+    """The variant at ``p`` and its run of sections where it takes the alternative ``key``
+    of region ``reg`` with the blocks' words of ``ab``; None where it takes another branch
+    of the sketch or another alternative, or the planner makes no program there."""
+    from . import macro_merge as mm
+    _sketch_ok(fam, p)
+    if not _same_branches(tr, p):
+        return None
+    try:
+        v = mm.prog(p, ctx.program(p), ctx.dialect)
+    except PlanError:
+        return None
+    mm.align(nomp, v)
+    if mm.alt_key(nomp, v, reg) != key:
+        return None
+    run = mm.run_of(nomp, v, reg)
+    shape = [[w.letter for w in b.words] for b in ab]
+    if [[w.letter for w in b.words] for sec in run for b in sec.blocks] != shape:
+        return None
+    return v, run
 
 
 #: how far beside the kink of a word fitted as the larger or smaller of two laws its probes
@@ -1176,8 +1187,6 @@ def _kink_probes(ctx: Ctx, fam: Family, tr: Any, lo: dict, hi: dict, nomp: Any, 
     alternative as :func:`_held_out`'s. Sampled sets seldom fall there, and the planner's
     own switch between the laws need not be where they cross: a kink beside it is off in
     between."""
-    from . import macro_merge as mm
-    shape = [[w.letter for w in b.words] for b in ab]
     out: list[tuple] = []
     seen: set[tuple] = set()
     for sl in slots:
@@ -1204,19 +1213,9 @@ def _kink_probes(ctx: Ctx, fam: Family, tr: Any, lo: dict, hi: dict, nomp: Any, 
                 if at in seen or not _valid(fam, tr, p, lo, hi, False, conds):
                     continue
                 seen.add(at)
-                _sketch_ok(fam, p)
-                if not _same_branches(tr, p):
-                    continue
-                try:
-                    v = mm.prog(p, ctx.program(p), ctx.dialect)
-                except PlanError:
-                    continue
-                mm.align(nomp, v)
-                if mm.alt_key(nomp, v, reg) != key:
-                    continue
-                run = mm.run_of(nomp, v, reg)
-                if [[w.letter for w in b.words] for sec in run for b in sec.blocks] == shape:
-                    out.append((v, run))
+                got = _in_alternative(ctx, fam, tr, nomp, reg, key, ab, p)
+                if got is not None:
+                    out.append(got)
     return out
 
 
