@@ -1106,7 +1106,7 @@ def test_a_rounded_corners_z_takes_the_law_of_the_offset_elements(tmp_path):
     coefficients; a Z 0.002 mm off at one variant has no such law."""
     import numpy as np
     from hnc_cam.plan.macro import corner_law
-    from hnc_cam.plan.macro_program import TOL, _ev_all
+    from hnc_cam.plan.macro_program import TOL, _varying
     fam = _groove_family(tmp_path)
 
     def corner(p):
@@ -1118,12 +1118,12 @@ def test_a_rounded_corners_z_takes_the_law_of_the_offset_elements(tmp_path):
     vals = [corner(p) for p in sets]
     allb = _rnd_blocks(vals)
     y = np.array([float(f"{z:.3f}") for _x, z in vals])
-    law = corner_law(fam.trace, allb, sets, 0, 2, y, TOL, _ev_all)
+    law = corner_law(fam.trace, allb, sets, 0, 2, y, TOL, _varying)
     assert law is not None
     for p in _groove_sets(6, 9):
         assert _ev(law, dict(fam.params, **p)) == pytest.approx(corner(p)[1], abs=1e-9)
     y[5] += 0.002
-    assert corner_law(fam.trace, allb, sets, 0, 2, y, TOL, _ev_all) is None
+    assert corner_law(fam.trace, allb, sets, 0, 2, y, TOL, _varying) is None
 
 
 def test_two_features_that_move_together_take_their_law_of_small_fractions():

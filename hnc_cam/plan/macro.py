@@ -70,6 +70,9 @@ _FUN: dict[str, Callable[[float], float]] = {
     "abs": abs}
 _SCALAR: dict[str, Callable[..., float]] = dict(_FUN, atan2=math.atan2, min=min, max=max)
 
+#: a comparison as macro B writes it (HNC-21T and FANUC ``IF [a LT b]``)
+MACRO_OPS = {"<": "LT", "<=": "LE", ">": "GT", ">=": "GE"}
+
 
 def _node(v: Any) -> tuple:
     if isinstance(v, Sym):
@@ -584,8 +587,7 @@ def _cond(c: tuple, var: dict[str, str], dialect: str) -> str:
     if c[0] == "not":
         return f"[NOT {_cond(c[1], var, dialect)}]" if dialect == "hnc21t" else \
             _cond(_negate(c[1]), var, dialect)
-    ops = {"<": "LT", "<=": "LE", ">": "GT", ">=": "GE"}
-    return (f"[{render(_simplify(c[1]), var, dialect)} {ops[c[0]]} "
+    return (f"[{render(_simplify(c[1]), var, dialect)} {MACRO_OPS[c[0]]} "
             f"{render(_simplify(c[2]), var, dialect)}]")
 
 
@@ -846,12 +848,11 @@ def hnc_checks(tr: _Trace, lets: Lets) -> list[str]:
     for ch in tr.checks:
         parts = []
         for c in ch.conds:
-            ops = {"<": "LT", "<=": "LE", ">": "GT", ">=": "GE"}
             parts.append(f"[{lets.expr(c[1][1] if c[0] == 'not' else c[1])} "
-                         f"{ops[c[1][0] if c[0] == 'not' else c[0]]} "
+                         f"{MACRO_OPS[c[1][0] if c[0] == 'not' else c[0]]} "
                          f"{lets.expr(c[1][2] if c[0] == 'not' else c[2])}]"
                          if c[0] != "not" else
-                         f"[NOT [{lets.expr(c[1][1])} {ops[c[1][0]]} {lets.expr(c[1][2])}]]")
+                         f"[NOT [{lets.expr(c[1][1])} {MACRO_OPS[c[1][0]]} {lets.expr(c[1][2])}]]")
         out.extend(lets.lines)
         lets.lines.clear()
         names = " ".join(n.upper() for n in ch.names) or "PARAMETERS"
@@ -991,13 +992,15 @@ def corner_points(tr: _Trace, offsets: list[float], roundings: list[float],
 
 
 def corner_law(tr: _Trace, allb: list, allp: list[dict], bi: int, wi: int, y: Any,
-               tol: float, ev_all: Callable[..., Any]) -> tuple | None:
+               tol: float, varying: Callable[..., Any]) -> tuple | None:
     """Word ``wi`` of block ``bi`` (an X on diameter or a Z, ``y`` its values over the
     variants ``allb`` at the sets ``allp``) as a corner of a path offset from the traced
     contour (:func:`corner_points`) shifted by a constant (the tool's tip from its nose's
     centre, an allowance), within ``tol`` at every variant; None where none is. The offsets
     are 0 and the alternative's radii that no variant changes (``RND=``, ``CR=``, ``R``),
-    the roundings those of the block and the next."""
+    the roundings those of the block and the next. ``varying(n, env, memo, sets)``: an
+    expression's values over the sets, None where it is undefined at one or the same at
+    all."""
     import numpy as np
     letter = allb[0][bi].words[wi].letter
     if letter not in ("X", "Z"):
@@ -1019,12 +1022,8 @@ def corner_law(tr: _Trace, allb: list, allp: list[dict], bi: int, wi: int, y: An
     memo: dict[int, Any] = {}
     for px, pz in corner_points(tr, offsets, roundings):
         n = _m(_k(2.0), px) if letter == "X" else pz
-        try:
-            with np.errstate(all="ignore"):
-                v = ev_all(n, env, memo, allp)
-        except (ValueError, ZeroDivisionError, OverflowError):
-            continue
-        if not np.all(np.isfinite(v)) or np.ptp(v) < 1e-9:
+        v = varying(n, env, memo, allp)
+        if v is None:
             continue
         for nd in (1, 2, 3):
             const = round(float(y[0] - v[0]), nd)

@@ -43,9 +43,9 @@ from fractions import Fraction
 from typing import Any
 
 from ..errors import HncError, PartError, PlanError
-from .macro import (Check, Family, Lets, _ev, _holds, _node, _num, _params_of,
-                    _trace, collinear_fractions, corner_law, features, hnc_checks, render,
-                    walk)
+from .macro import (MACRO_OPS, Check, Family, Lets, _ev, _holds, _negate, _node, _num,
+                    _params_of, _trace, collinear_fractions, corner_law, features, hnc_checks,
+                    render, walk)
 
 #: what a fit may miss a written word by: the written precision (3 decimals, so half of
 #: 0.001) and the float noise of the planner's arithmetic
@@ -435,12 +435,8 @@ def _candidates(fam: Family, tr: Any, sets: list[dict[str, Any]], normals: bool 
     env = {k: np.array([float(p[k]) for p in sets]) for k in fam.free}
     memo: dict[int, Any] = {}
     for _desc, n in feats:
-        try:
-            with np.errstate(all="ignore"):
-                v = _ev_all(n, env, memo, sets)
-        except (ValueError, ZeroDivisionError, OverflowError):
-            continue
-        if not np.all(np.isfinite(v)) or np.ptp(v) < 1e-9:
+        v = _varying(n, env, memo, sets)
+        if v is None:
             continue
         key = tuple(np.round(v, 7))
         size = len(render(n, {k: "#" for k in fam.free})) if n[0] != "p" else 0
@@ -465,6 +461,25 @@ def _ev_all(n: tuple, env: dict, memo: dict[int, Any], sets: list[dict]) -> Any:
     fun = {"sqrt": np.sqrt, "sin": np.sin, "cos": np.cos, "tan": np.tan, "atan": np.arctan,
            "abs": np.abs, "atan2": np.arctan2, "min": np.minimum, "max": np.maximum}
     return walk(n, leaf, fun, memo)
+
+
+def _defined(n: tuple, env: dict, memo: dict[int, Any], sets: list[dict]) -> Any:
+    """:func:`_ev_all`, None where the expression is undefined at one of the sets."""
+    import numpy as np
+    try:
+        with np.errstate(all="ignore"):
+            v = _ev_all(n, env, memo, sets)
+    except (ValueError, ZeroDivisionError, OverflowError):
+        return None
+    return v if np.all(np.isfinite(v)) else None
+
+
+def _varying(n: tuple, env: dict, memo: dict[int, Any], sets: list[dict]) -> Any:
+    """:func:`_defined`, None also where the expression is the same at every set (no
+    feature to fit with)."""
+    import numpy as np
+    v = _defined(n, env, memo, sets)
+    return None if v is None or np.ptp(v) < 1e-9 else v
 
 
 def _cross_columns(tr: Any, nb: list[Block], allb: list[list[Block]], allp: list[dict]):
@@ -891,7 +906,7 @@ def _fit_blocks(ctx: Ctx, fam: Family, tr: Any, nominal: dict, lo: dict, hi: dic
                     continue
             # a rounded corner of an offset contour (the 802's RND= corner, a fillet's
             # tangent point) before a fit of unrounded coefficients
-            node = corner_law(tr, allb, allp, bi, wi, y, TOL, _ev_all)
+            node = corner_law(tr, allb, allp, bi, wi, y, TOL, _varying)
             if node is not None:
                 slots.append(Slot(bi, wi, "fit", node))
                 continue
@@ -1052,15 +1067,14 @@ def derive_piece(ctx: Ctx, fam: Family, lo: dict, hi: dict, nominal: dict[str, A
             slots = _fit_blocks(ctx, fam, tr, nominal, lo, hi, allb, [v.p for v in members],
                                 min(n_fit, len(members) - 2), at) if allb[0] else []
             spare: list[tuple] = []  # the fresh variants the laws held on
+            # the alternative's own part of the domain: the piece's and its leaf's conditions
+            where = list(extra) + (tree.paths()[li] if tree is not None else [])
             if allb[0]:
-                conds = tree.paths()[li] if tree is not None else []
                 for attempt in range(2):
-                    fresh = _held_out(ctx, fam, tr, lo, hi, nomp, reg, distinct[li],
-                                      list(extra) + list(conds), allb[0],
-                                      ("hold", seed, reg, li, attempt))
-                    fresh += _kink_probes(ctx, fam, tr, lo, hi, nomp, reg, distinct[li],
-                                          list(extra) + list(conds), allb[0], slots,
-                                          [v.p for v in members])
+                    fresh = _held_out(ctx, fam, tr, lo, hi, nomp, reg, distinct[li], where,
+                                      allb[0], ("hold", seed, reg, li, attempt))
+                    fresh += _kink_probes(ctx, fam, tr, lo, hi, nomp, reg, distinct[li], where,
+                                          allb[0], slots, [v.p for v in members])
                     # first to the written half digit: an exact law is within it at every
                     # variant, a near fit passes the fit's 0.00055 only by the margin above it
                     miss = _missed(slots, allb[0], fresh, HALF if attempt == 0 else TOL)
@@ -1090,9 +1104,7 @@ def derive_piece(ctx: Ctx, fam: Family, lo: dict, hi: dict, nominal: dict[str, A
                                         [v.p for v in members], len(members) - 1, at)
             alt = Alt(members[0], runs[0], allb[0], slots, [v.p for v in members])
             if ctx.dialect == "hnc21t" and allb[0]:
-                conds = tree.paths()[li] if tree is not None else []
-                spins.append((alt, list(zip(members, runs)) + spare,
-                              list(extra) + list(conds), (seed, reg, li)))
+                spins.append((alt, list(zip(members, runs)) + spare, where, (seed, reg, li)))
             alts.append(alt)
         regions.append(Region(reg, alts, tree))
     # the spindle switches, once every alternative's words are fitted: an S may follow an X
@@ -1574,10 +1586,9 @@ def _s_text(lets: Lets, law: tuple) -> str:
         key = ("slaw", id(law))
         if key not in lets._memo:
             op, f, c = law[1]
-            ops = {"<": "LT", "<=": "LE", ">": "GT", ">=": "GE"}
             fx, cx = lets.expr(f), lets.expr(c)
             v = lets._assign(_num(law[3]))
-            lets.lines += [f"IF [{fx} {ops[op]} {cx}]", f"{v}={_num(law[2])}", "ENDIF"]
+            lets.lines += [f"IF [{fx} {MACRO_OPS[op]} {cx}]", f"{v}={_num(law[2])}", "ENDIF"]
             lets._memo[key] = f"[{v}]"
         return lets._memo[key]
     _k, k, xn, cap, half = law
@@ -1661,11 +1672,8 @@ def _holds_all(cond: tuple, ps: list[dict]):
     import numpy as np
     env = {k: np.array([float(p[k]) for p in ps]) for k in ps[0]
            if isinstance(ps[0][k], (int, float))}
-    with np.errstate(all="ignore"):
-        v = _ev_all(cond[1], env, {}, ps)
-    if not np.all(np.isfinite(v)):
-        return None
-    return v < cond[2][1]
+    v = _defined(cond[1], env, {}, ps)
+    return None if v is None else v < cond[2][1]
 
 
 class _Spin:
@@ -1903,7 +1911,6 @@ def _spin_vars(lets: Lets, alt: Alt) -> None:
     """The variables of an alternative's conditional spindle switches (:class:`SpinGap`),
     assigned once per writer: ``#g=96``, ``#s=<vc>``, then ``IF [cond]`` ``#g=97``
     ``#s=<limit>`` ``ENDIF`` (a comment names the critical diameter)."""
-    ops = {"<": "LT", "<=": "LE", ">": "GT", ">=": "GE"}
     for i, g in sorted(alt.spin.items()):
         key = ("spin", id(alt), i)
         for law in g.laws.values():  # an S law's parts: assigned before the blocks
@@ -1919,7 +1926,7 @@ def _spin_vars(lets: Lets, alt: Alt) -> None:
             else:
                 parts.append(x)
         cx = lets.expr(c)
-        test = " OR ".join(f"[{lets.expr(x)} {ops[op]} {cx}]" for x in parts)
+        test = " OR ".join(f"[{lets.expr(x)} {MACRO_OPS[op]} {cx}]" for x in parts)
         same = ("spin", test, g.yes, g.no)  # another block of the same condition: its pair
         if same in lets._memo:
             lets._memo[key] = lets._memo[same]
@@ -2100,9 +2107,7 @@ def _emit_tree(node: Any, alts: list[Alt], lets: Lets, body: list[str], notes: l
     if node.leaf is not None:
         _emit_alt(alts[node.leaf], lets, body, notes, counter, fanuc)
         return
-    from .macro import _negate
     op, f, c = node.cond
-    ops = {"<": "LT", "<=": "LE", ">": "GT", ">=": "GE"}
     fx, cx = lets.expr(f), lets.expr(c)
     body += lets.lines
     lets.lines.clear()
@@ -2128,7 +2133,7 @@ def _emit_tree(node: Any, alts: list[Alt], lets: Lets, body: list[str], notes: l
     elif fanuc:
         l_no, l_end = labels[0] + 1, labels[0] + 2
         labels[0] += 2
-        body.append(f"IF [{fx} {ops[_negate(node.cond)[0]]} {cx}] GOTO {l_no}")
+        body.append(f"IF [{fx} {MACRO_OPS[_negate(node.cond)[0]]} {cx}] GOTO {l_no}")
         fy = lets.fork()
         _emit_tree(node.yes, alts, fy, body, notes, counter, labels, fanuc)
         body += [f"GOTO {l_end}", f"N{l_no}"]
@@ -2137,7 +2142,7 @@ def _emit_tree(node: Any, alts: list[Alt], lets: Lets, body: list[str], notes: l
         body.append(f"N{l_end}")
         forks = [fy, fn]
     else:
-        body.append(f"IF [{fx} {ops[op]} {cx}]")
+        body.append(f"IF [{fx} {MACRO_OPS[op]} {cx}]")
         fy = lets.fork()
         _emit_tree(node.yes, alts, fy, body, notes, counter, labels, fanuc)
         body.append("ELSE")
@@ -2174,7 +2179,6 @@ def _s802_checks(checks: list[Check], lets: Lets, rows: int = 0) -> list[str]:
     condition (the 802's IF takes one comparison), then, jumped over when every check holds,
     each check's label with a comment naming its parameters and ``M30`` (the 802S/C has no
     program-generated alarm: the program ends with the comment on the screen)."""
-    neg = {"<": ">=", "<=": ">", ">": "<=", ">=": "<"}
     out: list[str] = []
     stops: list[str] = []
     if rows:
@@ -2187,7 +2191,7 @@ def _s802_checks(checks: list[Check], lets: Lets, rows: int = 0) -> list[str]:
             if c[0] == "not":
                 op, a, b = c[1]
             else:
-                op, a, b = neg[c[0]], c[1], c[2]
+                op, a, b = _negate(c)
             line = f"IF {lets.expr(a)}{op}{lets.expr(b)} GOTOF ER{i}"
             out.extend(lets.lines)
             lets.lines.clear()
@@ -2198,16 +2202,14 @@ def _s802_checks(checks: list[Check], lets: Lets, rows: int = 0) -> list[str]:
 
 def _fanuc_checks(checks: list[Check], lets: Lets) -> list[str]:
     out = []
-    ops = {"<": "LT", "<=": "LE", ">": "GT", ">=": "GE"}
-    neg = {"<": "GE", "<=": "GT", ">": "LE", ">=": "LT"}
     for i, ch in enumerate(checks):
         names = " ".join(n.upper() for n in ch.names)[:26] or "PARAMETERS"
         for c in ch.conds:  # FANUC: one IF per failing condition, GOTO-free
             if c[0] == "not":
                 c2 = c[1]
-                line = f"IF [{lets.expr(c2[1])} {ops[c2[0]]} {lets.expr(c2[2])}]"
+                line = f"IF [{lets.expr(c2[1])} {MACRO_OPS[c2[0]]} {lets.expr(c2[2])}]"
             else:
-                line = f"IF [{lets.expr(c[1])} {neg[c[0]]} {lets.expr(c[2])}]"
+                line = f"IF [{lets.expr(c[1])} {MACRO_OPS[_negate(c)[0]]} {lets.expr(c[2])}]"
             out.extend(lets.lines)
             lets.lines.clear()
             out.append(f"{line} THEN #3000={min(100 + i, 200)}({names})")
