@@ -129,12 +129,7 @@ def _from_header(args: argparse.Namespace, model_needs_params: bool) -> None:
         used.append(f"stock {stock}")
     if not args.stock:
         import os
-        import stat
-        try:
-            readable = stat.S_ISREG(os.stat(args.program).st_mode)
-        except OSError:
-            readable = False
-        if not readable:  # no program at that path: the interpreter's one line about it
+        if not os.path.isfile(args.program):  # no program there: the interpreter's one line
             _toolpath(args.program, None)
         raise StockError(f"{args.program}: the program carries no (STOCK ...) line: give "
                          f"--stock SPEC")

@@ -325,13 +325,12 @@ def generate(part: Any, stock: str | Stock | None = None, *, params: Mapping[str
         raise PlanError(f"face cycle must be g81 or g01, got {face_cycle!r}")
     mat_name = material if material is not None else _PART_MATERIAL.pop(id(prof), None)
     lib, ax, az = with_material(lib, mat_name, allowance)
+    dia = dialect_of(dialect, mach)
     opts = Options(comp=comp, program_number=int(program_number), thread_cycle=thread_cycle,
                    face_cycle=face_cycle, allowance_x=ax / 2, allowance_z=az,
                    partoff=bool(partoff),
                    partoff_dia=float(partoff_dia) if partoff_dia is not None else -1.0,
-                   drill_style=drill_style)
-    dia = dialect_of(dialect, mach)
-    opts.thread_end_shift = thread_end_on_flank(dia)
+                   drill_style=drill_style, thread_end_shift=thread_end_on_flank(dia))
     t1 = perf_counter()
     plan = make_plan(prof, st, lib, mach, opts, name=name, params=pparams, version=__version__)
     t2 = perf_counter()
