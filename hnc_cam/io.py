@@ -12,11 +12,14 @@ from __future__ import annotations
 
 import os
 import re
+import signal
 import stat
 import sys
 import tempfile
+import threading
+from contextlib import contextmanager
 from pathlib import Path
-from typing import Callable
+from typing import Callable, Iterator
 
 from .errors import HncError
 
@@ -57,6 +60,22 @@ def clean_stale_temporaries(folder: str | Path) -> list[str]:
     return removed
 
 
+@contextmanager
+def signals_held() -> Iterator[None]:
+    """Ctrl-C (SIGINT) and SIGTERM wait until the block ends: a file being written is written
+    whole, and what records it is updated with it, before the signal's handler runs. Only in
+    the main thread of a POSIX process (elsewhere the block runs as it is)."""
+    mask = getattr(signal, "pthread_sigmask", None)
+    if mask is None or threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    old = mask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
+    try:
+        yield
+    finally:
+        mask(signal.SIG_SETMASK, old)
+
+
 def _resolve(p: Path) -> Path:
     """Follow a symbolic link (chains too) to the path it names; a dangling link names the
     file to create."""
@@ -90,6 +109,12 @@ def write_atomic(path: str | Path, data: str | bytes, *, clean_folder: bool = Tr
     if st is not None and not stat.S_ISREG(st.st_mode):
         _write_special(path, p, raw)
         return
+    with signals_held():  # no temporary left behind by a Ctrl-C between its creation and rename
+        _write_replacing(path, p, raw, st, clean_folder)
+
+
+def _write_replacing(path: str | Path, p: Path, raw: bytes, st: os.stat_result | None,
+                     clean_folder: bool) -> None:
     try:
         p.parent.mkdir(parents=True, exist_ok=True)
         if clean_folder:

@@ -180,6 +180,56 @@ def test_write_atomic_follows_a_symlink(tmp_path):
                                                            "real.nc"]
 
 
+def _sigint_after_mkstemp(monkeypatch):
+    """tempfile.mkstemp that sends this process Ctrl-C the moment the temporary exists."""
+    import signal
+    import tempfile
+    real = tempfile.mkstemp
+
+    def mkstemp(*a, **k):
+        got = real(*a, **k)
+        os.kill(os.getpid(), signal.SIGINT)
+        return got
+    monkeypatch.setattr(tempfile, "mkstemp", mkstemp)
+
+
+def test_write_atomic_under_ctrl_c_writes_whole_then_stops(tmp_path, monkeypatch):
+    # Ctrl-C arriving between the temporary's creation and its rename: the file is written
+    # whole, no temporary is left, and the interrupt is raised after
+    from hnc_cam.io import write_atomic
+    target = tmp_path / "O0001.nc"
+    target.write_text("old\n")
+    _sigint_after_mkstemp(monkeypatch)
+    with pytest.raises(KeyboardInterrupt):
+        write_atomic(target, "new\n")
+    assert target.read_text() == "new\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["O0001.nc"]
+
+
+def test_write_files_under_ctrl_c_writes_all_then_stops(tmp_path, monkeypatch):
+    from hnc_cam.plan.export import write_files
+    _sigint_after_mkstemp(monkeypatch)
+    with pytest.raises(KeyboardInterrupt):
+        write_files(str(tmp_path / "o"), [("O0001.nc", "%1\nM30\n"), ("O0002.nc", "%2\nM30\n")])
+    assert sorted(p.name for p in (tmp_path / "o").iterdir()) == ["O0001.nc", "O0002.nc"]
+    assert (tmp_path / "o" / "O0002.nc").read_text() == "%2\nM30\n"
+
+
+def test_family_row_written_is_a_row_recorded_under_ctrl_c(tmp_path, monkeypatch):
+    # a row whose program is written while Ctrl-C arrives is in the finished rows the
+    # interrupted family lists in summary.csv
+    from hnc_cam.io import write_atomic
+    from hnc_cam.plan.command import _Finished
+    _sigint_after_mkstemp(monkeypatch)
+    out: list = []
+    fin = _Finished(1, lambda r: (write_atomic(tmp_path / "O0001.nc", r["text"]),
+                                  r.__setitem__("file", "O0001.nc")), out)
+    with pytest.raises(KeyboardInterrupt):
+        fin.add({"row": 1, "status": "ok", "text": "%1\nM30\n"})
+    assert [r["file"] for r in out] == ["O0001.nc"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["O0001.nc"]
+
+
 def test_write_atomic_writes_a_fifo_in_place(tmp_path):
     import threading
 

@@ -657,9 +657,11 @@ class _Finished:
             self.task = self.progress.add_task("generating", total=total)
 
     def add(self, r: dict[str, Any]) -> None:
-        if self.on_done is not None:
-            self.on_done(r)
-        self.out.append(r)
+        from ..io import signals_held
+        with signals_held():  # a program written is a row recorded, even under Ctrl-C
+            if self.on_done is not None:
+                self.on_done(r)
+            self.out.append(r)
         if self.progress is not None:
             self.progress.advance(self.task)
 

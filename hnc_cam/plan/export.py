@@ -151,7 +151,7 @@ def write_files(folder: str, programs: list[tuple[str, str]]) -> list[str]:
     import stat
     import tempfile
     from ..errors import HncError
-    from ..io import clean_stale_temporaries
+    from ..io import clean_stale_temporaries, signals_held
     d = folder.rstrip("/" + os.sep) or folder
     try:
         os.makedirs(d, exist_ok=True)
@@ -178,31 +178,32 @@ def write_files(folder: str, programs: list[tuple[str, str]]) -> list[str]:
     umask = os.umask(0)
     os.umask(umask)
     staged: list[tuple[str, str]] = []
-    try:
-        for (name, body), t in zip(programs, targets):
-            fd, tmp = tempfile.mkstemp(prefix=f".{name}.{os.getpid()}.", suffix=".tmp", dir=d)
-            staged.append((tmp, t))
-            with os.fdopen(fd, "wb") as f:
-                f.write(body.encode("utf-8"))
-            try:
-                mode = stat.S_IMODE(os.stat(t).st_mode)
-            except FileNotFoundError:
-                mode = 0o666 & ~umask
-            os.chmod(tmp, mode)
-        for tmp, t in staged:
-            os.replace(tmp, t)
-    except OSError as e:
-        for tmp, _ in staged:
-            try:
-                os.unlink(tmp)
-            except OSError:
-                pass
-        raise HncError(f"{folder}: cannot write: {e.strerror or e}") from None
-    except BaseException:
-        for tmp, _ in staged:
-            try:
-                os.unlink(tmp)
-            except OSError:
-                pass
-        raise
+    with signals_held():  # all programs or none, even under Ctrl-C; no temporary left
+        try:
+            for (name, body), t in zip(programs, targets):
+                fd, tmp = tempfile.mkstemp(prefix=f".{name}.{os.getpid()}.", suffix=".tmp", dir=d)
+                staged.append((tmp, t))
+                with os.fdopen(fd, "wb") as f:
+                    f.write(body.encode("utf-8"))
+                try:
+                    mode = stat.S_IMODE(os.stat(t).st_mode)
+                except FileNotFoundError:
+                    mode = 0o666 & ~umask
+                os.chmod(tmp, mode)
+            for tmp, t in staged:
+                os.replace(tmp, t)
+        except OSError as e:
+            for tmp, _ in staged:
+                try:
+                    os.unlink(tmp)
+                except OSError:
+                    pass
+            raise HncError(f"{folder}: cannot write: {e.strerror or e}") from None
+        except BaseException:
+            for tmp, _ in staged:
+                try:
+                    os.unlink(tmp)
+                except OSError:
+                    pass
+            raise
     return targets
