@@ -303,21 +303,31 @@ def test_a_switch_no_variant_showed_is_written_from_the_domain():
         assert list(_holds_all(g.cond, [{"d": 0.95}, {"d": 0.96}])) == [True, False]
 
 
-@pytest.mark.slow
-def test_a_kink_beside_the_planners_switch_is_not_written(tmp_path, capsys):
-    """The spacer over d1 17.1-18.6: the G71's split X is the larger of X19.1 and d1 + 1.22,
-    but the planner switches between them near d1 17.9, not where they cross (17.88); the
-    sampled sets miss that band, and a macro written with the larger of the two laws was
-    0.0025 mm off at d1 17.885. The variants beside the kink show it: no macro is written."""
+def test_a_switch_beside_the_kink_is_decided_at_the_control(tmp_path, capsys):
+    """The spacer over d1 17.1-18.6: the G71's split X is X19.1 below d1 17.9 and d1 + 1.22
+    above it, but the laws cross at 17.88, not where the planner switches; the larger of the
+    two was 0.0025 mm off at d1 17.885. The variants beside the kink show it, and the word
+    becomes a decision at the planner's own switch: one program, proven on table rows on
+    both sides of the switch and of the kink (other dimensions moved too)."""
+    import re
+
     from hnc_cam.cli import main
     fam = tmp_path / "spacer.py"
     fam.write_text(SPACER.read_text().replace('DOMAIN = {"d1": (17.95, 18.6)}',
                                               'DOMAIN = {"d1": (17.1, 18.6)}'))
-    out = tmp_path / "m.nc"
-    rc = main(["family", str(fam), "--macro", "--check", "5", "-o", str(out)])
+    table = tmp_path / "rows.csv"
+    table.write_text("d1,chamfer,l1\n17.5,0.8,15\n17.879,0.8,15\n17.885,0.8,15\n"
+                     "17.895,0.78,15.5\n17.899,0.8,15\n17.9,0.82,14.5\n18.3,0.8,15\n")
+    out = tmp_path / "m"
+    rc = main(["family", str(fam), "--macro", "--table", str(table), "--check", "3",
+               "-o", str(out) + "/"])
     err = capsys.readouterr().err
-    assert rc == 2 and not out.exists()
-    lines = [ln for ln in err.splitlines() if ln.startswith("error:")]
-    assert len(lines) == 1
-    # the refusal names the word whose law changes where it last split, and the sets
-    assert "the word X19.1" in lines[0] and "d1=" in lines[0]
+    assert rc == 0, err
+    progs = sorted(out.glob("O*.nc"))
+    assert len(progs) == 1
+    text = progs[0].read_text()
+    # the decision: on d1, at the planner's switch (17.899 takes X19.1, 17.9 takes d1 + 1.22)
+    m = re.search(r"\(D1 < ([0-9.]+)\?\)", text)
+    assert m and 17.899 < float(m.group(1)) <= 17.9, text
+    # one branch holds the clamp's X19.1, the other the journal's law
+    assert "X19.1\n" in text and re.search(r"X\[#\d+\+1\.22\]", text)

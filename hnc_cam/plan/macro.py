@@ -618,6 +618,9 @@ class Family:
     trace: _Trace
     lo: dict[str, float]
     hi: dict[str, float]
+    #: parameters whose range the tool library cuts only in part: name -> (the end the
+    #: DOMAIN gives, the end kept, why) (:func:`macro_program.fix_unmachinable`)
+    narrowed: dict[str, tuple[float, float, str]] = field(default_factory=dict)
 
 
 def _declared_domain(mod: Any, path: str, full: dict[str, Any],

@@ -135,6 +135,12 @@ def macro_command(args: argparse.Namespace) -> int:
     for i, r in enumerate(full_rows, 1):
         pc = piece_of(pieces, r)
         if pc is None:
+            out = [k for k in fam.narrowed if not fam.lo[k] <= r[k] <= fam.hi[k]]
+            if out:
+                k = out[0]
+                raise PartError(f"{args.table}: row {i} gives {k}={r[k]:g}, outside the "
+                                f"macro's {k} {fam.lo[k]:g}..{fam.hi[k]:g} (the tool library "
+                                f"does not cut {fam.narrowed[k][2]})")
             raise PartError(f"{args.table}: row {i} ({', '.join(f'{k}={r[k]:g}' for k in fam.free)}) "
                             f"fails the family's checks")
         held[pieces.index(pc)].append(r)
@@ -203,4 +209,7 @@ def macro_command(args: argparse.Namespace) -> int:
              "; pieces: " + "; ".join(", ".join(pc.bounds) for pc in pieces)), file=sys.stderr)
     for k, why in fixed.items():
         print(f"warning: {k} stays at {fam.params[k]:g}: {why}", file=sys.stderr)
+    for k, (given, kept, why) in fam.narrowed.items():
+        print(f"warning: {k} spans {fam.lo[k]:g}..{fam.hi[k]:g}, not to the DOMAIN's "
+              f"{given:g}: the tool library does not cut {why}", file=sys.stderr)
     return 0

@@ -88,11 +88,12 @@ def align(nom: Prog, v: Prog) -> None:
     v.ops = SequenceMatcher(None, nom.keys, v.keys, autojunk=False).get_opcodes()
 
 
-def hunks(nom: Prog, progs: list[Prog]) -> list[tuple[int, int]]:
-    """The nominal's section ranges [a, b) where some variant differs, merged where they
-    overlap (an insertion takes the section after it, or the last one)."""
+def hunks(nom: Prog, progs: list[Prog], also: list[int] = ()) -> list[tuple[int, int]]:
+    """The nominal's section ranges [a, b) where some variant differs (and the sections
+    ``also``: where a word switches between two laws), merged where they overlap (an
+    insertion takes the section after it, or the last one)."""
     n = len(nom.secs)
-    ivs = []
+    ivs = [(j, j + 1) for j in also]
     for v in progs:
         for tag, i1, i2, _j1, _j2 in v.ops:
             if tag == "equal":
@@ -139,9 +140,9 @@ def cycle_links(nom: Prog) -> list[tuple[int, int]]:
     return out
 
 
-def regions(nom: Prog, progs: list[Prog]) -> list[tuple[int, int]]:
+def regions(nom: Prog, progs: list[Prog], also: list[int] = ()) -> list[tuple[int, int]]:
     """Every section of the nominal in a region: the hunks, and each other section alone."""
-    hs = hunks(nom, progs)
+    hs = hunks(nom, progs, also)
     out, i = [], 0
     for a, b in hs:
         out += [(k, k + 1) for k in range(i, a)]
@@ -306,21 +307,51 @@ def _straight(fam: Any, f: tuple, p0: dict, p1: dict, test: Any,
     return _ev(f, at(a)), _ev(f, at(b))
 
 
+#: the sets beside a refined threshold (within EDGE of its feature's span over the variants)
+#: on which its feature must tell the alternatives apart before the cut is taken
+N_EDGE, EDGE = 6, 0.05
+
+
+def _edge_holds(f: tuple, c: float, op: str, width: float, path: list[tuple], test: Any,
+                right: set, side: Any, probe: Any) -> bool:
+    """Whether the sets ``probe`` draws beside the threshold ``f op c`` (inside the node's
+    own part of the domain, ``path``) fall on the side it puts them: a feature that separates
+    the sampled variants and whose bisection holds on one way may still not be the planner's
+    (the end of a chamfered edge where the planner tests the diameter), which sets beside
+    the cut with the other parameters elsewhere show."""
+    near = [(">=", f, ("c", c - width)), ("<=", f, ("c", c + width))]
+    for q in probe(list(path) + near, N_EDGE):
+        lab = side(q, q, 0.0)
+        if lab is None:
+            continue
+        on = 0 if test(lab) else 1 if lab in right or not right else None
+        if on is not None and (on == 0) != _holds((op, f, ("c", c)), q):
+            return False
+    return True
+
+
 def build_tree(fam: Any, tr: Any, sets: list[dict], labels: list[int], side: Any,
-               strict: bool = True) -> Node | None:
+               strict: bool = True, probe: Any = None) -> Node | None:
     """The decision tree telling the labels apart by thresholds on one traced feature per
     node, or None. ``side(p0, p1, t)`` -> the label at the set ``t`` of the way from ``p0`` to
     ``p1`` (for bisection; None where it is another change). ``strict``: each threshold
     bisected along its feature's own parameters (:func:`_refine`); where no such tree holds,
-    the tree of the best cuts bisected along the straight ways."""
-    if strict:
-        tree = _build(fam, tr, sets, labels, side, True)
-        return tree if tree is not None else _build(fam, tr, sets, labels, side, False)
-    return _build(fam, tr, sets, labels, side, False)
+    the tree of the best cuts bisected along the straight ways. ``probe(conds, n)``: up to
+    ``n`` sets of the domain that meet ``conds``, on which a refined cut is proven
+    (:func:`_edge_holds`) before it is taken."""
+    most = 2 * len(set(labels)) - 1
+    for st in ((True, False) if strict else (False,)):
+        tree = _build(fam, tr, sets, labels, side, st, probe)
+        # a tree of more thresholds than two per alternative follows the sampled sets, not
+        # a rule of the planner's that these features hold (its test combines several
+        # dimensions): none
+        if tree is not None and len(tree.labels()) <= most:
+            return tree
+    return None
 
 
 def _build(fam: Any, tr: Any, sets: list[dict], labels: list[int], side: Any,
-           strict: bool) -> Node | None:
+           strict: bool, probe: Any = None) -> Node | None:
     import numpy as np
     cands = [(k, ("p", k)) for k in fam.free] + features(tr) + slopes(tr)
     cols = []
@@ -332,7 +363,13 @@ def _build(fam: Any, tr: Any, sets: list[dict], labels: list[int], side: Any,
         if np.all(np.isfinite(v)) and np.ptp(v) > 1e-9:
             cols.append((desc if f[0] != "p" else f[1], f, v))
 
-    def grow(idx: list[int]) -> Node | None:
+    def cut_of(fa: float, fb: float) -> tuple[float, str]:
+        c = _roundest(fa, fb)
+        # a round value the last set on the left side has itself (the planner's own
+        # threshold, as ceil(depth / step) at a whole depth) stays on the left
+        return c, ("<=" if c == fa else "<") if fa < fb else (">=" if c == fa else ">")
+
+    def grow(idx: list[int], path: tuple = ()) -> Node | None:
         labs = {labels[i] for i in idx}
         if len(labs) == 1:
             return Node(leaf=labs.pop())
@@ -364,8 +401,13 @@ def _build(fam: Any, tr: Any, sets: list[dict], labels: list[int], side: Any,
         best = None
         for cand in found[:TRIES]:  # (also where the tree is not strict: node by node)
             _score, desc, f, ia, ib, test, lidx, ridx = cand
-            ends = _refine(fam, f, sets[ia], sets[ib], test,
-                           {labels[i] for i in ridx} - {labels[i] for i in lidx}, side)
+            right = {labels[i] for i in ridx} - {labels[i] for i in lidx}
+            ends = _refine(fam, f, sets[ia], sets[ib], test, right, side)
+            if ends is not None and probe is not None:
+                c, op = cut_of(*ends)
+                width = EDGE * float(np.ptp([_ev(f, sets[i]) for i in range(len(sets))]))
+                if not _edge_holds(f, c, op, width, list(path), test, right, side, probe):
+                    continue
             if ends is not None:
                 best = cand
                 fa, fb = ends
@@ -376,12 +418,9 @@ def _build(fam: Any, tr: Any, sets: list[dict], labels: list[int], side: Any,
         if best is None:
             return None
         _score, desc, f, ia, ib, test, lidx, ridx = best
-        c = _roundest(fa, fb)
-        # a round value the last set on the left side has itself (the planner's own
-        # threshold, as ceil(depth / step) at a whole depth) stays on the left
-        op = ("<=" if c == fa else "<") if fa < fb else (">=" if c == fa else ">")
+        c, op = cut_of(fa, fb)
         cond = (op, f, ("c", c))
-        yes, no = grow(lidx), grow(ridx)
+        yes, no = grow(lidx, path + (cond,)), grow(ridx, path + (("not", cond),))
         if yes is None or no is None:
             return None
         label = f"{desc} {op} {_num(c)}"

@@ -209,7 +209,14 @@ def _first_difference(a: list[Block], b: list[Block]) -> str:
     a, b = core(a), core(b)
     for x, y in zip(a, b):
         if x.key != y.key:
-            return f"line {x.line} [{x.raw.strip()}] becomes [{y.raw.strip()}]"
+            hint = ""
+            cx, cy = _codes(x), _codes(y)
+            if (76.0 in cx and 82.0 in cy) or (82.0 in cx and 76.0 in cy):
+                hint = (" (the thread's cycle: the multiple-pass cycle's last pass ends "
+                        "further along the insert's flank than the relief leaves room for at "
+                        "some variants; --thread-cycle g82 cuts every variant with single "
+                        "passes)")
+            return f"line {x.line} [{x.raw.strip()}] becomes [{y.raw.strip()}]{hint}"
     longer, n = (a, len(b)) if len(a) > len(b) else (b, len(a))
     extra = longer[n] if n < len(longer) else longer[-1]
     return (f"the program has {abs(len(a) - len(b))} block(s) "
@@ -746,9 +753,13 @@ class TopologyChange(Exception):
     branch, or a word that leaves the law it follows near the nominal (``law``: block, word,
     expression)."""
 
-    def __init__(self, p: dict[str, Any], diff: str, law: tuple | None = None):
+    def __init__(self, p: dict[str, Any], diff: str, law: tuple | None = None,
+                 split: tuple | None = None):
         super().__init__(diff)
         self.p, self.diff, self.law = p, diff, law
+        #: a word that follows one of two laws, the planner switching between them: (block
+        #: among the alternative's, word, the nominal's law, the other), for a decision
+        self.split = split
 
 
 def _local_law(y, mat, nodes, allp, fam: Family, nominal: dict, near: int = 8):
@@ -759,34 +770,37 @@ def _local_law(y, mat, nodes, allp, fam: Family, nominal: dict, near: int = 8):
     dist = np.array([sum(((p[k] - nominal[k]) / span[k]) ** 2 for k in fam.free)
                      for p in allp])
     order = np.argsort(dist, kind="stable")
-    for n in range(near, 5, -1):
-        sub = order[:n]
-        r = _fit_word(y[sub], mat[sub], n)
-        if r is None:
-            continue
-        node = _combine(nodes, *r)
-        off = [i for i in order if abs(_ev(node, allp[i]) - y[i]) > TOL]
-        return node, off
-    # another law passes near the nominal: the law of the most sets with the nominal among
-    # them, from small random subsets (24 of 5 sets); then, for two laws over about half the
-    # sets each (a split point that jumps where the control's compensation stops following
-    # it), 48 simple laws of 3 sets
     rnd = random.Random(0)
-    best = None
     others = [int(i) for i in order if i != 0]
-    for rounds, size, simple in ((24, 5, False), (48, 3, True)):
+
+    def nearest(simple: bool):
+        for n in range(near, 5, -1):
+            r = _fit_word(y[order[:n]], mat[order[:n]], n, simple=simple)
+            if r is not None:
+                node = _combine(nodes, *_settled(y, mat, r))
+                return node, [i for i in order if abs(_ev(node, allp[i]) - y[i]) > TOL]
+        return None
+
+    def most(rounds: int, size: int, simple: bool):
+        # the law of the most sets with the nominal among them, from small random subsets
+        best = None
         for _ in range(rounds):
             sub = [0] + rnd.sample(others, min(size, len(others)))
             r = _fit_word(y[sub], mat[sub], len(sub))
             if r is None or (simple and not _simple(r[1])):
                 continue
-            node = _combine(nodes, *r)
+            node = _combine(nodes, *_settled(y, mat, r))
             off = [i for i in order if abs(_ev(node, allp[i]) - y[i]) > TOL]
             if best is None or len(off) < len(best[1]):
                 best = (node, off)
-        if best is not None and len(best[1]) <= len(allp) - 6:
-            return best
-    return None
+        return best if best is not None and len(best[1]) <= len(allp) - 6 else None
+
+    # a law of small fractions before a near fit: the nearest sets may lie across the change
+    # (a split that follows d1 above a kink and stays below it), where a near law of several
+    # features fits them and misses sets on the nominal's own side too; then the law of
+    # small fractions most sets follow (two laws over about half the sets each), then the
+    # near fits
+    return nearest(True) or most(48, 3, True) or nearest(False) or most(24, 5, False)
 
 
 def _movers(ctx: Ctx, fam: Family, tr: Any, nominal: dict, lo: dict, hi: dict,
@@ -934,7 +948,8 @@ def _fit_blocks(ctx: Ctx, fam: Family, tr: Any, nominal: dict, lo: dict, hi: dic
             if law is not None and law[1] and law_at is not None:
                 raise TopologyChange(allp[law[1][0]], f"the word {w.letter}{w.text} (line "
                                      f"{b.line}: {b.raw.strip()}) changes its law",
-                                     (law_at + bi, wi, law[0]))
+                                     (law_at + bi, wi, law[0]),
+                                     _split(y, mat2, nodes2, law, bi, wi))
             movers = _movers(ctx, fam, tr, nominal, lo, hi, law_at + bi, wi,
                              core(blocks(ctx.program(nominal)))) if law_at is not None else []
             raise PlanError(f"{fam.path}: the word {w.letter}{w.text} of the family's program "
@@ -972,6 +987,283 @@ def _piecewise(y, mat, nodes, law, allp: list[dict]) -> tuple | None:
     return None
 
 
+def _split(y, mat, nodes, law, bi: int, wi: int) -> tuple | None:
+    """A word's two laws, the nominal's (``law``: its node and the sets that break it) and
+    the one those sets follow: (block, word, first law, second law), else None."""
+    node1, off = law
+    if len(off) < 3:
+        return None
+    off = list(off)
+    # few sets on the other side (a switch near the domain's edge): only a law of small
+    # fractions (a constant, a dimension plus a constant), which the decision's held-out
+    # variants and the check then prove
+    r = _fit_word(y[off], mat[off], len(off) - 1, simple=True) or \
+        (_fit_word(y[off], mat[off], len(off) - 1) if len(off) >= 5 else None)
+    if r is None:
+        return None
+    return bi, wi, node1, _combine(nodes, *_settled(y[off], mat[off], r))
+
+
+def _settled(y, mat, r: tuple) -> tuple:
+    """The fit ``r`` (columns, coefficients, constant) with the constant most of ``y`` follow
+    to a quarter of the written digit, then to half of it: a set beside a kink (0.001 off
+    the law, inside the fit's tolerance) pulls a least-squares constant half a digit off,
+    which then misses half of the law's own sets by the rounding."""
+    import numpy as np
+    idx, coefs, const = r
+    pred = mat[:, list(idx)] @ np.array(coefs) if idx else np.zeros(len(y))
+    res = y - pred
+    c3 = round(const, 3)
+    best = None
+    for c in (c3, const, round(c3 + 0.001, 3), round(c3 - 0.001, 3)):
+        score = (int(np.sum(np.abs(res - c) <= 0.00025 + 1e-9)),
+                 int(np.sum(np.abs(res - c) <= HALF)))
+        if best is None or score > best[0]:
+            best = (score, c)
+    return idx, coefs, best[1]
+
+
+def _law_label(w: float, p: dict[str, Any], a: tuple, b: tuple) -> int | None:
+    """Which of a split's two laws the written ``w`` at ``p`` follows: 0 the first, 1 the
+    second, None neither. Beside their crossing, where both hold to the written digit, the
+    nearer (a bisection of the planner's switch that lands there is not thrown to either
+    side); 2 where both are as near."""
+    try:
+        da, db = abs(w - _ev(a, p)), abs(w - _ev(b, p))
+    except (ValueError, ZeroDivisionError, OverflowError):
+        return None
+    if da <= TOL and db <= TOL:
+        return 0 if da < db - 1e-9 else 1 if db < da - 1e-9 else 2
+    return 0 if da <= TOL else 1 if db <= TOL else None
+
+
+def region_key(nomp: Any, v: Any, reg: tuple, splits: list[tuple] = ()) -> tuple | None:
+    """The alternative variant ``v`` takes in region ``reg``: its sections' skeleton, and for
+    each of the region's law splits (skeleton, block, word, first law, second law) that
+    applies to that skeleton, which law it follows (:func:`_law_label`)."""
+    from . import macro_merge as mm
+    k = mm.alt_key(nomp, v, reg)
+    if k is None or not splits:
+        return k
+    vb = None
+    labs = []
+    for sk, bi, wi, a, b in splits:
+        if sk != k:
+            continue
+        if vb is None:
+            vb = [x for sec in mm.run_of(nomp, v, reg) for x in sec.blocks]
+        if bi >= len(vb) or wi >= len(vb[bi].words):
+            return None
+        labs.append(_law_label(vb[bi].words[wi].value, v.p, a, b))
+    if None in labs:
+        return None
+    return k + (("law",) + tuple(labs),) if labs else k
+
+
+#: the law splits (:class:`TopologyChange` ``split``) one piece decides at the control
+MAX_SPLITS = 3
+
+
+class _Resplit(Exception):
+    """A word of the nominal's program follows two laws: derive the piece again with that
+    split (the nominal's core block, word, its law, the other law)."""
+
+    def __init__(self, split: tuple, change: TopologyChange):
+        super().__init__(change.diff)
+        self.split, self.change = split, change
+
+
+def _region_splits(nomp: Any, reg: tuple, splits: list[tuple]) -> list[tuple]:
+    """The splits inside region ``reg``, as :func:`region_key` takes them: (the nominal's
+    alternative, block among its run's, word, law, law)."""
+    from . import macro_merge as mm
+    at = {b.line: i for i, b in enumerate(x for sec in nomp.secs[reg[0]:reg[1]]
+                                          for x in sec.blocks)}
+    sk = mm.alt_key(nomp, nomp, reg)
+    return [(sk, at[ln], wi, a, b) for ln, wi, a, b in splits if ln in at]
+
+
+def _split_sections(nomp: Any, splits: list[tuple]) -> list[int]:
+    """The nominal's section of each split's block."""
+    return [j for j, sec in enumerate(nomp.secs) for ln, *_ in splits
+            if any(b.line == ln for b in sec.blocks)]
+
+
+def _skeleton_key(key: tuple) -> tuple:
+    """An alternative's key without its law labels (:func:`region_key`)."""
+    return key[:-1] if key and isinstance(key[-1], tuple) and key[-1][:1] == ("law",) else key
+
+
+def _ambiguous(key: Any) -> bool:
+    """A variant that follows both laws of a split (beside their crossing)."""
+    return key is not None and key != _skeleton_key(key) and 2 in key[-1][1:]
+
+
+def _layout(ctx: Ctx, fam: Family, tr: Any, lo: dict, hi: dict, nb: list[Block], nomp: Any,
+            progs: list[Any], add: Any, probed: set, seed: Any, extra: Any,
+            splits: list[tuple]) -> tuple[list[tuple], list[Any]]:
+    """The program's regions, each with its alternatives (keys), each variant's label and the
+    decision tree telling them apart; variants added (``add``) until every alternative has
+    :data:`MIN_ALT` and every combination of thresholds was probed. A variant that follows
+    both laws of a split takes the alternative the tree picks for it."""
+    from . import macro_merge as mm
+    edges = [0]  # the edge probes drawn (each draw its own seed)
+    for rnd in range(6):
+        allv = [nomp] + progs
+        layout = []
+        need: list[list[tuple]] = []
+        probe: list[list[tuple]] = []
+        for reg in mm.regions(nomp, progs, _split_sections(nomp, splits)):
+            sp = _region_splits(nomp, reg, splits)
+            keys = [region_key(nomp, v, reg, sp) for v in allv]
+            amb = [i for i, k in enumerate(keys) if _ambiguous(k)]
+            distinct = list(dict.fromkeys(k for i, k in enumerate(keys) if i not in amb))
+            labels = [distinct.index(k) if i not in amb else -1 for i, k in enumerate(keys)]
+            tree = None
+            if len(distinct) > 1:
+                other = next(v for v, lab in zip(allv, labels) if lab > 0)
+                diff = _first_difference(nb, core(blocks(other.text)))
+                if None in distinct:
+                    raise TopologyChange(other.p, diff)
+                if ctx.dialect == "siemens802" and any(
+                        ln.startswith("%_N_") for ln in nomp.text.splitlines()[
+                            nomp.secs[reg[0]].a:nomp.secs[reg[1] - 1].b]):
+                    # the 802 jumps (GOTOF) only inside one program: a contour subprogram
+                    # the decision changes is decided by pieces of the domain instead
+                    raise TopologyChange(other.p, diff)
+
+                def side(p0, p1, t, reg=reg, distinct=distinct, sp=sp):
+                    p = {k: (p0[k] + t * (p1[k] - p0[k]) if k in fam.free else p0[k])
+                         for k in p0}
+                    try:
+                        v = mm.prog(p, ctx.program(p), ctx.dialect)
+                    except PlanError:
+                        return None
+                    mm.align(nomp, v)
+                    key = region_key(nomp, v, reg, sp)
+                    return distinct.index(key) if key in distinct else None
+                keep = [i for i in range(len(allv)) if i not in amb]
+                def beside(conds: list[tuple], n: int, reg=reg) -> list[dict]:
+                    edges[0] += 1
+                    return sample(fam, tr, lo, hi, n, ("edge", seed, reg, edges[0]),
+                                  limit=1000, branches=False, extra=list(extra) + conds)
+                tree = mm.build_tree(fam, tr, [allv[i].p for i in keep],
+                                     [labels[i] for i in keep], side, probe=beside)
+                if tree is None:
+                    raise TopologyChange(other.p, diff)
+                for i in amb:
+                    labels[i] = tree.pick(allv[i].p)
+                paths = tree.paths()
+                need += [paths[i] for i in range(len(distinct)) if labels.count(i) < MIN_ALT]
+                probe += _cross_probes(tree, probed)
+            else:
+                labels = [0] * len(allv)
+            layout.append((reg, distinct, labels, tree, sp))
+        if not (need or probe) or rnd == 5:
+            break
+        for conds in need:
+            add(sample(fam, tr, lo, hi, MIN_ALT, ("more", seed, rnd, len(progs)),
+                       branches=False, extra=list(extra) + conds))
+        for conds in probe:
+            add(sample(fam, tr, lo, hi, 1, ("probe", seed, rnd, len(progs)), limit=1000,
+                       branches=False, extra=list(extra) + conds))
+    return layout, [nomp] + progs
+
+
+def _resplit(t: TopologyChange, nb: list[Block]) -> None:
+    """Raise :class:`_Resplit` for a law change of the nominal's alternative that a decision
+    can hold (the split by its block's line in the nominal's program), else the change."""
+    if t.split is None or t.law is None:
+        raise t
+    raise _Resplit((nb[t.law[0]].line,) + tuple(t.split[1:]), t)
+
+
+def _fit_regions(ctx: Ctx, fam: Family, tr: Any, lo: dict, hi: dict, nominal: dict,
+                 nb: list[Block], nomp: Any, allv: list[Any], layout: list[tuple], n_fit: int,
+                 seed: Any, extra: Any) -> tuple[list[Region], list[tuple]]:
+    """Each alternative's words fitted on its variants and proven on fresh ones (and beside
+    the kinks of its larger-of-two laws); the regions, and the HNC-21T alternatives whose
+    spindle switches are still to be placed."""
+    from . import macro_merge as mm
+    line_ix = {b.line: i for i, b in enumerate(nb)}
+    regions: list[Region] = []
+    spins: list[tuple] = []  # HNC-21T: (alternative, its variants, conditions, seed)
+    for reg, distinct, labels, tree, sp in layout:
+        alts = []
+        for li in range(len(distinct)):
+            members = [v for v, lab in zip(allv, labels) if lab == li]
+            if len(members) < 4:
+                raise TopologyChange(members[0].p, f"too few variants ({len(members)}) take "
+                                     f"one of the program's alternatives "
+                                     f"({', '.join(tree.labels())})")
+            runs = [mm.run_of(nomp, v, reg) for v in members]
+            allb = [[b for s in run for b in s.blocks] for run in runs]
+            at = None
+            if members[0] is nomp:
+                at = line_ix[allb[0][0].line] if allb[0] else 0
+            try:
+                slots = _fit_blocks(ctx, fam, tr, nominal, lo, hi, allb,
+                                    [v.p for v in members], min(n_fit, len(members) - 2),
+                                    at) if allb[0] else []
+            except TopologyChange as t:
+                _resplit(t, nb)
+            spare: list[tuple] = []  # the fresh variants the laws held on
+            # the alternative's own part of the domain: the piece's and its leaf's conditions
+            where = list(extra) + (tree.paths()[li] if tree is not None else [])
+            if allb[0]:
+                for attempt in range(2):
+                    fresh = _held_out(ctx, fam, tr, lo, hi, nomp, reg, distinct[li], where,
+                                      allb[0], ("hold", seed, reg, li, attempt), sp)
+                    fresh += _kink_probes(ctx, fam, tr, lo, hi, nomp, reg, distinct[li], where,
+                                          allb[0], slots, [v.p for v in members], sp)
+                    # first to the written half digit: an exact law is within it at every
+                    # variant, a near fit passes the fit's 0.00055 only by the margin above it
+                    miss = _missed(slots, allb[0], fresh, HALF if attempt == 0 else TOL)
+                    if miss is None:
+                        spare = fresh
+                        break
+                    if attempt == 1:
+                        s, p, got = miss
+                        b = allb[0][s.block]
+                        w = b.words[s.word]
+                        if at is not None and s.node[0] in ("max", "min"):
+                            # the planner switches between the two laws away from where
+                            # they cross: a decision at its own switch
+                            n1, n2 = s.node[1], s.node[2]
+                            if _law_label(b.words[s.word].value, nominal, n1, n2) == 1:
+                                n1, n2 = n2, n1
+                            _resplit(TopologyChange(
+                                p, f"the word {w.letter}{w.text} (line {b.line}: "
+                                   f"{b.raw.strip()}) changes its law",
+                                (at + s.block, s.word, n1), (s.block, s.word, n1, n2)), nb)
+                        movers = _movers(ctx, fam, tr, nominal, lo, hi, at + s.block, s.word,
+                                         nb) if at is not None else []
+                        raise PlanError(
+                            f"{fam.path}: the word {w.letter}{w.text} of the family's program "
+                            f"(line {b.line}: {b.raw.strip()}) follows no exact law of the "
+                            f"parameters (moved by "
+                            f"{', '.join(movers) or 'several parameters together'}): its fit "
+                            f"on the sampled variants is {abs(got - _ev(s.node, p)):.4f} mm "
+                            f"off at {_pset(p, fam.free)}; no macro is written")
+                    # a near fit the fresh sets break: fitted again with them
+                    members += [v for v, _run in fresh]
+                    runs += [run for _v, run in fresh]
+                    allb += [[b for sec in run for b in sec.blocks] for _v, run in fresh]
+                    # (the least squares over all of them: the written digits' rounding
+                    # averages out)
+                    try:
+                        slots = _fit_blocks(ctx, fam, tr, nominal, lo, hi, allb,
+                                            [v.p for v in members], len(members) - 1, at)
+                    except TopologyChange as t:
+                        _resplit(t, nb)
+            alt = Alt(members[0], runs[0], allb[0], slots, [v.p for v in members])
+            if ctx.dialect == "hnc21t" and allb[0]:
+                spins.append((alt, list(zip(members, runs)) + spare, where, (seed, reg, li)))
+            alts.append(alt)
+        regions.append(Region(reg, alts, tree))
+    return regions, spins
+
+
 def derive_piece(ctx: Ctx, fam: Family, lo: dict, hi: dict, nominal: dict[str, Any],
                  n_fit: int = 10, n_hold: int = 8, seed: Any = 0,
                  extra: list[tuple] = ()) -> Piece:
@@ -1006,107 +1298,30 @@ def derive_piece(ctx: Ctx, fam: Family, lo: dict, hi: dict, nominal: dict[str, A
 
     add(sets)
     probed: set[frozenset] = set()
-    for rnd in range(6):
-        allv = [nomp] + progs
-        layout = []
-        need: list[list[tuple]] = []
-        probe: list[list[tuple]] = []
-        for reg in mm.regions(nomp, progs):
-            keys = [mm.alt_key(nomp, v, reg) for v in allv]
-            distinct = list(dict.fromkeys(keys))
-            labels = [distinct.index(k) for k in keys]
-            tree = None
-            if len(distinct) > 1:
-                other = next(v for v, lab in zip(allv, labels) if lab != 0)
-                diff = _first_difference(nb, core(blocks(other.text)))
-                if None in distinct:
-                    raise TopologyChange(other.p, diff)
-
-                def side(p0, p1, t, reg=reg, distinct=distinct):
-                    p = {k: (p0[k] + t * (p1[k] - p0[k]) if k in fam.free else p0[k])
-                         for k in p0}
-                    try:
-                        v = mm.prog(p, ctx.program(p), ctx.dialect)
-                    except PlanError:
-                        return None
-                    mm.align(nomp, v)
-                    key = mm.alt_key(nomp, v, reg)
-                    return distinct.index(key) if key in distinct else None
-                tree = mm.build_tree(fam, tr, [v.p for v in allv], labels, side)
-                if tree is None:
-                    raise TopologyChange(other.p, diff)
-                paths = tree.paths()
-                need += [paths[i] for i in range(len(distinct)) if labels.count(i) < MIN_ALT]
-                probe += _cross_probes(tree, probed)
-            layout.append((reg, distinct, labels, tree))
-        if not (need or probe) or rnd == 5:
+    # the words that follow one of two laws, the planner switching between them at its own
+    # threshold (not where the laws cross): each a decision at the control like a change of
+    # the program's shape, its region taking the cycle and the contour it names together
+    splits: list[tuple] = []  # (the line of the nominal's block, word, law, law)
+    first: TopologyChange | None = None  # the law change the first split was made for
+    for _again in range(MAX_SPLITS + 1):
+        try:
+            layout, allv = _layout(ctx, fam, tr, lo, hi, nb, nomp, progs, add, probed, seed,
+                                   extra, splits)
+            regions, spins = _fit_regions(ctx, fam, tr, lo, hi, nominal, nb, nomp, allv,
+                                          layout, n_fit, seed, extra)
             break
-        for conds in need:
-            add(sample(fam, tr, lo, hi, MIN_ALT, ("more", seed, rnd, len(progs)),
-                       branches=False, extra=list(extra) + conds))
-        for conds in probe:
-            add(sample(fam, tr, lo, hi, 1, ("probe", seed, rnd, len(progs)), limit=1000,
-                       branches=False, extra=list(extra) + conds))
-    allv = [nomp] + progs
-    line_ix = {b.line: i for i, b in enumerate(nb)}
-    regions: list[Region] = []
-    spins: list[tuple] = []  # HNC-21T: (alternative, its variants, conditions, seed)
-    for reg, distinct, labels, tree in layout:
-        alts = []
-        for li in range(len(distinct)):
-            members = [v for v, lab in zip(allv, labels) if lab == li]
-            if len(members) < 4:
-                raise TopologyChange(members[0].p, f"too few variants ({len(members)}) take "
-                                     f"one of the program's alternatives "
-                                     f"({', '.join(tree.labels())})")
-            runs = [mm.run_of(nomp, v, reg) for v in members]
-            allb = [[b for s in run for b in s.blocks] for run in runs]
-            at = None
-            if members[0] is nomp:
-                at = line_ix[allb[0][0].line] if allb[0] else 0
-            slots = _fit_blocks(ctx, fam, tr, nominal, lo, hi, allb, [v.p for v in members],
-                                min(n_fit, len(members) - 2), at) if allb[0] else []
-            spare: list[tuple] = []  # the fresh variants the laws held on
-            # the alternative's own part of the domain: the piece's and its leaf's conditions
-            where = list(extra) + (tree.paths()[li] if tree is not None else [])
-            if allb[0]:
-                for attempt in range(2):
-                    fresh = _held_out(ctx, fam, tr, lo, hi, nomp, reg, distinct[li], where,
-                                      allb[0], ("hold", seed, reg, li, attempt))
-                    fresh += _kink_probes(ctx, fam, tr, lo, hi, nomp, reg, distinct[li], where,
-                                          allb[0], slots, [v.p for v in members])
-                    # first to the written half digit: an exact law is within it at every
-                    # variant, a near fit passes the fit's 0.00055 only by the margin above it
-                    miss = _missed(slots, allb[0], fresh, HALF if attempt == 0 else TOL)
-                    if miss is None:
-                        spare = fresh
-                        break
-                    if attempt == 1:
-                        s, p, got = miss
-                        b = allb[0][s.block]
-                        w = b.words[s.word]
-                        movers = _movers(ctx, fam, tr, nominal, lo, hi, at + s.block, s.word,
-                                         nb) if at is not None else []
-                        raise PlanError(
-                            f"{fam.path}: the word {w.letter}{w.text} of the family's program "
-                            f"(line {b.line}: {b.raw.strip()}) follows no exact law of the "
-                            f"parameters (moved by "
-                            f"{', '.join(movers) or 'several parameters together'}): its fit "
-                            f"on the sampled variants is {abs(got - _ev(s.node, p)):.4f} mm "
-                            f"off at {_pset(p, fam.free)}; no macro is written")
-                    # a near fit the fresh sets break: fitted again with them
-                    members += [v for v, _run in fresh]
-                    runs += [run for _v, run in fresh]
-                    allb += [[b for sec in run for b in sec.blocks] for _v, run in fresh]
-                    # (the least squares over all of them: the written digits' rounding
-                    # averages out)
-                    slots = _fit_blocks(ctx, fam, tr, nominal, lo, hi, allb,
-                                        [v.p for v in members], len(members) - 1, at)
-            alt = Alt(members[0], runs[0], allb[0], slots, [v.p for v in members])
-            if ctx.dialect == "hnc21t" and allb[0]:
-                spins.append((alt, list(zip(members, runs)) + spare, where, (seed, reg, li)))
-            alts.append(alt)
-        regions.append(Region(reg, alts, tree))
+        except _Resplit as e:
+            if _again == MAX_SPLITS or e.split in splits:
+                raise (first or e.change) from None
+            first = first or e.change
+            splits.append(e.split)
+        except (PlanError, TopologyChange):
+            # no program with the decisions (a second law fitted on a few sets that is not
+            # the planner's, a threshold no feature holds): the domain is cut at the first
+            # law change instead, as where no decision is tried
+            if first is not None:
+                raise first from None
+            raise
     # the spindle switches, once every alternative's words are fitted: an S may follow an X
     # of another section (a cycle's speed at its contour's largest diameter)
     pool = [n for rg in regions if rg.tree is None for a in rg.alts
@@ -1128,6 +1343,7 @@ def derive_piece(ctx: Ctx, fam: Family, lo: dict, hi: dict, nominal: dict[str, A
                                 _prev_x(alt.rep, alt.secs), ctx.rpm_limit, dom, pool,
                                 decisions)
     # the nominal's own words, indexed on its blocks (what the fit counts)
+    line_ix = {b.line: i for i, b in enumerate(nb)}
     flat = []
     for rg in regions:
         alt = rg.alts[0]
@@ -1149,21 +1365,22 @@ N_HELD = 6
 
 
 def _held_out(ctx: Ctx, fam: Family, tr: Any, lo: dict, hi: dict, nomp: Any, reg: tuple,
-              key: tuple, conds: list[tuple], ab: list[Block], seed: Any) -> list[tuple]:
+              key: tuple, conds: list[tuple], ab: list[Block], seed: Any,
+              splits: Any = ()) -> list[tuple]:
     """``N_HELD`` fresh variants inside one alternative (its decision leaf's conditions and
     the piece's own), none of them among those its words were fitted on: (variant, its run
     of sections). A set that falls on the other side of a threshold (exact to its bisection
     only) or takes another branch says nothing about this alternative and is left out."""
     out = []
     for p in sample(fam, tr, lo, hi, N_HELD, seed, limit=1000, branches=False, extra=conds):
-        got = _in_alternative(ctx, fam, tr, nomp, reg, key, ab, p)
+        got = _in_alternative(ctx, fam, tr, nomp, reg, key, ab, p, splits)
         if got is not None:
             out.append(got)
     return out
 
 
 def _in_alternative(ctx: Ctx, fam: Family, tr: Any, nomp: Any, reg: tuple, key: tuple,
-                    ab: list[Block], p: dict) -> tuple | None:
+                    ab: list[Block], p: dict, splits: Any = ()) -> tuple | None:
     """The variant at ``p`` and its run of sections where it takes the alternative ``key``
     of region ``reg`` with the blocks' words of ``ab``; None where it takes another branch
     of the sketch or another alternative, or the planner makes no program there."""
@@ -1176,8 +1393,11 @@ def _in_alternative(ctx: Ctx, fam: Family, tr: Any, nomp: Any, reg: tuple, key: 
     except PlanError:
         return None
     mm.align(nomp, v)
-    if mm.alt_key(nomp, v, reg) != key:
+    if mm.alt_key(nomp, v, reg) != _skeleton_key(key):
         return None
+    got = region_key(nomp, v, reg, splits)
+    if got is not None and got != key and not _ambiguous(got):
+        return None  # the other law's side of a split (beyond its threshold's bisection)
     run = mm.run_of(nomp, v, reg)
     shape = [[w.letter for w in b.words] for b in ab]
     if [[w.letter for w in b.words] for sec in run for b in sec.blocks] != shape:
@@ -1192,7 +1412,7 @@ KINK = (0.003, 0.001)
 
 def _kink_probes(ctx: Ctx, fam: Family, tr: Any, lo: dict, hi: dict, nomp: Any, reg: tuple,
                  key: tuple, conds: list[tuple], ab: list[Block], slots: list[Slot],
-                 sets: list[dict]) -> list[tuple]:
+                 sets: list[dict], splits: Any = ()) -> list[tuple]:
     """Variants beside the kink of each word fitted as the larger or smaller of two laws:
     where the two laws differ by :data:`KINK` either way, on the line between the two sets
     nearest the kink on either side of it (variant, its run of sections), inside the
@@ -1225,7 +1445,7 @@ def _kink_probes(ctx: Ctx, fam: Family, tr: Any, lo: dict, hi: dict, nomp: Any, 
                 if at in seen or not _valid(fam, tr, p, lo, hi, False, conds):
                     continue
                 seen.add(at)
-                got = _in_alternative(ctx, fam, tr, nomp, reg, key, ab, p)
+                got = _in_alternative(ctx, fam, tr, nomp, reg, key, ab, p, splits)
                 if got is not None:
                     out.append(got)
     return out
@@ -1298,12 +1518,15 @@ def fix_unmachinable(ctx: Ctx, fam: Family) -> dict[str, str]:
     """Parameters the tool library cannot vary (a thread's pitch needs its own insert, a
     groove no narrower than the blade): moved alone to either end of the box, the per-variant
     program cannot be generated. They stay at their value, like whole numbers (the macro says
-    so); the reason for each."""
+    so); the reason for each. A parameter the library cuts only part of the way to an end of
+    the box keeps the part it cuts; ``fam.narrowed`` then tells it: name -> (the end given,
+    the end kept, why)."""
     out: dict[str, str] = {}
+    narrowed: dict[str, tuple[float, float, str]] = {}
     for k in list(fam.free):
         for side in ("lo", "hi"):
             box = fam.lo if side == "lo" else fam.hi
-            end, why = box[k], ""
+            end, why, first = box[k], "", ""
             for frac in (1.0, 0.5, 0.25):  # the box shrinks to where the library cuts it
                 v = fam.params[k] + frac * (end - fam.params[k])
                 p = dict(fam.params, **{k: v})
@@ -1313,13 +1536,18 @@ def fix_unmachinable(ctx: Ctx, fam: Family) -> dict[str, str]:
                 try:
                     ctx.program(p)
                     box[k] = v
+                    if first:
+                        narrowed[k] = (end, v, first)
                     why = ""
                     break
                 except PlanError as e:
                     why = str(e).rsplit("): ", 1)[-1]
+                    first = first or f"at {k}={_fmt(v)}: {why}"
             if why:
                 out[k] = why
+                narrowed.pop(k, None)
                 break
+    fam.narrowed = narrowed
     if out:
         fam.free = [k for k in fam.free if k not in out]
         for k in out:

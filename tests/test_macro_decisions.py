@@ -1,0 +1,82 @@
+"""Decisions at the control where the planner switches between two laws or two shapes of a
+section at its own threshold, on a family written for the purpose (a bolt blank: thread,
+relief groove, head): the macro decides where the planner does, proven against per-variant
+programs on table rows on both sides of the threshold; where the planner's test combines
+several dimensions (no one feature holds it), the derivation refuses and names the cause."""
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+BOLT = ROOT / "tests" / "data" / "families" / "bolt.py"
+
+
+def _family(tmp_path, capsys, *args):
+    from hnc_cam.cli import main
+    out = tmp_path / "m"
+    rc = main(["family", str(BOLT), "--macro", *args, "-o", str(out) + "/"])
+    err = capsys.readouterr().err
+    return rc, err, out
+
+
+def test_802_decides_the_grooves_speed_where_the_planner_does(tmp_path, capsys):
+    # the groove's G96 S120 needs 3000 rpm at diameter 12.732: its bottom d - 2.24 is there
+    # at d 14.972; below it the planner writes G97 S3000 (the 802's LIMS holds the rest)
+    table = tmp_path / "rows.csv"
+    table.write_text("d,w,dh\n14.2,3.3,25\n14.97,3.5,26\n14.975,3.5,26\n15.5,3.9,29\n")
+    rc, err, out = _family(tmp_path, capsys, "--dialect", "siemens802", "--table", str(table),
+                           "--check", "2")
+    assert rc == 0, err
+    mpf = [p for p in out.iterdir() if p.suffix == ".MPF"]
+    assert len(mpf) == 1
+    text = mpf[0].read_text()
+    m = re.search(r"; D < ([0-9.]+)\?", text)
+    assert m and 14.97 < float(m.group(1)) <= 14.975, text
+    # the two branches: the groove at the spindle limit, and at its surface speed
+    assert "G97 S3000 M3" in text and "G96 S120 LIMS=3000 M3" in text
+
+
+def test_a_range_the_library_cuts_in_part_is_told(tmp_path, capsys):
+    # w down to 3 is declared, but at w 3 the threading insert's flank meets the head: the
+    # macro spans w 3.25..4 and says so; a table row below is refused with the reason
+    rc, err, out = _family(tmp_path, capsys, "--dialect", "fanuc0it", "--check", "0")
+    assert rc == 0, err
+    assert "warning: w spans 3.25..4, not to the DOMAIN's 3" in err
+    text = next(out.glob("O*.nc")).read_text()
+    assert re.search(r"IF \[#\d+ LT 3\.25\]", text), text
+    table = tmp_path / "rows.csv"
+    table.write_text("d,w\n15,3.2\n")
+    rc, err, out2 = _family(tmp_path, capsys, "--dialect", "fanuc0it", "--table", str(table),
+                            "--check", "0")
+    assert rc == 2 and "row 1 gives w=3.2, outside the macro's w 3.25..4" in err
+
+
+def test_fanuc_is_one_program_without_decisions(tmp_path, capsys):
+    # FANUC's G50 S clamps G96 and its G76 keeps the thread's end: nothing to decide
+    rc, err, out = _family(tmp_path, capsys, "--dialect", "fanuc0it", "--check", "3")
+    assert rc == 0, err
+    (prog,) = out.glob("O*.nc")
+    body = [ln for ln in prog.read_text().splitlines() if ln.startswith("IF")]
+    assert all("#3000" in ln for ln in body)  # only the parameter checks' alarms
+
+
+def test_hnc_single_passes_make_one_program(tmp_path, capsys):
+    rc, err, out = _family(tmp_path, capsys, "--thread-cycle", "g82", "--check", "3")
+    assert rc == 0, err
+    (prog,) = out.glob("O*.nc")
+    text = prog.read_text()
+    assert "G82 X[" in text and "G76" not in text
+
+
+@pytest.mark.slow
+def test_hnc_thread_cycle_switch_is_refused_with_its_cause(tmp_path, capsys):
+    # G76 or G82 passes by a test of d, w and dh together: no threshold on one feature holds
+    # it; the refusal names the thread's cycle and the option that makes it one program
+    rc, err, out = _family(tmp_path, capsys, "--check", "3")
+    assert rc == 2 and not out.exists()
+    lines = [ln for ln in err.splitlines() if ln.strip()]
+    assert len(lines) == 1
+    assert "G76" in lines[0] and "G82" in lines[0] and "--thread-cycle g82" in lines[0]
