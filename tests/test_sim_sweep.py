@@ -323,3 +323,34 @@ def test_paths_swept_together_give_each_path_s_own_polygon(seed):
         want = shapely.union_all(sweep_hulls(run_.pieces[int(run_.move_group[k])][0],
                                              path[:-1], path[1:]))
         assert run_.sweeps[k].symmetric_difference(want).area <= 1e-9 * want.area
+
+
+def test_arc_rings_cut_at_their_inner_turns_are_the_polygons_they_bound(monkeypatch):
+    # a nosed insert along arcs of 1-20 mm radius either way: the ring's loops on the inner
+    # side of the turn are cut at the crossing of the two pieces' lines, so the ring does not
+    # cross itself and is the region as it is (no zero-distance buffer), the union of the hulls
+    buffered = []
+    buffer = shapely.buffer
+    monkeypatch.setattr(S.shapely, "buffer", lambda *a, **k: buffered.append(1) or buffer(*a, **k))
+    for K in (_outlines()[0], _outlines()[4]):
+        for r, sweep in ((1.0, 1.2), (5.0, 0.7), (20.0, -0.3), (20.0, 0.3)):
+            pts = _arc((3.0, 25.0), r, 0.4, sweep)
+            P, Q = pts[:-1], pts[1:]
+            got = S._path_sweep(K, P, Q)
+            want = shapely.union_all(sweep_hulls(K, P, Q))
+            assert got.geom_type == "Polygon" and got.is_valid and not got.exterior.is_ccw
+            assert got.symmetric_difference(want).area <= 1e-12 * want.area
+            # several arcs at once: the same polygons
+            many = S._ring_sweeps(K, np.concatenate([P, P + 1.0]), np.concatenate([Q, Q + 1.0]),
+                                  np.array([0, len(P)]), np.array([len(P), len(P)]))
+            assert many[0].equals_exact(got, 0)
+            assert many[1].symmetric_difference(shapely.affinity.translate(got, 1.0, 1.0)).area \
+                <= 1e-12 * want.area
+    assert not buffered
+    # the insert's far side turning inside an arc of 2 mm: a ring that still crosses itself
+    # (other pieces' lines) takes the buffer, the same union
+    pts = _arc((3.0, 25.0), 2.0, 0.4, -np.pi / 2)
+    got = S._path_sweep(_outlines()[0], pts[:-1], pts[1:])
+    assert buffered
+    want = shapely.union_all(sweep_hulls(_outlines()[0], pts[:-1], pts[1:]))
+    assert got.symmetric_difference(want).area <= 1e-12 * want.area

@@ -518,7 +518,9 @@ def _path_sweep(K: np.ndarray, P: np.ndarray, Q: np.ndarray) -> BaseGeometry:
     inserted in the direction the path turns, and K's chain facing the motion closes the ring
     at the end, the chain behind it at the start. On the inner side of the turn these
     insertions run backwards and make the ring cross itself; the region is the set of points
-    it winds round positively, which GEOS's zero-distance buffer returns. A path with a
+    it winds round positively, which GEOS's zero-distance buffer returns; where two pieces'
+    lines cross at such a turn, :func:`_side` cuts the loop there, and a ring that then does
+    not cross itself is that region as it is (:func:`_ring_regions`). A path with a
     zero-length piece, or a result that is not one polygon, takes the union of the hulls."""
     g = _ring_sweep(K, P, Q)
     return g if g is not None else union_of(sweep_hulls(K, P, Q))
@@ -551,10 +553,7 @@ def _ring_sweeps(K: np.ndarray, P: np.ndarray, Q: np.ndarray, p0: np.ndarray,
             back = K[(i_max[0] + np.arange((i_min[0] - i_max[0]) % m + 1)) % m] + A[0]
             ring = np.concatenate([_side(K, i_min, A, B)[0], front,
                                    _side(K, i_max[::-1], B[::-1], A[::-1])[0], back])
-            try:
-                g = shapely.buffer(shapely.polygons(ring), 0)
-            except shapely.errors.GEOSException:
-                g = None
+            g = _ring_regions(np.array([shapely.polygons(ring)], dtype=object))[0]
             if g is not None and g.geom_type == "Polygon" and not g.is_empty:
                 out[0] = g
         return out
@@ -590,19 +589,34 @@ def _ring_sweeps(K: np.ndarray, P: np.ndarray, Q: np.ndarray, p0: np.ndarray,
     key = np.concatenate([4 * ro, 4 * fo + 1, 4 * lo + 2, 4 * bo + 3])
     order = np.argsort(key, kind="stable")
     coords = np.concatenate([right, front, left, back])[order]
-    polys = shapely.polygons(shapely.linearrings(coords, indices=key[order] // 4))
-    try:
-        gs = shapely.buffer(polys, 0)
-    except shapely.errors.GEOSException:
-        gs = np.full(len(polys), None, dtype=object)
-        for i, p in enumerate(polys.tolist()):
-            try:
-                gs[i] = shapely.buffer(p, 0)
-            except shapely.errors.GEOSException:
-                pass
+    gs = _ring_regions(shapely.polygons(shapely.linearrings(coords, indices=key[order] // 4)))
     good = np.array([g is not None for g in gs.tolist()], dtype=bool)
     good[good] = (shapely.get_type_id(gs[good]) == 3) & ~shapely.is_empty(gs[good])
     out[ks[good]] = gs[good]
+    return out
+
+
+def _ring_regions(polys: np.ndarray) -> np.ndarray:
+    """The region each of :func:`_ring_sweeps`' rings (polygons of counter-clockwise rings)
+    winds round positively, clockwise as GEOS's zero-distance buffer gives it (None where that
+    fails): a ring that does not cross itself (most, once :func:`_side` has cut the loops at
+    the turns) is the polygon it bounds; the others take the buffer."""
+    out = np.full(len(polys), None, dtype=object)
+    if not len(polys):
+        return out
+    simple = shapely.is_valid(polys)
+    if simple.any():
+        out[simple] = shapely.orient_polygons(polys[simple], exterior_cw=True)
+    rest = np.flatnonzero(~simple)
+    if len(rest):
+        try:
+            out[rest] = shapely.buffer(polys[rest], 0)
+        except shapely.errors.GEOSException:
+            for i in rest.tolist():
+                try:
+                    out[i] = shapely.buffer(polys[i], 0)
+                except shapely.errors.GEOSException:
+                    pass
     return out
 
 
@@ -630,6 +644,28 @@ def _side(K: np.ndarray, ext: np.ndarray, P: np.ndarray, Q: np.ndarray,
     j = np.arange(int(L.sum())) - off[owner]
     kidx = (ext[owner] + sgn[owner] * np.maximum(j - 1, 0)) % m
     pts = K[kidx] + np.where((j == 0)[:, None], P[owner], Q[owner])
+    # where the path turns toward this side and the extreme vertex changes, the inserted
+    # vertices run back along the outline (a thin loop that crosses the two pieces' lines,
+    # which the buffer has to node at near-parallel edges): where the two lines cross within
+    # both pieces, the crossing takes the place of the piece's end, the inserted vertices and
+    # the next piece's start (the loop lies inside the next piece's hull)
+    w = np.flatnonzero((sgn[:-1] < 0) & (cnt[:-1] > 0))
+    if len(w):
+        a1 = K[ext[w]] + P[w]
+        a2 = K[ext[w + 1]] + Q[w]
+        e1, e2 = d[w], d[w + 1]
+        r = a2 - a1
+        den = cr[w]
+        t = (r[:, 0] * e2[:, 1] - r[:, 1] * e2[:, 0]) / den
+        s = (r[:, 0] * e1[:, 1] - r[:, 1] * e1[:, 0]) / den
+        ok = (t >= 0) & (t <= 1) & (s >= 0) & (s <= 1)
+        w, t = w[ok], t[ok]
+        if len(w):
+            pts[off[w] + 1] = a1[ok] + t[:, None] * e1[ok]
+            nd = cnt[w] + 1  # the inserted vertices and the next piece's start
+            keep = np.ones(len(pts), dtype=bool)
+            keep[np.repeat(off[w] + 2 - (np.cumsum(nd) - nd), nd) + np.arange(int(nd.sum()))] = False
+            pts, owner = pts[keep], owner[keep]
     return pts, (np.zeros(len(pts), dtype=np.int64) if own is None else own[owner])
 
 
