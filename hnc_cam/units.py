@@ -20,3 +20,14 @@ def fmt_cycle_time(seconds: float) -> str:
         h, m = divmod(m, 60)
         clock = f"{h}:{m:02d}:{t // 10:02d}.{t % 10}"
     return f"{sign}{tenths // 10}.{tenths % 10} s ({sign}{clock})"
+
+
+def round_written(v: float, digits: int = 3) -> float:
+    """``v`` to ``digits`` decimals, a half of the last digit (to a millionth of it) rounded
+    up, toward +inf: the rule a computed coordinate the planner writes rounded (a roughing
+    cycle's split on a chamfer) follows, and the one a macro program reproduces at the
+    control in every dialect (``INT``/``FIX``/``TRUNC`` of a positive number, the same
+    millionth added). A rounding of the binary value (Python's ``round``) breaks an exact
+    tie either way, the control's arithmetic another."""
+    s = 10.0 ** digits
+    return math.floor(v * s + 0.500001) / s

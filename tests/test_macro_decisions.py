@@ -80,3 +80,31 @@ def test_hnc_thread_cycle_switch_is_refused_with_its_cause(tmp_path, capsys):
     lines = [ln for ln in err.splitlines() if ln.strip()]
     assert len(lines) == 1
     assert "G76" in lines[0] and "G82" in lines[0] and "--thread-cycle g82" in lines[0]
+
+
+def test_round_written_breaks_a_half_up_whatever_the_binary_value():
+    from hnc_cam.units import round_written
+    # -0.1605 and 0.1605 are not exact in binary; the rule does not depend on which side
+    assert round_written(-0.1605) == -0.16 and round_written(0.1605) == 0.161
+    assert round_written(-160.5 / 1000) == -0.16 and round_written(2.0004999) == 2.0
+    assert round_written(-0.16049) == -0.16 and round_written(-0.16051) == -0.161
+
+
+def test_spacer_split_on_the_chamfer_matches_on_every_row(tmp_path, capsys):
+    """The spacer with d1 from 17.95 up to 19.5: from about 18.7 the G71's split falls on the 45 deg
+    chamfer at a half of the last digit (d1 with an odd third decimal); the macro rounds it
+    as the planner does."""
+    from hnc_cam.cli import main
+    spacer = ROOT / "tests" / "data" / "families" / "spacer.py"
+    fam = tmp_path / "spacer.py"
+    fam.write_text(spacer.read_text().replace('DOMAIN = {"d1": (17.95, 18.6)}',
+                                              'DOMAIN = {"d1": (17.95, 19.5)}'))
+    table = tmp_path / "rows.csv"
+    table.write_text("d1,chamfer\n18.801,0.8\n18.903,0.78\n19.005,0.8\n19.207,0.82\n"
+                     "19.409,0.8\n18.8,0.8\n19.3,0.8\n")
+    out = tmp_path / "m"
+    rc = main(["family", str(fam), "--macro", "--table", str(table), "--check", "2",
+               "-o", str(out) + "/"])
+    err = capsys.readouterr().err
+    assert rc == 0, err
+    assert "checked 9 parameter set(s): pass" in err

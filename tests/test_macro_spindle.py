@@ -222,6 +222,25 @@ def test_a_chuck_slower_than_the_machine_gets_its_macro(tmp_path, capsys, check)
     assert moves and max(m.spindle for m in moves) <= 1500 + 1e-6
 
 
+def test_a_split_on_the_chamfer_at_a_half_digit_is_rounded_alike(tmp_path, capsys):
+    """The pin on a chuck rated 2500 rpm (HNC-21T: the G71 split where G96 would need more,
+    FANUC and the 802 clamp instead): the G71's split falls on the 45 deg chamfer, at a
+    Z that is an exact half of the last digit wherever the split's diameter and the chamfer's
+    end are (d with an odd third decimal); the planner and the macro round that half the
+    same way (up), so the macro's Z is the per-variant program's on every row."""
+    from hnc_cam.cli import main
+    table = tmp_path / "rows.csv"
+    table.write_text("d,chamfer\n24.113,0.957\n23.001,1\n24.503,1.01\n23.999,0.99\n"
+                     "24.5,1\n")
+    out = tmp_path / "m"
+    rc = main(["family", str(FAMS / "pin.py"), "--macro", "--table",
+               str(table), "--check", "2", "--machine", str(_machine(tmp_path, 2500)),
+               "-o", str(out) + "/"])
+    err = capsys.readouterr().err
+    assert rc == 0, err
+    assert "checked 7 parameter set(s): pass" in err
+
+
 @pytest.mark.parametrize("dialect, clamp", [("fanuc0it", "G50 S2500"),
                                             ("siemens802", "LIMS=2500")])
 def test_fanuc_and_the_802_clamp_in_the_program(tmp_path, dialect, clamp):

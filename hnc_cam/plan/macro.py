@@ -755,22 +755,22 @@ class Lets:
         return out
 
     def rounded(self, n: tuple) -> str:
-        """``n`` rounded at the control to the 0.001 mm the per-variant program writes (a
-        tiny arc's centre follows its ends' last digit): HNC-21T
-        ``INT[[e*1000]+[SIGN[e]*0.5]]/1000``, FANUC ``ROUND[e*1000]/1000``."""
+        """``n`` rounded at the control to the 0.001 mm the per-variant program writes, as
+        the planner rounds it (:func:`hnc_cam.units.round_written`: a half up, to a
+        millionth of the digit): the floor of a positive number, ``INT`` (HNC-21T), ``FIX``
+        (FANUC), ``TRUNC`` (802) of ``e*1000 + 1000000.500001``, less 1000000 (a coordinate
+        under 1000 mm)."""
         key = ("r", id(n))
         if key in self._memo:
             return self._memo[key]
-        e = self.expr(n)
-        if e.startswith(self.prefix) or _depth(e) == 0:
-            inner = e
-        else:  # the expression twice: once in a variable
-            inner = self._assign(e)
-        if self.dialect == "siemens802":  # TRUNC of a positive number is its floor
-            s = f"((TRUNC({inner}*1000+1000000.5)-1000000)/1000)"
+        inner = self.expr(n)
+        if not (inner.startswith(self.prefix) or _depth(inner) == 0):
+            inner = self._assign(inner)  # FANUC nests brackets 5 deep at most
+        if self.dialect == "siemens802":
+            s = f"((TRUNC({inner}*1000+1000000.500001)-1000000)/1000)"
         else:
-            s = (f"[ROUND[{inner}*1000]/1000]" if self.dialect == "fanuc0it" else
-                 f"[INT[[{inner}*1000]+[SIGN[{inner}]*0.5]]/1000]")
+            f = "FIX" if self.dialect == "fanuc0it" else "INT"
+            s = f"[[{f}[[{inner}*1000]+1000000.500001]-1000000]/1000]"
         if len(s) > self.inline or _depth(s) > self.depth:
             s = self._assign(s)
         self._memo[key] = s

@@ -43,6 +43,7 @@ from fractions import Fraction
 from typing import Any
 
 from ..errors import HncError, PartError, PlanError
+from ..units import round_written
 from .macro import (MACRO_OPS, Check, Family, Lets, _ev, _holds, _negate, _node, _num,
                     _params_of, _trace, collinear_fractions, corner_law, features, hnc_checks,
                     render, walk)
@@ -572,7 +573,7 @@ def _corner_crossing(tr: Any, allb: list[list[Block]], allp: list[dict], bi: int
 def _rounds_to(v: float, written: float) -> bool:
     """``v`` written to 0.001 is ``written``; at a tie (a half of the last digit, which the
     planner's arithmetic and the control's may break either way) either neighbour."""
-    if abs(round(v, 3) - written) < 1e-9:
+    if abs(round_written(v) - written) < 1e-9 or abs(round(v, 3) - written) < 1e-9:
         return True
     k = v * 1000.0
     return abs(abs(k - math.floor(k)) - 0.5) < 1e-6 and abs(v - written) < 0.0005 + 1e-9
@@ -1108,6 +1109,7 @@ def _layout(ctx: Ctx, fam: Family, tr: Any, lo: dict, hi: dict, nb: list[Block],
     both laws of a split takes the alternative the tree picks for it."""
     from . import macro_merge as mm
     edges = [0]  # the edge probes drawn (each draw its own seed)
+    edge_memo: dict[tuple, dict] = {}  # by region, the cuts proven on them
     for rnd in range(6):
         allv = [nomp] + progs
         layout = []
@@ -1147,6 +1149,7 @@ def _layout(ctx: Ctx, fam: Family, tr: Any, lo: dict, hi: dict, nb: list[Block],
                     edges[0] += 1
                     return sample(fam, tr, lo, hi, n, ("edge", seed, reg, edges[0]),
                                   limit=1000, branches=False, extra=list(extra) + conds)
+                beside.memo = edge_memo.setdefault(reg, {})
                 tree = mm.build_tree(fam, tr, [allv[i].p for i in keep],
                                      [labels[i] for i in keep], side, probe=beside)
                 if tree is None:

@@ -73,6 +73,7 @@ from ..geometry import Arc, Line, Point, Segment, Thread, TurnedProfile
 from ..geometry.intersect import horizontal_hits
 from ..geometry.offset import offset_chain
 from ..tooling import Machine, Stock, Tool, ToolLibrary
+from ..units import round_written
 from . import analysis as an
 from . import contour as ct
 from .model import (Block, FaceCut, FaceGrooveCut, GrooveCut, GrooveFinish, Operation, Plan, RoughCut,
@@ -681,7 +682,7 @@ def _split_rough(op: Operation, ops: Sequence[Operation], limit: float) -> bool:
             return False
         x_t, z_cut = moved
     x_e = x_t if z_cut is not None else x1
-    z_e = round(z_cut, 3) if z_cut is not None else z1
+    z_e = round_written(z_cut) if z_cut is not None else z1
     # the inside is only the face's edge: where a semi-finishing pass follows the cycle
     # (op.blocks) and what the outer cycle leaves inside it, behind the face (Z <= 0), is
     # within one depth of cut of the contour in X and in Z, that pass takes it: no inner
@@ -693,7 +694,7 @@ def _split_rough(op: Operation, ops: Sequence[Operation], limit: float) -> bool:
     if thin:
         nf_s = ""
     if z_cut is not None:
-        x_s, z_s = x_t, round(z_cut, 3)
+        x_s, z_s = x_t, round_written(z_cut)
         first = Block(blk.kind, x=x_s, z=z_s, r=blk.r, feed=blk.feed, label=nf_s)
         if blk.arc:
             first.span = (min(x0, x_s), x_s)
@@ -752,7 +753,7 @@ def _comp_split(owner: Operation, blk: Block, x_t: float, z_t: float
 
     if ct.control_alarm(owner.blocks, owner.start, r, tip, side) is not None:
         return None  # the contour itself alarms: refused by the planner's check of it
-    if alarm(x_t, round(z_t, 3)) is None:
+    if alarm(x_t, round_written(z_t)) is None:
         return x_t, z_t
     if blk.kind != "line":
         return None
@@ -785,7 +786,7 @@ def _comp_split(owner: Operation, blk: Block, x_t: float, z_t: float
     if s_s > s_b - 0.01:
         return None
     z_s = pz + s_s * dz
-    if alarm(x_s, round(z_s, 3)) is not None:
+    if alarm(x_s, round_written(z_s)) is not None:
         return None
     return x_s, z_s
 
