@@ -320,7 +320,19 @@ def _edge_holds(f: tuple, c: float, op: str, width: float, path: list[tuple], te
     (the end of a chamfered edge where the planner tests the diameter), which sets beside
     the cut with the other parameters elsewhere show."""
     near = [(">=", f, ("c", c - width)), ("<=", f, ("c", c + width))]
-    for q in probe(list(path) + near, N_EDGE):
+    memo = getattr(probe, "memo", None)  # a cut proven in an earlier round stays proven
+    key = repr((f, round(c, 4), op, tuple(path)))
+    if memo is not None and key in memo:
+        return memo[key]
+    ok = _edge_sets_hold(f, c, op, probe(list(path) + near, N_EDGE), test, right, side)
+    if memo is not None:
+        memo[key] = ok
+    return ok
+
+
+def _edge_sets_hold(f: tuple, c: float, op: str, sets: list[dict], test: Any, right: set,
+                    side: Any) -> bool:
+    for q in sets:
         lab = side(q, q, 0.0)
         if lab is None:
             continue
