@@ -354,3 +354,28 @@ def test_arc_rings_cut_at_their_inner_turns_are_the_polygons_they_bound(monkeypa
     assert buffered
     want = shapely.union_all(sweep_hulls(_outlines()[0], pts[:-1], pts[1:]))
     assert got.symmetric_difference(want).area <= 1e-12 * want.area
+
+
+def test_arcs_sampled_together_give_each_arc_s_own_points():
+    from hnc_cam.geometry import Arc
+    rng = np.random.default_rng(5)
+    arcs = []
+    for _ in range(60):
+        c = rng.uniform(-50, 50, 2)
+        r = float(np.exp(rng.uniform(np.log(0.01), np.log(100.0))))
+        a0, a1 = rng.uniform(-np.pi, np.pi, 2)
+        if abs(a0 - a1) < 1e-3:
+            continue
+        arcs.append(Arc((c[0] + r * np.sin(a0), c[1] + r * np.cos(a0)),
+                        (c[0] + r * np.sin(a1), c[1] + r * np.cos(a1)), tuple(c),
+                        bool(rng.integers(2))))
+    pts, rows = Arc.sample_arrays(arcs, CHORD)
+    assert rows.tolist() == [len(a.sample_array(CHORD)) for a in arcs]
+    assert np.array_equal(pts, np.concatenate([a.sample_array(CHORD) for a in arcs]))
+    # the ends exact, every point on its circle
+    first = np.cumsum(rows) - rows
+    assert [tuple(p) for p in pts[first]] == [a.start for a in arcs]
+    own = np.repeat(np.arange(len(arcs)), rows)
+    cen = np.array([a.center for a in arcs])[own]
+    rad = np.array([a.radius for a in arcs])[own]
+    assert np.allclose(np.hypot(*(pts - cen).T), rad, rtol=1e-12, atol=1e-12)

@@ -112,6 +112,7 @@ SHORT_PASS = 32
 PAIR_VERTS = 400
 
 _lib_difference = shapely.lib.difference
+_lib_intersects = shapely.lib.intersects
 _lib_area = shapely.lib.area
 
 
@@ -328,10 +329,15 @@ class _Sweeper:
         #: the registers whose insert is not a threading insert but that make thread moves,
         #: each with its first such move
         self.not_threading: dict[int, Move] = {}
+        #: the columns of the moves when they are one chunk (:meth:`run` takes them again)
+        self.first_columns: tuple[int, dict] | None = None
         moves = moves if isinstance(moves, (list, tuple)) else list(moves)
         for c0 in range(0, len(moves), CHUNK):
             cm = moves[c0:c0 + CHUNK]
-            for k in np.flatnonzero(columns(cm)["kind"] == _THREAD).tolist():
+            cols = columns(cm)
+            if len(moves) <= CHUNK:
+                self.first_columns = (len(cm), cols)
+            for k in np.flatnonzero(cols["kind"] == _THREAD).tolist():
                 m = cm[k]
                 if m.register in self.thread_regs or m.register in self.not_threading:
                     continue
@@ -381,7 +387,8 @@ class _Sweeper:
         the piece's start placement was not swept by the move before: a tool change, a jump,
         the first move). ``prev``: (tool shape, end point) of the move before the run."""
         n = len(moves)
-        cols = columns(moves)
+        got, self.first_columns = self.first_columns, None
+        cols = got[1] if got is not None and got[0] == n and n else columns(moves)
         kind = cols["kind"]
         live = np.flatnonzero(kind != _DWELL)
         is_arc = kind == _ARC
@@ -441,11 +448,23 @@ class _Sweeper:
             Q = end[own][:, ::-1].reshape(-1, 2)
             first = np.ones(len(lines), dtype=bool)
             if arcs:
-                paths = [self.path_points(moves[k]) for k in arcs]
-                P = np.concatenate([P, *(p[:-1] for p in paths)])
-                Q = np.concatenate([Q, *(p[1:] for p in paths)])
-                own = np.concatenate([own, *(np.full(len(p) - 1, k) for k, p in zip(arcs, paths))])
-                first = np.concatenate([first, *(np.arange(len(p) - 1) == 0 for p in paths)])
+                # the arcs' sampled paths (path_points) together: piece i of the rows runs
+                # from row i to row i + 1 within an arc
+                pts, rows = Arc.sample_arrays([Arc(moves[k].start, moves[k].end,
+                                                   moves[k].center, bool(moves[k].cw))
+                                               for k in arcs], CHORD)
+                pts = pts[:, ::-1]
+                last = np.cumsum(rows) - 1
+                inner = np.ones(len(pts), dtype=bool)
+                inner[last] = False
+                at = np.flatnonzero(inner)
+                P = np.concatenate([P, pts[at]])
+                Q = np.concatenate([Q, pts[at + 1]])
+                npc = rows - 1
+                own = np.concatenate([own, np.repeat(np.asarray(arcs, dtype=np.int64), npc)])
+                fa = np.zeros(len(at), dtype=bool)
+                fa[np.cumsum(npc) - npc] = True
+                first = np.concatenate([first, fa])
             nl = len(lines)
             gi = len(pieces)
             pieces.append((shape.outline, P, Q))
@@ -1281,14 +1300,11 @@ def _batch_by_moves(material, run: "_Run", c0, b0, b1, idx, geoms, removed_area,
     local = local0
     local_area = _lib_area(local)
     cm = run.moves
-    fresh = False  # whether local changed since it was last prepared
     for k, g in zip(idx[hit].tolist(), geoms[hit].tolist()):
-        if fresh:
-            # a sweep that missed the batch's material may still miss what the moves before
-            # it in the batch left (a rapid back over their cut): a prepared test, no overlay
-            shapely.prepare(local)
-            fresh = False
-        if local is not local0 and not shapely.intersects(local, g):
+        # a sweep that missed the batch's material may still miss what the moves before it
+        # in the batch left (a rapid back over their cut): a test, no overlay (not prepared:
+        # the material changes after most moves, and preparing it costs more than one test)
+        if local is not local0 and not _lib_intersects(local, g):
             continue
         after = _difference(local, g)
         after_area = _lib_area(after)
@@ -1302,7 +1318,6 @@ def _batch_by_moves(material, run: "_Run", c0, b0, b1, idx, geoms, removed_area,
                     _check_move(m, local, g, sweeper.shape(m), run.path(k),
                                 toolpath, issues, notes, nc)
             local, local_area = after, after_area
-            fresh = True
     if local is local0:
         return material
     if zone is None:
