@@ -379,3 +379,35 @@ def test_arcs_sampled_together_give_each_arc_s_own_points():
     cen = np.array([a.center for a in arcs])[own]
     rad = np.array([a.radius for a in arcs])[own]
     assert np.allclose(np.hypot(*(pts - cen).T), rad, rtol=1e-12, atol=1e-12)
+
+
+RETRACE = """%1
+T0101
+M03 S800
+G00 X44 Z2
+G00 X30 Z1
+G01 Z-20 F0.2
+G00 Z1
+G00 X29.9
+G00 Z-15
+G00 X44
+G00 X80 Z80
+M30
+"""
+
+
+def test_a_rapid_back_along_its_cut_removes_nothing_and_one_below_it_a_layer():
+    machine = load_machine()
+    tp = run(RETRACE, machine, start=(50.0, 80.0))
+    m = simulate(tp, Stock.parse("40x60"), machine)
+    kinds = [mv.kind for mv in tp.moves]
+    cut = kinds.index("line")
+    back, down, under = cut + 1, cut + 2, cut + 3
+    assert kinds[back] == kinds[down] == kinds[under] == "rapid"
+    assert m.removed_area[cut] > 20 * 4.9  # the 5 mm layer over 20 mm and the nose's end
+    assert m.removed_area[back] == 0.0  # over the cut it made, touching its floor only
+    # 0.05 mm below it over the bar from Z0 to Z-15, less what the nose's front leaves at its
+    # end (within its 0.8 mm radius): a sliver, not a collision
+    assert 0.05 * (15 - 0.8) < m.removed_area[under] < 0.05 * 15
+    assert not m.issues
+    assert any(n.line == tp.moves[under].line for n in m.notes)

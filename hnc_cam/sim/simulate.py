@@ -113,6 +113,7 @@ PAIR_VERTS = 400
 
 _lib_difference = shapely.lib.difference
 _lib_intersects = shapely.lib.intersects
+_lib_relate_pattern = shapely.lib.relate_pattern
 _lib_area = shapely.lib.area
 
 
@@ -1300,11 +1301,17 @@ def _batch_by_moves(material, run: "_Run", c0, b0, b1, idx, geoms, removed_area,
     local = local0
     local_area = _lib_area(local)
     cm = run.moves
+    kinds = run.columns["kind"]
     for k, g in zip(idx[hit].tolist(), geoms[hit].tolist()):
         # a sweep that missed the batch's material may still miss what the moves before it
         # in the batch left (a rapid back over their cut): a test, no overlay (not prepared:
-        # the material changes after most moves, and preparing it costs more than one test)
-        if local is not local0 and not _lib_intersects(local, g):
+        # the material changes after most moves, and preparing it costs more than one test);
+        # a rapid mostly runs along what was cut, meeting it on its boundary only: its
+        # interior is tested against the material's (it removes nothing unless they meet)
+        if kinds[k] == _RAPID:
+            if not _lib_relate_pattern(local, g, "T********"):
+                continue
+        elif local is not local0 and not _lib_intersects(local, g):
             continue
         after = _difference(local, g)
         after_area = _lib_area(after)
