@@ -571,9 +571,11 @@ def _ring_sweeps(K: np.ndarray, P: np.ndarray, Q: np.ndarray, p0: np.ndarray,
             i_min, i_max = extremes(K, A, B)
             front = K[(i_min[-1] + np.arange((i_max[-1] - i_min[-1]) % m + 1)) % m] + B[-1]
             back = K[(i_max[0] + np.arange((i_min[0] - i_max[0]) % m + 1)) % m] + A[0]
-            ring = np.concatenate([_side(K, i_min, A, B)[0], front,
-                                   _side(K, i_max[::-1], B[::-1], A[::-1])[0], back])
-            g = _ring_regions(np.array([shapely.polygons(ring)], dtype=object))[0]
+            right, _, loops = _side(K, i_min, A, B)
+            left, _, loops_l = _side(K, i_max[::-1], B[::-1], A[::-1])
+            ring = np.concatenate([right, front, left, back])
+            g = _ring_regions(np.array([shapely.polygons(ring)], dtype=object),
+                              np.array([len(loops) + len(loops_l) > 0]))[0]
             if g is not None and g.geom_type == "Polygon" and not g.is_empty:
                 out[0] = g
         return out
@@ -603,28 +605,35 @@ def _ring_sweeps(K: np.ndarray, P: np.ndarray, Q: np.ndarray, p0: np.ndarray,
     bo = np.repeat(np.arange(len(ks)), nb)
     bj = np.arange(int(nb.sum())) - np.repeat(np.cumsum(nb) - nb, nb)
     back = K[(i_max[first][bo] + bj) % m] + A[first][bo]
-    right, ro = _side(K, i_min, A, B, own, last)
+    right, ro, loops = _side(K, i_min, A, B, own, last)
     rev = first[own] + last[own] - np.arange(len(own))  # each path's pieces backwards
-    left, lo = _side(K, i_max[rev], B[rev], A[rev], own, last)
+    left, lo, loops_l = _side(K, i_max[rev], B[rev], A[rev], own, last)
     key = np.concatenate([4 * ro, 4 * fo + 1, 4 * lo + 2, 4 * bo + 3])
     order = np.argsort(key, kind="stable")
     coords = np.concatenate([right, front, left, back])[order]
-    gs = _ring_regions(shapely.polygons(shapely.linearrings(coords, indices=key[order] // 4)))
+    crossing = np.zeros(len(ks), dtype=bool)
+    crossing[own[loops]] = True
+    crossing[own[rev[loops_l]]] = True
+    gs = _ring_regions(shapely.polygons(shapely.linearrings(coords, indices=key[order] // 4)),
+                       crossing)
     good = np.array([g is not None for g in gs.tolist()], dtype=bool)
     good[good] = (shapely.get_type_id(gs[good]) == 3) & ~shapely.is_empty(gs[good])
     out[ks[good]] = gs[good]
     return out
 
 
-def _ring_regions(polys: np.ndarray) -> np.ndarray:
+def _ring_regions(polys: np.ndarray, crossing: np.ndarray) -> np.ndarray:
     """The region each of :func:`_ring_sweeps`' rings (polygons of counter-clockwise rings)
     winds round positively, clockwise as GEOS's zero-distance buffer gives it (None where that
     fails): a ring that does not cross itself (most, once :func:`_side` has cut the loops at
-    the turns) is the polygon it bounds; the others take the buffer."""
+    the turns) is the polygon it bounds; the others, and those known to cross themselves
+    (``crossing``: a loop :func:`_side` could not cut), take the buffer."""
     out = np.full(len(polys), None, dtype=object)
     if not len(polys):
         return out
-    simple = shapely.is_valid(polys)
+    simple = ~crossing
+    if simple.any():
+        simple[simple] = shapely.is_valid(polys[simple])
     if simple.any():
         out[simple] = shapely.orient_polygons(polys[simple], exterior_cw=True)
     rest = np.flatnonzero(~simple)
@@ -642,12 +651,12 @@ def _ring_regions(polys: np.ndarray) -> np.ndarray:
 
 def _side(K: np.ndarray, ext: np.ndarray, P: np.ndarray, Q: np.ndarray,
           own: np.ndarray | None = None, last: np.ndarray | None = None
-          ) -> tuple[np.ndarray, np.ndarray]:
+          ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """One side of :func:`_path_sweep`'s ring: for each piece P[i] -> Q[i], the outline's
     vertex ``ext[i]`` at both ends, then the outline's vertices on to ``ext[i + 1]`` at Q[i]
     in the direction the path turns there. With ``own`` (each piece's path) and ``last``
-    (the last piece of each path), the sides of several paths at once. Returns the points
-    and each point's path."""
+    (the last piece of each path), the sides of several paths at once. Returns the points,
+    each point's path and the pieces whose loop at their end is left as it is (see below)."""
     n, m = len(P), len(K)
     d = Q - P
     cr = d[:-1, 0] * d[1:, 1] - d[:-1, 1] * d[1:, 0]
@@ -670,6 +679,7 @@ def _side(K: np.ndarray, ext: np.ndarray, P: np.ndarray, Q: np.ndarray,
     # both pieces, the crossing takes the place of the piece's end, the inserted vertices and
     # the next piece's start (the loop lies inside the next piece's hull)
     w = np.flatnonzero((sgn[:-1] < 0) & (cnt[:-1] > 0))
+    loops = w[:0]
     if len(w):
         a1 = K[ext[w]] + P[w]
         a2 = K[ext[w + 1]] + Q[w]
@@ -679,6 +689,7 @@ def _side(K: np.ndarray, ext: np.ndarray, P: np.ndarray, Q: np.ndarray,
         t = (r[:, 0] * e2[:, 1] - r[:, 1] * e2[:, 0]) / den
         s = (r[:, 0] * e1[:, 1] - r[:, 1] * e1[:, 0]) / den
         ok = (t >= 0) & (t <= 1) & (s >= 0) & (s <= 1)
+        loops = w[~ok]
         w, t = w[ok], t[ok]
         if len(w):
             pts[off[w] + 1] = a1[ok] + t[:, None] * e1[ok]
@@ -686,7 +697,7 @@ def _side(K: np.ndarray, ext: np.ndarray, P: np.ndarray, Q: np.ndarray,
             keep = np.ones(len(pts), dtype=bool)
             keep[np.repeat(off[w] + 2 - (np.cumsum(nd) - nd), nd) + np.arange(int(nd.sum()))] = False
             pts, owner = pts[keep], owner[keep]
-    return pts, (np.zeros(len(pts), dtype=np.int64) if own is None else own[owner])
+    return pts, (np.zeros(len(pts), dtype=np.int64) if own is None else own[owner]), loops
 
 
 def _polygons(rings: list[np.ndarray]) -> np.ndarray:
