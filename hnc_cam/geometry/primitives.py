@@ -129,42 +129,45 @@ class Arc:
 
     kind = "arc"
 
+    # the angles, radius and sweep are worked out inline (the formulas of polar_angle, dist and
+    # point_at_angle), each once per call: the planner and the verifier ask for them often
+
     @property
     def radius(self) -> float:
-        return dist(self.center, self.start)
+        c, p = self.center, self.start
+        return math.hypot(c[0] - p[0], c[1] - p[1])
 
     @property
     def start_angle(self) -> float:
-        return polar_angle(self.center, self.start)
+        c, p = self.center, self.start
+        return math.atan2(p[0] - c[0], p[1] - c[1])
 
     @property
     def end_angle(self) -> float:
-        return polar_angle(self.center, self.end)
+        c, p = self.center, self.end
+        return math.atan2(p[0] - c[0], p[1] - c[1])
+
+    def _angles(self) -> tuple[float, float]:
+        """(start angle, sweep)."""
+        c, p, q = self.center, self.start, self.end
+        a0 = math.atan2(p[0] - c[0], p[1] - c[1])
+        return a0, _sweep(a0, math.atan2(q[0] - c[0], q[1] - c[1]), self.cw)
 
     @property
     def sweep(self) -> float:
         """Signed sweep angle in radians: negative for cw, positive for ccw; |sweep| in (0, 2pi)."""
-        a0, a1 = self.start_angle, self.end_angle
-        if self.cw:
-            s = a1 - a0
-            while s >= -EPS:
-                s -= 2 * math.pi
-            while s < -2 * math.pi:
-                s += 2 * math.pi
-            return s
-        s = a1 - a0
-        while s <= EPS:
-            s += 2 * math.pi
-        while s > 2 * math.pi:
-            s -= 2 * math.pi
-        return s
+        return self._angles()[1]
 
     @property
     def length(self) -> float:
         return abs(self.sweep) * self.radius
 
     def point_at(self, t: float) -> Point:
-        return point_at_angle(self.center, self.radius, self.start_angle + self.sweep * t)
+        a0, s = self._angles()
+        c, p = self.center, self.start
+        r = math.hypot(c[0] - p[0], c[1] - p[1])
+        ang = a0 + s * t
+        return (c[0] + r * math.sin(ang), c[1] + r * math.cos(ang))
 
     def _tangent(self, p: Point) -> Point:
         # radial vector in (x, z); tangent = rotate radial by +-90 deg in the (z, x) view
@@ -191,8 +194,7 @@ class Arc:
 
     def contains_angle(self, ang: float) -> bool:
         """True when the polar angle ``ang`` lies on the arc (ends included)."""
-        a0 = self.start_angle
-        s = self.sweep
+        a0, s = self._angles()
         d = ang - a0
         if s > 0:
             d = d % (2 * math.pi)
@@ -261,9 +263,12 @@ class Arc:
         zs = [self.start[1], self.end[1]]
         r = self.radius
         cx, cz = self.center
+        a0, s = self._angles()
         for ang, p in ((0.0, (cx, cz + r)), (math.pi / 2, (cx + r, cz)),
                        (math.pi, (cx, cz - r)), (-math.pi / 2, (cx - r, cz))):
-            if self.contains_angle(ang):
+            # contains_angle(ang)
+            if ((ang - a0) % (2 * math.pi) <= s + 1e-12 if s > 0
+                    else (-(ang - a0)) % (2 * math.pi) <= -s + 1e-12):
                 xs.append(p[0])
                 zs.append(p[1])
         return (min(xs), min(zs), max(xs), max(zs))
@@ -302,6 +307,23 @@ class Arc:
 
 
 Segment = Union[Line, Arc]
+
+
+def _sweep(a0: float, a1: float, cw: bool) -> float:
+    """:attr:`Arc.sweep` of an arc from the polar angle a0 to a1."""
+    if cw:
+        s = a1 - a0
+        while s >= -EPS:
+            s -= 2 * math.pi
+        while s < -2 * math.pi:
+            s += 2 * math.pi
+        return s
+    s = a1 - a0
+    while s <= EPS:
+        s += 2 * math.pi
+    while s > 2 * math.pi:
+        s -= 2 * math.pi
+    return s
 
 
 def reverse_chain(segs: Sequence[Segment]) -> list[Segment]:
