@@ -108,3 +108,21 @@ def test_spacer_split_on_the_chamfer_matches_on_every_row(tmp_path, capsys):
     err = capsys.readouterr().err
     assert rc == 0, err
     assert "checked 9 parameter set(s): pass" in err
+
+
+def test_a_word_that_fits_nothing_after_a_kinked_one_decides_the_kink_first():
+    """Two regimes of the planner's switch fitted as the larger of two laws (the G71's split
+    at X19.1, or at d1 + 1.22 above it), and a later word that fits nothing over the same
+    variants (the split's Z on a taper below, on the face above): the kinked word is what
+    changes, with the set where its other law holds, its nominal's law first."""
+    from hnc_cam.plan.macro_program import Slot, _kinked, blocks, core
+    nb = core(blocks("%0001\nN27 G00 X19.22\nN28 G01 Z-12.7\nM30\n"))
+    law_d1 = ("+", ("p", "d1"), ("c", 1.22))
+    slots = [Slot(1, 1, "fit", ("max", ("c", 19.1), law_d1))]
+    sets = [{"d1": 18.0}, {"d1": 18.3}, {"d1": 17.2}, {"d1": 17.5}]
+    other, what, (bi, wi, first, second) = _kinked(slots, nb, sets)
+    assert other == {"d1": 17.2} and (bi, wi) == (1, 1)
+    assert first == law_d1 and second == ("c", 19.1)  # the nominal (d1 18) follows d1 + 1.22
+    assert "X19.22" in what
+    # a word fitted as one law is no kink
+    assert _kinked([Slot(1, 1, "fit", law_d1)], nb, sets) is None

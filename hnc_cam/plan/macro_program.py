@@ -951,6 +951,10 @@ def _fit_blocks(ctx: Ctx, fam: Family, tr: Any, nominal: dict, lo: dict, hi: dic
                                      f"{b.line}: {b.raw.strip()}) changes its law",
                                      (law_at + bi, wi, law[0]),
                                      _split(y, mat2, nodes2, law, bi, wi))
+            kink = _kinked(slots, nb, allp) if law_at is not None else None
+            if kink is not None:  # two regimes of an earlier word's switch fitted as one
+                raise TopologyChange(kink[0], kink[1],
+                                     (law_at + kink[2][0], kink[2][1], kink[2][2]), kink[2])
             movers = _movers(ctx, fam, tr, nominal, lo, hi, law_at + bi, wi,
                              core(blocks(ctx.program(nominal)))) if law_at is not None else []
             raise PlanError(f"{fam.path}: the word {w.letter}{w.text} of the family's program "
@@ -958,6 +962,32 @@ def _fit_blocks(ctx: Ctx, fam: Family, tr: Any, nominal: dict, lo: dict, hi: dic
                             f"parameters (moved by {', '.join(movers) or 'several parameters together'}); "
                             f"no macro is written")
     return slots
+
+
+def _kinked(slots: list[Slot], nb: list[Block], allp: list[dict]) -> tuple | None:
+    """The first word fitted as the larger or smaller of two laws, as a law change: (a set
+    where the other law holds, what changes, (block, word, the first set's law, the other)).
+    A later word that fits nothing over the same variants often follows the planner's two
+    regimes of that switch (the G71's split on a taper below a diameter, on the chamfer
+    above): deciding the switch first lets each regime fit its own laws."""
+    for sl in slots:
+        if sl.kind != "fit" or not isinstance(sl.node, tuple) or sl.node[0] not in ("max", "min"):
+            continue
+        n1, n2 = sl.node[1], sl.node[2]
+        try:
+            d0 = _ev(n1, allp[0]) - _ev(n2, allp[0])
+            other = next((p for p in allp[1:] if (_ev(n1, p) - _ev(n2, p)) * d0 < 0), None)
+        except (ValueError, ZeroDivisionError, OverflowError):
+            continue
+        if other is None:
+            continue
+        if (d0 > 0) != (sl.node[0] == "max"):  # the first set follows the second law
+            n1, n2 = n2, n1
+        b = nb[sl.block]
+        w = b.words[sl.word]
+        return other, f"the word {w.letter}{w.text} (line {b.line}: {b.raw.strip()}) changes " \
+                      f"its law", (sl.block, sl.word, n1, n2)
+    return None
 
 
 def _simple(coefs) -> bool:
