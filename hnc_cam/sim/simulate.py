@@ -690,6 +690,8 @@ def _side(K: np.ndarray, ext: np.ndarray, P: np.ndarray, Q: np.ndarray,
         s = (r[:, 0] * e1[:, 1] - r[:, 1] * e1[:, 0]) / den
         ok = (t >= 0) & (t <= 1) & (s >= 0) & (s <= 1)
         loops = w[~ok]
+        if len(loops):  # a path with a loop left crosses itself: as it is, for the buffer
+            ok &= False if own is None else ~np.isin(own[w], own[loops])
         w, t = w[ok], t[ok]
         if len(w):
             pts[off[w] + 1] = a1[ok] + t[:, None] * e1[ok]
