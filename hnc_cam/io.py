@@ -63,17 +63,29 @@ def clean_stale_temporaries(folder: str | Path) -> list[str]:
 @contextmanager
 def signals_held() -> Iterator[None]:
     """Ctrl-C (SIGINT) and SIGTERM wait until the block ends: a file being written is written
-    whole, and what records it is updated with it, before the signal's handler runs. Only in
-    the main thread of a POSIX process (elsewhere the block runs as it is)."""
-    mask = getattr(signal, "pthread_sigmask", None)
-    if mask is None or threading.current_thread() is not threading.main_thread():
+    whole, and what records it is updated with it, before the signal's handler runs. Their
+    handlers are replaced for the block by one that notes the signal (a mask would not do:
+    the kernel may hand a process's signal to any thread that does not block it), then
+    restored and run. Only in the main thread (elsewhere the block runs as it is)."""
+    if threading.current_thread() is not threading.main_thread():
         yield
         return
-    old = mask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
+    got: list[int] = []
+
+    def note(signum: int, _frame: object) -> None:
+        got.append(signum)
+    old = {s: signal.signal(s, note) for s in (signal.SIGINT, signal.SIGTERM)}
     try:
         yield
     finally:
-        mask(signal.SIG_SETMASK, old)
+        for s, h in old.items():
+            signal.signal(s, h)
+        for s in dict.fromkeys(got):
+            h = old[s]
+            if callable(h):
+                h(s, None)
+            elif h == signal.SIG_DFL:
+                signal.raise_signal(s)
 
 
 def _resolve(p: Path) -> Path:

@@ -207,10 +207,21 @@ def test_write_atomic_under_ctrl_c_writes_whole_then_stops(tmp_path, monkeypatch
 
 
 def test_write_files_under_ctrl_c_writes_all_then_stops(tmp_path, monkeypatch):
+    # another thread runs meanwhile (the kernel may hand it the process's signal)
+    import threading
+
     from hnc_cam.plan.export import write_files
     _sigint_after_mkstemp(monkeypatch)
-    with pytest.raises(KeyboardInterrupt):
-        write_files(str(tmp_path / "o"), [("O0001.nc", "%1\nM30\n"), ("O0002.nc", "%2\nM30\n")])
+    stop = threading.Event()
+    other = threading.Thread(target=stop.wait, args=(10,))
+    other.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            write_files(str(tmp_path / "o"), [("O0001.nc", "%1\nM30\n"),
+                                              ("O0002.nc", "%2\nM30\n")])
+    finally:
+        stop.set()
+        other.join()
     assert sorted(p.name for p in (tmp_path / "o").iterdir()) == ["O0001.nc", "O0002.nc"]
     assert (tmp_path / "o" / "O0002.nc").read_text() == "%2\nM30\n"
 
