@@ -1149,7 +1149,9 @@ def _layout(ctx: Ctx, fam: Family, tr: Any, lo: dict, hi: dict, nb: list[Block],
             sp = _region_splits(nomp, reg, splits)
             keys = [region_key(nomp, v, reg, sp) for v in allv]
             amb = [i for i, k in enumerate(keys) if _ambiguous(k)]
-            distinct = list(dict.fromkeys(k for i, k in enumerate(keys) if i not in amb))
+            # (every variant beside a crossing of its laws: the one alternative they share)
+            distinct = list(dict.fromkeys(k for i, k in enumerate(keys) if i not in amb)) or \
+                keys[:1]
             labels = [distinct.index(k) if i not in amb else -1 for i, k in enumerate(keys)]
             tree = None
             if len(distinct) > 1:
