@@ -90,26 +90,6 @@ def test_round_written_breaks_a_half_up_whatever_the_binary_value():
     assert round_written(-0.16049) == -0.16 and round_written(-0.16051) == -0.161
 
 
-def test_spacer_split_on_the_chamfer_matches_on_every_row(tmp_path, capsys):
-    """The spacer with d1 from 17.95 up to 19.5: from about 18.7 the G71's split falls on the 45 deg
-    chamfer at a half of the last digit (d1 with an odd third decimal); the macro rounds it
-    as the planner does."""
-    from hnc_cam.cli import main
-    spacer = ROOT / "tests" / "data" / "families" / "spacer.py"
-    fam = tmp_path / "spacer.py"
-    fam.write_text(spacer.read_text().replace('DOMAIN = {"d1": (17.95, 18.6)}',
-                                              'DOMAIN = {"d1": (17.95, 19.5)}'))
-    table = tmp_path / "rows.csv"
-    table.write_text("d1,chamfer\n18.801,0.8\n18.903,0.78\n19.005,0.8\n19.207,0.82\n"
-                     "19.409,0.8\n18.8,0.8\n19.3,0.8\n")
-    out = tmp_path / "m"
-    rc = main(["family", str(fam), "--macro", "--table", str(table), "--check", "2",
-               "-o", str(out) + "/"])
-    err = capsys.readouterr().err
-    assert rc == 0, err
-    assert "checked 9 parameter set(s): pass" in err
-
-
 def test_a_word_that_fits_nothing_after_a_kinked_one_decides_the_kink_first():
     """Two regimes of the planner's switch fitted as the larger of two laws (the G71's split
     at X19.1, or at d1 + 1.22 above it), and a later word that fits nothing over the same

@@ -222,6 +222,17 @@ def test_a_chuck_slower_than_the_machine_gets_its_macro(tmp_path, capsys, check)
     assert moves and max(m.spindle for m in moves) <= 1500 + 1e-6
 
 
+def test_spacer_split_on_the_chamfer_matches_on_every_row(tmp_path, capsys):
+    """The spacer with d1 from 17.95 up to 19.5: from about 18.7 the G71's split falls on
+    the 45 deg chamfer at a half of the last digit (d1 with an odd third decimal); the macro
+    rounds it as the planner does."""
+    rc, err, _out = _spacer_macro(tmp_path, capsys, "(17.95, 19.5)",
+                                  "d1,chamfer\n18.801,0.8\n18.903,0.78\n19.005,0.8\n"
+                                  "19.207,0.82\n19.409,0.8\n18.8,0.8\n19.3,0.8\n", "2")
+    assert rc == 0, err
+    assert "checked 9 parameter set(s): pass" in err
+
+
 def test_a_split_on_the_chamfer_at_a_half_digit_is_rounded_alike(tmp_path, capsys):
     """The pin on a chuck rated 2500 rpm (HNC-21T: the G71 split where G96 would need more,
     FANUC and the 802 clamp instead): the G71's split falls on the 45 deg chamfer, at a
@@ -322,6 +333,21 @@ def test_a_switch_no_variant_showed_is_written_from_the_domain():
         assert list(_holds_all(g.cond, [{"d": 0.95}, {"d": 0.96}])) == [True, False]
 
 
+def _spacer_macro(tmp_path, capsys, d1: str, rows: str, check: str):
+    """The spacer family with ``DOMAIN = {"d1": d1}`` made with ``--macro`` for the table
+    ``rows`` into a folder: (exit code, stderr, the folder)."""
+    from hnc_cam.cli import main
+    fam = tmp_path / "spacer.py"
+    fam.write_text(SPACER.read_text().replace('DOMAIN = {"d1": (17.95, 18.6)}',
+                                              f'DOMAIN = {{"d1": {d1}}}'))
+    table = tmp_path / "rows.csv"
+    table.write_text(rows)
+    out = tmp_path / "m"
+    rc = main(["family", str(fam), "--macro", "--table", str(table), "--check", check,
+               "-o", str(out) + "/"])
+    return rc, capsys.readouterr().err, out
+
+
 def test_a_switch_beside_the_kink_is_decided_at_the_control(tmp_path, capsys):
     """The spacer over d1 17.1-18.6: the G71's split X is X19.1 below d1 17.9 and d1 + 1.22
     above it, but the laws cross at 17.88, not where the planner switches; the larger of the
@@ -330,17 +356,10 @@ def test_a_switch_beside_the_kink_is_decided_at_the_control(tmp_path, capsys):
     both sides of the switch and of the kink (other dimensions moved too)."""
     import re
 
-    from hnc_cam.cli import main
-    fam = tmp_path / "spacer.py"
-    fam.write_text(SPACER.read_text().replace('DOMAIN = {"d1": (17.95, 18.6)}',
-                                              'DOMAIN = {"d1": (17.1, 18.6)}'))
-    table = tmp_path / "rows.csv"
-    table.write_text("d1,chamfer,l1\n17.5,0.8,15\n17.879,0.8,15\n17.885,0.8,15\n"
-                     "17.895,0.78,15.5\n17.899,0.8,15\n17.9,0.82,14.5\n18.3,0.8,15\n")
-    out = tmp_path / "m"
-    rc = main(["family", str(fam), "--macro", "--table", str(table), "--check", "3",
-               "-o", str(out) + "/"])
-    err = capsys.readouterr().err
+    rc, err, out = _spacer_macro(
+        tmp_path, capsys, "(17.1, 18.6)",
+        "d1,chamfer,l1\n17.5,0.8,15\n17.879,0.8,15\n17.885,0.8,15\n"
+        "17.895,0.78,15.5\n17.899,0.8,15\n17.9,0.82,14.5\n18.3,0.8,15\n", "3")
     assert rc == 0, err
     progs = sorted(out.glob("O*.nc"))
     assert len(progs) == 1
