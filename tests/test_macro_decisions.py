@@ -100,7 +100,8 @@ def test_a_word_that_fits_nothing_after_a_kinked_one_decides_the_kink_first():
     law_d1 = ("+", ("p", "d1"), ("c", 1.22))
     slots = [Slot(1, 1, "fit", ("max", ("c", 19.1), law_d1))]
     sets = [{"d1": 18.0}, {"d1": 18.3}, {"d1": 17.2}, {"d1": 17.5}]
-    other, what, (bi, wi, first, second) = _kinked(slots, nb, sets)
+    t = _kinked(slots, nb, sets)
+    other, what, (bi, wi, first, second) = t.p, t.diff, t.split
     assert other == {"d1": 17.2} and (bi, wi) == (1, 1)
     assert first == law_d1 and second == ("c", 19.1)  # the nominal (d1 18) follows d1 + 1.22
     assert "X19.22" in what

@@ -953,8 +953,8 @@ def _fit_blocks(ctx: Ctx, fam: Family, tr: Any, nominal: dict, lo: dict, hi: dic
                                      _split(y, mat2, nodes2, law, bi, wi))
             kink = _kinked(slots, nb, allp) if law_at is not None else None
             if kink is not None:  # two regimes of an earlier word's switch fitted as one
-                raise TopologyChange(kink[0], kink[1],
-                                     (law_at + kink[2][0], kink[2][1], kink[2][2]), kink[2])
+                kink.law = (law_at + kink.law[0],) + kink.law[1:]
+                raise kink
             movers = _movers(ctx, fam, tr, nominal, lo, hi, law_at + bi, wi,
                              core(blocks(ctx.program(nominal)))) if law_at is not None else []
             raise PlanError(f"{fam.path}: the word {w.letter}{w.text} of the family's program "
@@ -964,29 +964,39 @@ def _fit_blocks(ctx: Ctx, fam: Family, tr: Any, nominal: dict, lo: dict, hi: dic
     return slots
 
 
-def _kinked(slots: list[Slot], nb: list[Block], allp: list[dict]) -> tuple | None:
-    """The first word fitted as the larger or smaller of two laws, as a law change: (a set
-    where the other law holds, what changes, (block, word, the first set's law, the other)).
-    A later word that fits nothing over the same variants often follows the planner's two
-    regimes of that switch (the G71's split on a taper below a diameter, on the chamfer
-    above): deciding the switch first lets each regime fit its own laws."""
-    for sl in slots:
-        if sl.kind != "fit" or not isinstance(sl.node, tuple) or sl.node[0] not in ("max", "min"):
-            continue
-        n1, n2 = sl.node[1], sl.node[2]
+def _is_kink(sl: Slot) -> bool:
+    """A word fitted as the larger or smaller of two laws."""
+    return sl.kind == "fit" and isinstance(sl.node, tuple) and sl.node[0] in ("max", "min")
+
+
+def _kink_change(sl: Slot, ab: list[Block], nominal: dict, p: dict) -> TopologyChange:
+    """The kinked word ``sl`` of the blocks ``ab`` as a law change seen at ``p``, its split
+    the nominal's law first (the larger of the two at the nominal under ``max``)."""
+    kind, n1, n2 = sl.node
+    if (_ev(n1, nominal) >= _ev(n2, nominal)) != (kind == "max"):
+        n1, n2 = n2, n1
+    b = ab[sl.block]
+    w = b.words[sl.word]
+    return TopologyChange(p, f"the word {w.letter}{w.text} (line {b.line}: {b.raw.strip()}) "
+                             f"changes its law", (sl.block, sl.word, n1),
+                          (sl.block, sl.word, n1, n2))
+
+
+def _kinked(slots: list[Slot], nb: list[Block], allp: list[dict]) -> TopologyChange | None:
+    """The first word fitted as the larger or smaller of two laws, as a law change at a set
+    where its other law holds (:func:`_kink_change`; the law's block among ``nb``). A later
+    word that fits nothing over the same variants often follows the planner's two regimes
+    of that switch (the G71's split on a taper below a diameter, on the chamfer above):
+    deciding the switch first lets each regime fit its own laws."""
+    for sl in filter(_is_kink, slots):
+        _kind, n1, n2 = sl.node
         try:
             d0 = _ev(n1, allp[0]) - _ev(n2, allp[0])
             other = next((p for p in allp[1:] if (_ev(n1, p) - _ev(n2, p)) * d0 < 0), None)
         except (ValueError, ZeroDivisionError, OverflowError):
             continue
-        if other is None:
-            continue
-        if (d0 > 0) != (sl.node[0] == "max"):  # the first set follows the second law
-            n1, n2 = n2, n1
-        b = nb[sl.block]
-        w = b.words[sl.word]
-        return other, f"the word {w.letter}{w.text} (line {b.line}: {b.raw.strip()}) changes " \
-                      f"its law", (sl.block, sl.word, n1, n2)
+        if other is not None:
+            return _kink_change(sl, nb, allp[0], other)
     return None
 
 
@@ -1261,16 +1271,12 @@ def _fit_regions(ctx: Ctx, fam: Family, tr: Any, lo: dict, hi: dict, nominal: di
                         s, p, got = miss
                         b = allb[0][s.block]
                         w = b.words[s.word]
-                        if at is not None and s.node[0] in ("max", "min"):
+                        if at is not None and _is_kink(s):
                             # the planner switches between the two laws away from where
                             # they cross: a decision at its own switch
-                            n1, n2 = s.node[1], s.node[2]
-                            if _law_label(b.words[s.word].value, nominal, n1, n2) == 1:
-                                n1, n2 = n2, n1
-                            _resplit(TopologyChange(
-                                p, f"the word {w.letter}{w.text} (line {b.line}: "
-                                   f"{b.raw.strip()}) changes its law",
-                                (at + s.block, s.word, n1), (s.block, s.word, n1, n2)), nb)
+                            t = _kink_change(s, allb[0], nominal, p)
+                            t.law = (at + t.law[0],) + t.law[1:]
+                            _resplit(t, nb)
                         movers = _movers(ctx, fam, tr, nominal, lo, hi, at + s.block, s.word,
                                          nb) if at is not None else []
                         raise PlanError(
@@ -1456,9 +1462,7 @@ def _kink_probes(ctx: Ctx, fam: Family, tr: Any, lo: dict, hi: dict, nomp: Any, 
     between."""
     out: list[tuple] = []
     seen: set[tuple] = set()
-    for sl in slots:
-        if sl.kind != "fit" or not isinstance(sl.node, tuple) or sl.node[0] not in ("max", "min"):
-            continue
+    for sl in filter(_is_kink, slots):
         _kind, n1, n2 = sl.node
         try:
             d = [(_ev(n1, p) - _ev(n2, p), p) for p in sets]
