@@ -337,3 +337,29 @@ def test_ring_edge_rows_are_the_ring_edges_with_a_z_span():
     g, gown = A.edge_rows(ring_edges(rings))
     assert np.array_equal(f, g) and np.array_equal(own, gown)
     assert 0 < len(f) < 300 * 39 and (f[:, 4] != 0).all()
+
+
+def _shoulder_passes(passes: int) -> str:
+    """Roughing passes 0.05 mm apart along Z to one shoulder at Z-30, each fed out along the
+    shoulder face: every pass ends on the same line."""
+    out = ["%1", "T0101", "M03 S800", "G00 X44 Z2"]
+    for p in range(passes):
+        d = 40 - 2 * 0.05 * (p + 1)
+        out += [f"G00 X{d:.4f} Z1", f"G01 Z-30 F200", "G01 X44", "G00 Z1"]
+    out += ["G00 X80 Z80", "M30"]
+    return "\n".join(out) + "\n"
+
+
+@pytest.mark.parametrize("passes", [5, 60])
+def test_passes_ending_on_one_shoulder_leave_no_vertex_each(passes):
+    # each pass's end lies on the shoulder face; the material keeps the face as one edge
+    # (a vertex per pass on it made every later overlay along the face slower), and the
+    # material is the move-by-move material to 1e-9 mm^2
+    tp = run(_shoulder_passes(passes), SHARP, file="s.nc", start=(60.0, 50.0))
+    stock = Stock.parse("40x60")
+    m = simulate(tp, stock, SHARP)
+    _, ref = _one_by_one(tp, stock, SHARP)
+    assert shapely.symmetric_difference(m.material, ref).area < 1e-9
+    assert shapely.get_num_coordinates(ref) >= passes  # the overlays' own vertices, one a pass
+    assert shapely.get_num_coordinates(m.material) <= 10
+    assert m.material.bounds == pytest.approx((-60.0, 0.0, 0.0, 20.0))
