@@ -339,22 +339,26 @@ def test_ring_edge_rows_are_the_ring_edges_with_a_z_span():
     assert 0 < len(f) < 300 * 39 and (f[:, 4] != 0).all()
 
 
-def _shoulder_passes(passes: int) -> str:
-    """Roughing passes 0.05 mm apart along Z to one shoulder at Z-30, each fed out along the
-    shoulder face: every pass ends on the same line."""
+def _shoulder_passes(passes: int, step: float = 0.05) -> str:
+    """Roughing passes ``step`` mm apart (radius) to one shoulder at Z-30, each of 40 feed
+    moves (a pass long enough to be taken by bands) and fed out along the shoulder face:
+    every pass ends on the same line."""
     out = ["%1", "T0101", "M03 S800", "G00 X44 Z2"]
     for p in range(passes):
-        d = 40 - 2 * 0.05 * (p + 1)
-        out += [f"G00 X{d:.4f} Z1", f"G01 Z-30 F200", "G01 X44", "G00 Z1"]
+        d = 40 - 2 * step * (p + 1)
+        out += [f"G00 X{d:.4f} Z1", "G01 Z0 F200"]
+        out += [f"G01 Z{-0.75 * (k + 1):.2f}" for k in range(40)]
+        out += ["G01 X44", "G00 Z1"]
     out += ["G00 X80 Z80", "M30"]
     return "\n".join(out) + "\n"
 
 
 @pytest.mark.parametrize("passes", [5, 60])
-def test_passes_ending_on_one_shoulder_leave_no_vertex_each(passes):
+def test_passes_ending_on_one_shoulder_leave_no_vertex_each(passes, monkeypatch):
     # each pass's end lies on the shoulder face; the material keeps the face as one edge
     # (a vertex per pass on it made every later overlay along the face slower), and the
     # material is the move-by-move material to 1e-9 mm^2
+    monkeypatch.setattr(S, "LEAN_FROM", 0)
     tp = run(_shoulder_passes(passes), SHARP, file="s.nc", start=(60.0, 50.0))
     stock = Stock.parse("40x60")
     m = simulate(tp, stock, SHARP)
@@ -363,3 +367,13 @@ def test_passes_ending_on_one_shoulder_leave_no_vertex_each(passes):
     assert shapely.get_num_coordinates(ref) >= passes  # the overlays' own vertices, one a pass
     assert shapely.get_num_coordinates(m.material) <= 10
     assert m.material.bounds == pytest.approx((-60.0, 0.0, 0.0, 20.0))
+
+
+def test_many_passes_on_one_shoulder_keep_the_material_small():
+    # the threshold as it is: 700 passes leave fewer vertices than half their number (745
+    # when each leaves its own)
+    tp = run(_shoulder_passes(700, 0.02), SHARP, file="s.nc", start=(60.0, 50.0))
+    m = simulate(tp, Stock.parse("40x60"), SHARP)
+    assert shapely.get_num_coordinates(m.material) < 350
+    assert m.material.bounds == pytest.approx((-60.0, 0.0, 0.0, 20.0))
+    assert m.material.area == pytest.approx(60 * 20 - 30 * 14.0, abs=1e-6)

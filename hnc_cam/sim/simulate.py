@@ -1202,14 +1202,20 @@ def _jaw_hits(jaws: BaseGeometry, run: "_Run", idx: np.ndarray, cm: list[Move],
                             first_contact(jaws, shape, sweeper.path_points(m))))
 
 
+#: the material's vertex count from which each batch drops its collinear vertices
+LEAN_FROM = 256
+
+
 def _settle(material: BaseGeometry, chuck: BaseGeometry | None,
             fallen: list[BaseGeometry]) -> BaseGeometry:
     """The material after a batch: rounding specks dropped, vertices that lie exactly on the
     line of their neighbours dropped (the same point set: passes that end on one shoulder face
-    each left a vertex on it, and every later overlay along the face paid for them all),
-    pieces cut loose from the chucked end fallen off (into ``fallen``)."""
+    each left a vertex on it, and every later overlay along the face paid for them all; only
+    in material of :data:`LEAN_FROM` vertices or more, where they cost more than the pass that
+    finds them), pieces cut loose from the chucked end fallen off (into ``fallen``)."""
     material = _drop_specks(material)
-    material = shapely.simplify(material, 0.0, preserve_topology=False)
+    if shapely.get_num_coordinates(material) >= LEAN_FROM:
+        material = shapely.simplify(material, 0.0, preserve_topology=False)
     if shapely.get_type_id(material) == 3:
         return material  # one piece: nothing falls
     parts = polygons(material)
