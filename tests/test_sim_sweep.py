@@ -411,3 +411,55 @@ def test_a_rapid_back_along_its_cut_removes_nothing_and_one_below_it_a_layer():
     assert 0.05 * (15 - 0.8) < m.removed_area[under] < 0.05 * 15
     assert not m.issues
     assert any(n.line == tp.moves[under].line for n in m.notes)
+
+
+THREE_TOOLS = """%1
+T0101
+M03 S800
+G00 X44 Z2
+G00 X30 Z1
+G01 Z-10 F0.2
+G02 X36 Z-13 R3
+G01 X44
+G00 Z2
+T0202
+G00 X28 Z1
+G01 Z-5 F0.1
+G03 X32 Z-7 R2
+G02 X36 Z-9 R2
+G01 X44
+G00 Z2
+T0505
+G00 X26 Z1
+G01 Z-3 F0.1
+G01 X44
+G00 X80 Z80
+M30
+"""
+
+
+def test_every_move_of_a_run_of_several_tools_has_its_sweep():
+    """A run of three tools, the first two with arcs: every move's swept region is built
+    (all tools' arcs at once), each the union of its pieces' hulls, and a move's region does
+    not depend on which moves were asked for with it."""
+    machine = load_machine()
+    tp = run(THREE_TOOLS, machine, start=(50.0, 80.0))
+    moves = list(tp.moves)
+    assert len({m.register for m in moves}) == 3
+    sweeps, paths = S._Sweeper(machine, moves).sweeps(moves)
+    for k, (m, g) in enumerate(zip(moves, sweeps)):
+        assert g is not None, (k, m.kind, m.register)
+        K = S._Sweeper(machine, moves).shape(m).outline
+        want = shapely.union_all(sweep_hulls(K, paths[k][:-1], paths[k][1:]))
+        assert g.symmetric_difference(want).area <= 1e-9 * want.area
+    # asked for one tool's moves at a time, and for the last tool's first
+    run_ = S._Sweeper(machine, moves).run(moves)
+    by_reg = {}
+    for k, m in enumerate(moves):
+        by_reg.setdefault(m.register, []).append(k)
+    run2 = S._Sweeper(machine, moves).run(moves)
+    run2._sweeps[:] = None
+    for reg in sorted(by_reg, reverse=True):
+        got = run2.sweep_of(np.array(by_reg[reg]))
+        for k, g in zip(by_reg[reg], got):
+            assert g is not None and g.equals_exact(run_.sweeps[k], 0)

@@ -579,47 +579,88 @@ def _ring_sweeps(K: np.ndarray, P: np.ndarray, Q: np.ndarray, p0: np.ndarray,
             if g is not None and g.geom_type == "Polygon" and not g.is_empty:
                 out[0] = g
         return out
-    p0 = np.asarray(p0, dtype=np.int64)
-    cnt = np.asarray(cnt, dtype=np.int64)
-    # the paths of two pieces or more, none of zero length
-    own = np.repeat(np.arange(n), cnt)
-    idx = np.arange(len(own)) - np.repeat(np.cumsum(cnt) - cnt, cnt) + p0[own]
-    zero = ~np.any(P[idx] != Q[idx], axis=1)
-    use = (cnt > 1) & (np.bincount(own[zero], minlength=n) == 0)
-    if not use.any():
-        return out
-    ks = np.flatnonzero(use)
-    c = cnt[ks]
-    own = np.repeat(np.arange(len(ks)), c)
+    return _ring_sweeps_of([(K, P, Q, p0, cnt)])[0]
+
+
+def _ring_sweeps_of(groups: list[tuple]) -> list[np.ndarray]:
+    """:func:`_ring_sweeps` of the paths of several outlines, ``groups`` of (K, P, Q, p0, cnt)
+    each: the same rings, vertex for vertex, and the same polygons as each group's alone,
+    built for all the groups' paths with one vectorised call per step (a run's arcs of
+    every tool at once)."""
+    outs: list[np.ndarray] = []
+    parts: list[tuple] = []
+    Ks: list[np.ndarray] = []
+    koff = 0
+    for gi, (K, P, Q, p0, cnt) in enumerate(groups):
+        K = np.asarray(K, dtype=float)
+        z, x = K[:, 0], K[:, 1]
+        if float(z[:-1] @ x[1:] - z[1:] @ x[:-1] + z[-1] * x[0] - z[0] * x[-1]) < 0:
+            K = K[::-1]
+        p0 = np.asarray(p0, dtype=np.int64)
+        cnt = np.asarray(cnt, dtype=np.int64)
+        n = len(p0)
+        outs.append(np.full(n, None, dtype=object))
+        # the paths of two pieces or more, none of zero length
+        own = np.repeat(np.arange(n), cnt)
+        idx = np.arange(len(own)) - np.repeat(np.cumsum(cnt) - cnt, cnt) + p0[own]
+        zero = ~np.any(P[idx] != Q[idx], axis=1)
+        use = (cnt > 1) & (np.bincount(own[zero], minlength=n) == 0)
+        if not use.any():
+            continue
+        ks = np.flatnonzero(use)
+        c = cnt[ks]
+        own = np.repeat(np.arange(len(ks)), c)
+        first = np.cumsum(c) - c
+        idx = np.arange(len(own)) - first[own] + p0[ks][own]
+        A, B = P[idx], Q[idx]
+        i_min, i_max = extremes(K, A, B)
+        parts.append((gi, ks, c, A, B, i_min, i_max, len(K), koff))
+        Ks.append(K)
+        koff += len(K)
+    if not parts:
+        return outs
+    # every group's outline in one array: a path's vertex i is K[pk + i mod pm]
+    K = Ks[0] if len(Ks) == 1 else np.concatenate(Ks)
+    c = np.concatenate([q[2] for q in parts])
+    A = np.concatenate([q[3] for q in parts])
+    B = np.concatenate([q[4] for q in parts])
+    i_min = np.concatenate([q[5] for q in parts])
+    i_max = np.concatenate([q[6] for q in parts])
+    pm = np.repeat([q[7] for q in parts], [len(q[1]) for q in parts])
+    pk = np.repeat([q[8] for q in parts], [len(q[1]) for q in parts])
+    npath = len(c)
+    own = np.repeat(np.arange(npath), c)
     first = np.cumsum(c) - c
     last = first + c - 1
-    idx = np.arange(len(own)) - first[own] + p0[ks][own]
-    A, B = P[idx], Q[idx]
-    i_min, i_max = extremes(K, A, B)
+    m_own, k_own = pm[own], pk[own]
     # K's chain facing the motion at each path's end, the chain behind it at its start
-    nf = (i_max[last] - i_min[last]) % m + 1
-    fo = np.repeat(np.arange(len(ks)), nf)
+    nf = (i_max[last] - i_min[last]) % pm + 1
+    fo = np.repeat(np.arange(npath), nf)
     fj = np.arange(int(nf.sum())) - np.repeat(np.cumsum(nf) - nf, nf)
-    front = K[(i_min[last][fo] + fj) % m] + B[last][fo]
-    nb = (i_min[first] - i_max[first]) % m + 1
-    bo = np.repeat(np.arange(len(ks)), nb)
+    front = K[pk[fo] + (i_min[last][fo] + fj) % pm[fo]] + B[last][fo]
+    nb = (i_min[first] - i_max[first]) % pm + 1
+    bo = np.repeat(np.arange(npath), nb)
     bj = np.arange(int(nb.sum())) - np.repeat(np.cumsum(nb) - nb, nb)
-    back = K[(i_max[first][bo] + bj) % m] + A[first][bo]
-    right, ro, loops = _side(K, i_min, A, B, own, last)
+    back = K[pk[bo] + (i_max[first][bo] + bj) % pm[bo]] + A[first][bo]
+    right, ro, loops = _side(K, i_min, A, B, own, last, m_own, k_own)
     rev = first[own] + last[own] - np.arange(len(own))  # each path's pieces backwards
-    left, lo, loops_l = _side(K, i_max[rev], B[rev], A[rev], own, last)
+    left, lo, loops_l = _side(K, i_max[rev], B[rev], A[rev], own, last, m_own, k_own)
     key = np.concatenate([4 * ro, 4 * fo + 1, 4 * lo + 2, 4 * bo + 3])
     order = np.argsort(key, kind="stable")
     coords = np.concatenate([right, front, left, back])[order]
-    crossing = np.zeros(len(ks), dtype=bool)
+    crossing = np.zeros(npath, dtype=bool)
     crossing[own[loops]] = True
     crossing[own[rev[loops_l]]] = True
     gs = _ring_regions(shapely.polygons(shapely.linearrings(coords, indices=key[order] // 4)),
                        crossing)
     good = np.array([g is not None for g in gs.tolist()], dtype=bool)
     good[good] = (shapely.get_type_id(gs[good]) == 3) & ~shapely.is_empty(gs[good])
-    out[ks[good]] = gs[good]
-    return out
+    at = 0
+    for gi, ks, *_ in parts:
+        g, ok = gs[at:at + len(ks)], good[at:at + len(ks)]
+        outs[gi][ks[ok]] = g[ok]
+        at += len(ks)
+    return outs
 
 
 def _ring_regions(polys: np.ndarray, crossing: np.ndarray) -> np.ndarray:
@@ -650,28 +691,34 @@ def _ring_regions(polys: np.ndarray, crossing: np.ndarray) -> np.ndarray:
 
 
 def _side(K: np.ndarray, ext: np.ndarray, P: np.ndarray, Q: np.ndarray,
-          own: np.ndarray | None = None, last: np.ndarray | None = None
+          own: np.ndarray | None = None, last: np.ndarray | None = None,
+          m: np.ndarray | None = None, koff: np.ndarray | None = None
           ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """One side of :func:`_path_sweep`'s ring: for each piece P[i] -> Q[i], the outline's
     vertex ``ext[i]`` at both ends, then the outline's vertices on to ``ext[i + 1]`` at Q[i]
     in the direction the path turns there. With ``own`` (each piece's path) and ``last``
-    (the last piece of each path), the sides of several paths at once. Returns the points,
-    each point's path and the pieces whose loop at their end is left as it is (see below)."""
-    n, m = len(P), len(K)
+    (the last piece of each path), the sides of several paths at once; with ``m`` and ``koff``
+    (per piece) each path's outline is ``K[koff:koff + m]`` (several outlines in one array).
+    Returns the points, each point's path and the pieces whose loop at their end is left as
+    it is (see below)."""
+    n = len(P)
+    if m is None:
+        m = np.full(n, len(K), dtype=np.int64)
+        koff = np.zeros(n, dtype=np.int64)
     d = Q - P
     cr = d[:-1, 0] * d[1:, 1] - d[:-1, 1] * d[1:, 0]
     nxt = ext[1:]
     sgn = np.ones(n, dtype=np.int64)
     cnt = np.zeros(n, dtype=np.int64)
     sgn[:-1] = np.where(cr >= 0, 1, -1)
-    cnt[:-1] = np.where(cr >= 0, (nxt - ext[:-1]) % m, (ext[:-1] - nxt) % m)
+    cnt[:-1] = np.where(cr >= 0, (nxt - ext[:-1]) % m[:-1], (ext[:-1] - nxt) % m[:-1])
     if last is not None:
         sgn[last], cnt[last] = 1, 0
     L = 2 + cnt
     off = np.cumsum(L) - L
     owner = np.repeat(np.arange(n), L)
     j = np.arange(int(L.sum())) - off[owner]
-    kidx = (ext[owner] + sgn[owner] * np.maximum(j - 1, 0)) % m
+    kidx = koff[owner] + (ext[owner] + sgn[owner] * np.maximum(j - 1, 0)) % m[owner]
     pts = K[kidx] + np.where((j == 0)[:, None], P[owner], Q[owner])
     # where the path turns toward this side and the extreme vertex changes, the inserted
     # vertices run back along the outline (a thin loop that crosses the two pieces' lines,
@@ -681,8 +728,8 @@ def _side(K: np.ndarray, ext: np.ndarray, P: np.ndarray, Q: np.ndarray,
     w = np.flatnonzero((sgn[:-1] < 0) & (cnt[:-1] > 0))
     loops = w[:0]
     if len(w):
-        a1 = K[ext[w]] + P[w]
-        a2 = K[ext[w + 1]] + Q[w]
+        a1 = K[koff[w] + ext[w]] + P[w]
+        a2 = K[koff[w] + ext[w + 1]] + Q[w]
         e1, e2 = d[w], d[w + 1]
         r = a2 - a1
         den = cr[w]
@@ -776,21 +823,24 @@ class _Run:
         todo = idx[(self.move_group[idx] >= 0) & (sw[idx] == None)]  # noqa: E711
         if len(todo):
             todo = np.unique(todo)
-            g = self.move_group[todo]
-            for gi in np.unique(g).tolist():
-                ks = todo[g == gi]
+            grp = self.move_group[todo]
+            paths: list[tuple] = []  # per group with paths of several pieces: (its moves, ...)
+            for gi in np.unique(grp).tolist():
+                ks = todo[grp == gi]
                 K, P, Q = self.pieces[gi]
                 p0, p1 = self.move_p0[ks], self.move_p1[ks]
                 cnt = p1 - p0
                 one = cnt == 1
                 sw[ks[one]] = sweep_hulls(K, P[p0[one]], Q[p0[one]])
                 if not one.all():
-                    # the paths of several pieces (sampled arcs): their rings built and
-                    # buffered together, the union of the hulls where that gives none
-                    many = ks[~one]
-                    gs = _ring_sweeps(K, P, Q, p0[~one], cnt[~one])
-                    for k, g, a, c in zip(many.tolist(), gs.tolist(), p0[~one].tolist(),
-                                          cnt[~one].tolist()):
+                    paths.append((ks[~one], (K, P, Q, p0[~one], cnt[~one])))
+            if paths:
+                # the paths of several pieces (sampled arcs) of every outline: their rings
+                # built and buffered together, the union of the hulls where that gives none
+                for (many, (K, P, Q, p0, cnt)), gs in zip(
+                        paths, _ring_sweeps_of([q for _, q in paths])):
+                    for k, g, a, c in zip(many.tolist(), gs.tolist(), p0.tolist(),
+                                          cnt.tolist()):
                         sw[k] = g if g is not None else union_of(sweep_hulls(K, P[a:a + c],
                                                                              Q[a:a + c]))
         return sw[idx]
