@@ -115,6 +115,7 @@ _lib_difference = shapely.lib.difference
 _lib_intersects = shapely.lib.intersects
 _lib_relate_pattern = shapely.lib.relate_pattern
 _lib_area = shapely.lib.area
+_lib_bounds = shapely.lib.bounds
 
 
 _RAPID, _LINE, _ARC, _THREAD, _DWELL = (MOVE_KINDS.index(k) for k in
@@ -1379,9 +1380,12 @@ def _batch_by_moves(material, run: "_Run", c0, b0, b1, idx, geoms, removed_area,
         # in the batch left (a rapid back over their cut): a test, no overlay (not prepared:
         # the material changes after most moves, and preparing it costs more than one test);
         # a rapid mostly runs along what was cut, meeting it on its boundary only: its
-        # interior is tested against the material's (it removes nothing unless they meet)
+        # interior is tested against the material's (it removes nothing unless they meet),
+        # after the cheaper test that it meets the material at all (most rapids of a short
+        # pass, back over what the pass cut, no longer do)
         if kinds[k] == _RAPID:
-            if not _lib_relate_pattern(local, g, "T********"):
+            if ((local is not local0 and not _lib_intersects(local, g))
+                    or not _lib_relate_pattern(local, g, "T********")):
                 continue
         elif local is not local0 and not _lib_intersects(local, g):
             continue
@@ -1433,9 +1437,9 @@ def _gc_paused():
 
 def _boxes_meet(g: BaseGeometry, bb: np.ndarray) -> bool:
     """Whether the bounds of ``g`` meet the box round the bounds ``bb`` (rows z0, x0, z1, x1)."""
-    z0, x0, z1, x1 = g.bounds
-    return not (bb[:, 0].min() > z1 or bb[:, 2].max() < z0 or bb[:, 1].min() > x1
-                or bb[:, 3].max() < x0)
+    z0, x0, z1, x1 = _lib_bounds(g).tolist()
+    lo, hi = bb.min(axis=0).tolist(), bb.max(axis=0).tolist()
+    return not (lo[0] > z1 or hi[2] < z0 or lo[1] > x1 or hi[3] < x0)
 
 
 def _checked(m: Move) -> bool:

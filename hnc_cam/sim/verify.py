@@ -273,6 +273,39 @@ def _point_seg_dist(p: np.ndarray, s0: np.ndarray, s1: np.ndarray) -> np.ndarray
     return np.hypot(*(e - t[:, None] * d).T)
 
 
+#: ``also`` regions of at most this many edges are measured against every point in numpy
+#: (:func:`_nearest_edges`) rather than through an STRtree, whose nearest query costs some
+#: 3 us a point
+ALSO_FEW = 64
+
+
+def _nearest_edges(q: np.ndarray, a: np.ndarray, b: np.ndarray,
+                   step: int = 4096) -> tuple[np.ndarray, np.ndarray]:
+    """(index of the nearest edge, its distance) for each point of ``q`` among the straight
+    edges a_i -> b_i (the first on a tie): the distance as GEOS computes it between a point and
+    a two-point line (``Distance::pointToSegment``, operation for operation, so the same
+    doubles as an STRtree's nearest query)."""
+    dx, dz = b[:, 0] - a[:, 0], b[:, 1] - a[:, 1]
+    len2 = dx * dx + dz * dz
+    same = (a[:, 0] == b[:, 0]) & (a[:, 1] == b[:, 1])
+    root = np.sqrt(len2)
+    k = np.empty(len(q), dtype=np.int64)
+    d = np.empty(len(q))
+    with np.errstate(all="ignore"):
+        for i0 in range(0, len(q), step):
+            pz, px = q[i0:i0 + step, 0, None], q[i0:i0 + step, 1, None]
+            ez, ex = pz - a[:, 0], px - a[:, 1]
+            r = (ez * dx + ex * dz) / len2
+            s = ((a[:, 1] - px) * dx - (a[:, 0] - pz) * dz) / len2
+            fz, fx = pz - b[:, 0], px - b[:, 1]
+            D = np.where(same | (r <= 0.0), np.sqrt(ez * ez + ex * ex),
+                         np.where(r >= 1.0, np.sqrt(fz * fz + fx * fx), np.abs(s) * root))
+            w = D.argmin(axis=1)
+            k[i0:i0 + step] = w
+            d[i0:i0 + step] = D[np.arange(len(w)), w]
+    return k, d
+
+
 class _Depth:
     """Depth of points (z, x): the distance to the nearest of the model boundary's exact lines
     and arcs ``segs`` and of ``also``'s boundary edges; with, per point, that nearest piece
@@ -294,10 +327,14 @@ class _Depth:
         self.arc = np.vstack([np.column_stack([segs.center[:, 1], segs.center[:, 0], segs.radius,
                                                segs.a0, segs.sweep]), np.full((1, 5), np.nan)])
         self.tree = None
+        self.few: tuple[np.ndarray, np.ndarray] | None = None
         if also is not None and not also.is_empty:
             a, b = _edges(also)
             if len(a):
-                self.tree = shapely.STRtree(shapely.linestrings(np.stack([a, b], axis=1)))
+                if len(a) <= ALSO_FEW:
+                    self.few = (a, b)  # measured against every point (_nearest_edges)
+                else:
+                    self.tree = shapely.STRtree(shapely.linestrings(np.stack([a, b], axis=1)))
                 k = len(a)
                 self.kind = np.concatenate([self.kind[:n], np.zeros(k, np.int8), self.kind[n:]])
                 self.p0 = np.concatenate([self.p0[:n], a, self.p0[n:]])
@@ -309,15 +346,19 @@ class _Depth:
         """(depth, index of the nearest piece) per point; ``use``: per point whether ``also``'s
         edges count for it (default all)."""
         d, w = distances(pts, self.segs)
-        if use is not None and self.tree is not None:
+        if use is not None and (self.tree is not None or self.few is not None):
             sel = np.flatnonzero(use)
         else:
             sel = None
-        if self.tree is not None and len(pts) and (sel is None or len(sel)):
+        if (self.tree is not None or self.few is not None) and len(pts) and (sel is None or len(sel)):
             w = np.where(w < 0, len(self.kind) - 1, w)
             q = pts if sel is None else pts[sel]
-            (i, k), da = self.tree.query_nearest(shapely.points(q), return_distance=True,
-                                                 all_matches=False)
+            if self.few is not None:
+                k, da = _nearest_edges(q, *self.few)
+                i = np.arange(len(q))
+            else:
+                (i, k), da = self.tree.query_nearest(shapely.points(q), return_distance=True,
+                                                     all_matches=False)
             if sel is not None:
                 i = sel[i]
             nearer = da < d[i]
