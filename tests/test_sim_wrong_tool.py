@@ -40,3 +40,72 @@ def test_threading_with_the_boring_bar_register_is_one_tool_finding():
 def test_threading_with_the_threading_register_has_no_tool_finding():
     m = _sim(4)
     assert not [i for i in m.issues if i.kind in ("tool", "collision")]
+
+
+#: a turning tool's passes, then register 0 (no insert) moving before it cuts threads (a
+#: threading tool for all its moves), then the boring bar's register cutting a thread
+LATE_THREADS = """%1
+T0101
+M03 S800
+G00 X44 Z2
+G00 X38 Z1
+G01 Z-30 F0.2
+G00 X40 Z1
+G00 X36
+G01 Z-30
+G00 X40 Z1
+T0100
+G00 X37 Z3
+G01 X36.5 Z2 F0.2
+G00 X40 Z3
+G00 X36 Z3
+G32 Z-20 F1.5
+G00 X40
+G00 Z3
+G00 X35.8
+G32 Z-20 F1.5
+G00 X40
+T0303
+G00 X37 Z3
+G32 Z-20 F1.5
+G00 X80 Z80
+M30
+"""
+
+
+def test_thread_registers_found_chunk_by_chunk_give_the_one_chunk_result(monkeypatch):
+    """A toolpath of several chunks finds its thread moves' registers from the columns each
+    run reads (once per chunk); where a register turns out a threading tool after an earlier
+    chunk swept its moves, the simulation starts again with the registers known first: the
+    same sweeps, removals, findings and thread registers as in one chunk."""
+    import importlib
+    import numpy as np
+    S = importlib.import_module("hnc_cam.sim.simulate")
+    machine = load_machine()
+    tp = run(LATE_THREADS, machine, start=(50.0, 80.0))
+    regs = [m.register for m in tp.moves]
+    kinds = [m.kind for m in tp.moves]
+    assert regs.index(0) < kinds.index("thread") and machine.register(0).insert is None
+    whole = simulate(tp, Stock.parse("40x60"), machine)
+    assert whole.thread_regs == {0: 60.0}
+    assert [i.kind for i in whole.issues].count("tool") == 1  # the boring bar's
+    read = []
+    cols = S.columns
+    monkeypatch.setattr(S, "columns", lambda ms: read.append(len(ms)) or cols(ms))
+    monkeypatch.setattr(S, "CHUNK", 4)
+    m = simulate(tp, Stock.parse("40x60"), machine)
+    chunks = -(-len(tp.moves) // 4)
+    assert len(read) > chunks  # started again once register 0's threads were found
+    assert [(str(i), i.at) for i in m.issues] == [(str(i), i.at) for i in whole.issues]
+    assert np.array_equal(m.removed_area, whole.removed_area)
+    assert m.material.equals_exact(whole.material, 0)
+    assert m.thread_regs == whole.thread_regs
+    # the threading tool's register instead: each chunk's columns read once
+    text = LATE_THREADS.replace("T0100\n", "T0404\n")
+    tp = run(text, machine, start=(50.0, 80.0))
+    whole = simulate(tp, Stock.parse("40x60"), machine)
+    read.clear()
+    m = simulate(tp, Stock.parse("40x60"), machine)
+    assert len(read) == -(-len(tp.moves) // 4)
+    assert [(str(i), i.at) for i in m.issues] == [(str(i), i.at) for i in whole.issues]
+    assert np.array_equal(m.removed_area, whole.removed_area)

@@ -319,7 +319,7 @@ class _Sweeper:
     """Builds the swept region of each move (cached tool shapes)."""
 
     def __init__(self, machine: Machine, moves: Iterable[Move] = (),
-                 thread_regs: dict[int, float] | None = None):
+                 thread_regs: dict[int, float] | None = None, learn: bool = False):
         self.machine = machine
         self.shapes: dict[tuple[int, float | None], ToolShape] = {}
         # a register that names no insert but cuts threads is a threading tool for all its
@@ -333,21 +333,40 @@ class _Sweeper:
         self.not_threading: dict[int, Move] = {}
         #: the columns of the moves when they are one chunk (:meth:`run` takes them again)
         self.first_columns: tuple[int, dict] | None = None
+        #: ``learn``: the thread moves are found by :meth:`run`, from the columns it reads
+        #: anyway, instead of from columns read here (``moves`` not given: a toolpath of
+        #: several chunks, whose columns would be read twice); ``stale``: a run found a
+        #: register that names no insert cutting threads after an earlier run swept its
+        #: moves as the insert-less tool (the sweeps must be built again)
+        self.learn = learn
+        self.stale = False
+        self._swept: set[int] = set()
         moves = moves if isinstance(moves, (list, tuple)) else list(moves)
         for c0 in range(0, len(moves), CHUNK):
             cm = moves[c0:c0 + CHUNK]
             cols = columns(cm)
             if len(moves) <= CHUNK:
                 self.first_columns = (len(cm), cols)
-            for k in np.flatnonzero(cols["kind"] == _THREAD).tolist():
-                m = cm[k]
-                if m.register in self.thread_regs or m.register in self.not_threading:
-                    continue
-                ins = machine.register(m.register).insert
-                if ins is None:
-                    self.thread_regs[m.register] = m.thread_angle if m.thread_angle > 0 else 60.0
-                elif ins.kind != "thread":
-                    self.not_threading[m.register] = m
+            self._threads(cm, cols["kind"])
+
+    def _threads(self, moves: list[Move], kind: np.ndarray) -> bool:
+        """Take note of the registers of the thread moves among ``moves`` (``kind``: their
+        kinds): a register that names no insert is a threading tool, one whose insert is not
+        a threading insert a finding. Whether a register became a threading tool."""
+        new = False
+        for k in np.flatnonzero(kind == _THREAD).tolist():
+            m = moves[k]
+            if m.register in self.thread_regs or m.register in self.not_threading:
+                continue
+            ins = self.machine.register(m.register).insert
+            if ins is None:
+                self.thread_regs[m.register] = m.thread_angle if m.thread_angle > 0 else 60.0
+                new = True
+                if m.register in self._swept:
+                    self.stale = True
+            elif ins.kind != "thread":
+                self.not_threading[m.register] = m
+        return new
 
     def shape(self, m: Move) -> ToolShape:
         ta = None
@@ -393,6 +412,9 @@ class _Sweeper:
         cols = got[1] if got is not None and got[0] == n and n else columns(moves)
         kind = cols["kind"]
         live = np.flatnonzero(kind != _DWELL)
+        if self.learn:
+            self._threads(moves, kind)
+            self._swept.update(np.unique(cols["register"][live]).tolist())
         is_arc = kind == _ARC
         # the tool shape of each move, one per (register, thread move, thread angle)
         key = np.column_stack([cols["register"][live], kind[live] == _THREAD,
@@ -1116,7 +1138,8 @@ def simulate(toolpath: Toolpath, stock: Stock | BaseGeometry, machine: Machine |
         return _simulate(toolpath, stock, machine, tools, model, batch, snapshots, on_snapshot)
 
 
-def _simulate(toolpath, stock, machine, tools, model, batch, snapshots, on_snapshot) -> Machined:
+def _simulate(toolpath, stock, machine, tools, model, batch, snapshots, on_snapshot,
+              scan: bool = False) -> Machined:
     machine = _resolve_machine(machine, tools)
     start_region = clean(stock_region(stock, model))
     material: BaseGeometry = start_region
@@ -1129,14 +1152,14 @@ def _simulate(toolpath, stock, machine, tools, model, batch, snapshots, on_snaps
     boxes = np.full((n, 4), np.nan)  # bounds (z0, x0, z1, x1) of each move's swept region
     issues: list[Issue] = []
     notes: list[Issue] = []
-    sweeper = _Sweeper(machine, moves)
-    for reg, m in sweeper.not_threading.items():
-        ins = machine.register(reg).insert
-        issues.append(Issue(m.line, toolpath.block(m.line),
-                            f"thread move with offset register {reg}, whose tool is not a "
-                            f"threading tool (its insert {ins.code} is a {ins.kind} insert): "
-                            f"the program's tool numbers do not match the tool library's "
-                            f"(--tools FILE gives the shop's)", "tool"))
+    # the thread moves' registers: found while the runs read the moves' columns where the
+    # toolpath is longer than one chunk (not read twice), else before; before as well with
+    # snapshots (which cannot be taken back) and with ``scan``: the simulation again after a
+    # run found a register's thread moves when earlier runs had swept its other moves
+    if n > CHUNK and on_snapshot is None and not scan:
+        sweeper = _Sweeper(machine, learn=True)
+    else:
+        sweeper = _Sweeper(machine, moves)
     fallen: list[BaseGeometry] = []
     per_move = {"kind": np.zeros(n, dtype=np.int8), "register": np.zeros(n, dtype=np.int32),
                 "duration": np.zeros(n)}
@@ -1149,6 +1172,9 @@ def _simulate(toolpath, stock, machine, tools, model, batch, snapshots, on_snaps
         for c0 in range(0, n, CHUNK):
             cm = moves[c0:c0 + CHUNK]
             run = sweeper.run(cm, bands=True, prev=prev)
+            if sweeper.stale:
+                return _simulate(toolpath, stock, machine, None, model, batch, snapshots,
+                                 on_snapshot, scan=True)
             prev = run.last
             for key, col in per_move.items():
                 col[c0:c0 + len(cm)] = run.columns[key]
@@ -1219,6 +1245,15 @@ def _simulate(toolpath, stock, machine, tools, model, batch, snapshots, on_snaps
     while si < len(stops):
         on_snapshot(stops[si], material)
         si += 1
+    tool = []
+    for reg, m in sweeper.not_threading.items():
+        ins = machine.register(reg).insert
+        tool.append(Issue(m.line, toolpath.block(m.line),
+                          f"thread move with offset register {reg}, whose tool is not a "
+                          f"threading tool (its insert {ins.code} is a {ins.kind} insert): "
+                          f"the program's tool numbers do not match the tool library's "
+                          f"(--tools FILE gives the shop's)", "tool"))
+    issues[:0] = tool
     issues.sort(key=lambda i: i.line)
     return Machined(material=material, stock=start_region, toolpath=toolpath, issues=issues,
                     removed_area=removed_area, sweep_bounds=boxes, shapes=dict(sweeper.shapes),
