@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from typing import Sequence
 
+import numpy as np
 import shapely
 import shapely.errors
 from shapely.geometry import Polygon, box
@@ -41,13 +42,14 @@ def profile_polygon(profile: TurnedProfile) -> BaseGeometry:
     """
     if not profile.outside:
         raise StockError(f"model {profile.name!r}: the profile has no outside contour")
-    out = _chain_zx(profile.outside)
+    # the points as an array (the same doubles as the (z, x) tuples, built at once)
+    out = np.asarray(sample_chain(profile.outside, CHORD), dtype=float)[:, ::-1]
     if profile.bore:
-        bore = _chain_zx(profile.bore)
-        ring = out + bore[::-1]
+        bore = np.asarray(sample_chain(profile.bore, CHORD), dtype=float)[:, ::-1]
+        ring = np.concatenate([out, bore[::-1]])
     else:
-        z_end, z_start = out[-1][0], out[0][0]
-        ring = out + [(z_end, 0.0), (z_start, 0.0)]
+        z_end, z_start = out[-1, 0], out[0, 0]
+        ring = np.concatenate([out, [(z_end, 0.0), (z_start, 0.0)]])
     poly = Polygon(ring)
     if not poly.is_valid:
         poly = shapely.make_valid(poly)
