@@ -33,7 +33,16 @@ workers' CPU per row (their user and system time, sampled with their memory, sum
 run's workers and divided by its rows) changes much less with it than the wall figures and the
 stages (wall time in the workers) do: the figure to compare two trees with on a busy machine.
 
+With ``--baseline REV``, the local pool with ``--jobs 2`` only, for the current code and for
+the code of git revision REV (exported with ``git archive`` into a temporary directory), each
+run in a fresh process of this script, one after the other for ``--rounds`` rounds (each
+``--repeat`` runs: cold, then warm), so that both see about the same load; printed: each
+code's best cold and warm seconds and rows/s, the workers' CPU per row (cold, and the least
+of the warm runs) and the stages of its best warm run, with the load beside them, and the
+ratios REV/current.
+
 Run: python benchmarks/family.py [--rows 200] [--repeat 2] [--no-cluster] [--no-reference]
+     python benchmarks/family.py --rows 1000 --repeat 3 --baseline REV [--rounds 2]
 """
 from __future__ import annotations
 
@@ -47,7 +56,8 @@ import time
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(REPO))
+#: the hnc_cam to measure: a baseline's exported tree (``--baseline``), else this checkout's
+sys.path.insert(0, os.environ.get("HNC_BENCH_CODE") or str(REPO))
 sys.path.insert(0, str(REPO / "benchmarks"))
 PART = REPO / "parts" / "stepped_shaft.py"
 STAGES = ("load", "plan", "render", "interpret", "simulate", "verify", "write")
@@ -114,8 +124,13 @@ class Memory:
 
     def cpu_ms(self, pids, rows: int) -> str:
         """The CPU of the processes ``pids`` (at their last samples) in ms per row."""
+        v = self.cpu_per_row(pids, rows)
+        return "n/a" if v is None else f"{v:.1f}"
+
+    def cpu_per_row(self, pids, rows: int) -> float | None:
+        """:meth:`cpu_ms` as a number (None when not sampled)."""
         got = [self.used[p] for p in pids if p in self.used]
-        return f"{1000 * sum(got) / rows:.1f}" if got and rows else "n/a"
+        return 1000 * sum(got) / rows if got and rows else None
 
     def server(self, workers) -> str:
         """The fork server(s): what runs the fork server's main and is no worker."""
@@ -187,8 +202,94 @@ def counts_line(last: dict) -> str:
                      for w in ws) or "n/a"
 
 
+def pool_figures(rows: int, repeat: int) -> dict:
+    """One code's figures for :func:`baseline`: ``repeat`` runs of the local pool with
+    ``--jobs 2`` on a table of ``rows`` rows (the first cold)."""
+    from generate import table as write_table
+    tmp = Path(tempfile.mkdtemp(prefix="hnc-bench-family-"))
+    try:
+        t = tmp / "t.csv"
+        write_table(t, rows)
+        load = os.getloadavg()[0]
+        times, lasts = [], []
+        with Memory() as mem:
+            for _ in range(repeat):
+                dt, _p, last = run(t, tmp / "out", ["--jobs", "2"])
+                times.append(dt)
+                lasts.append(last)
+        cpu = [mem.cpu_per_row(x.get("workers", {}), x.get("rows") or 0) for x in lasts]
+        warm = min(range(1, len(times)), key=times.__getitem__) if len(times) > 1 else 0
+        n = lasts[warm].get("rows") or 1
+        return {"cold_s": times[0], "warm_s": times[warm], "cpu_cold": cpu[0],
+                "cpu_warm": min((c for c in cpu[1:] if c is not None), default=None),
+                "stages": {k: 1000 * v / n for k, v in (lasts[warm].get("stages") or {}).items()},
+                "load": (load + os.getloadavg()[0]) / 2, "rows": lasts[warm].get("rows")}
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+
+
+def baseline(rev: str, rows: int, repeat: int, rounds: int) -> None:
+    """The local pool (``--jobs 2``) of the current code and of git revision ``rev``'s, each
+    run in a fresh process of this script, alternately for ``rounds`` rounds; each code's
+    best figures and the ratios."""
+    import json
+    import subprocess
+    from verify import _export
+    code = _export(rev)
+    res: dict[str, list[dict]] = {"current": [], rev: []}
+    try:
+        for _ in range(rounds):
+            for name, d in (("current", None), (rev, code)):
+                env = dict(os.environ)
+                env.pop("HNC_BENCH_CODE", None)
+                if d is not None:
+                    env["HNC_BENCH_CODE"] = d
+                out = subprocess.run([sys.executable, __file__, "--figures", str(rows),
+                                      str(repeat)], capture_output=True, text=True, env=env,
+                                     cwd=d or None)
+                if out.returncode != 0:
+                    raise SystemExit(f"error: the {name} code's run failed:\n{out.stderr}")
+                res[name].append(json.loads(out.stdout.strip().splitlines()[-1]))
+    finally:
+        shutil.rmtree(code, ignore_errors=True)
+
+    def best(rs: list[dict]) -> dict:
+        def low(key: str) -> float:
+            v = [r[key] for r in rs if r[key] is not None]
+            return min(v) if v else math.nan
+        warm = min(rs, key=lambda r: r["warm_s"])
+        return {"cold_s": low("cold_s"), "warm_s": low("warm_s"), "cpu_cold": low("cpu_cold"),
+                "cpu_warm": low("cpu_warm"), "stages": warm["stages"], "load": warm["load"],
+                "loads": [r["load"] for r in rs]}
+
+    import math
+    print(f"local pool --jobs 2, {rows} rows, verification included; {rounds} round(s) of "
+          f"{repeat} run(s) (cold, then warm) per code, one code after the other; best of the "
+          f"rounds; load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
+    got = {}
+    for name in ("current", rev):
+        b = got[name] = best(res[name])
+        label = "current" if name == "current" else f"baseline {rev}"
+        print(f"  {label:>20}: cold {b['cold_s']:.1f} s ({rows / b['cold_s']:.1f} rows/s), "
+              f"warm {b['warm_s']:.1f} s ({rows / b['warm_s']:.1f} rows/s); workers' CPU per "
+              f"row {b['cpu_cold']:.1f} ms cold, {b['cpu_warm']:.1f} ms warm; load "
+              + ", ".join(f"{x:.2f}" for x in b["loads"]))
+        st = b["stages"]
+        print(f"  {'':>20}  per row, ms: " + ", ".join(f"{k} {st.get(k, 0.0):.1f}"
+                                                       for k in STAGES))
+    c, r = got["current"], got[rev]
+    print(f"  ratio baseline {rev} / current: cold x{r['cold_s'] / c['cold_s']:.2f}, warm "
+          f"x{r['warm_s'] / c['warm_s']:.2f}, workers' CPU per row cold "
+          f"x{r['cpu_cold'] / c['cpu_cold']:.2f}, warm x{r['cpu_warm'] / c['cpu_warm']:.2f}; "
+          f"simulate+verify per row x{(r['stages'].get('simulate', 0) + r['stages'].get('verify', 0)) / max(1e-9, c['stages'].get('simulate', 0) + c['stages'].get('verify', 0)):.2f}")
+
+
 def main() -> None:
     from generate import table as write_table
+    if len(sys.argv) > 1 and sys.argv[1] == "--figures":  # a run of baseline(): one code
+        import json
+        print(json.dumps(pool_figures(int(sys.argv[2]), int(sys.argv[3]))))
+        return
     ap = argparse.ArgumentParser()
     ap.add_argument("--rows", type=int, default=200)
     ap.add_argument("--repeat", type=int, default=2)
@@ -196,7 +297,15 @@ def main() -> None:
     ap.add_argument("--no-reference", action="store_true",
                     help="skip the reference pool (workers importing the kernel themselves)")
     ap.add_argument("--jobs", type=int, nargs="+", default=[1, 2])
+    ap.add_argument("--baseline", metavar="REV",
+                    help="only the local pool with --jobs 2, for the current code and the code "
+                         "of git revision REV, alternately (--rounds), and the ratios")
+    ap.add_argument("--rounds", type=int, default=2,
+                    help="with --baseline: rounds of one run of each code (default 2)")
     a = ap.parse_args()
+    if a.baseline:
+        baseline(a.baseline, a.rows, max(1, a.repeat), max(1, a.rounds))
+        return
     tmp = Path(tempfile.mkdtemp(prefix="hnc-bench-family-"))
     try:
         t = tmp / "t.csv"
