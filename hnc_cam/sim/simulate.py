@@ -1215,6 +1215,13 @@ def _simulate(toolpath, stock, machine, tools, model, batch, snapshots, on_snaps
                     idx = has[lo:hi]
                     if not _boxes_meet(material, boxes[c0 + idx]):
                         continue
+                    if s1 - s0 <= MOVE_BATCH and run.pass_length(s0) <= SHORT_PASS:
+                        # a short pass: move by move from the start (see _batch_by_bands)
+                        got = _batch_by_moves(material, run, c0, s0, s1, idx, run.sweep_of(idx),
+                                              removed_area, sweeper, toolpath, issues, notes)
+                        if got is not material:
+                            material = _settle(got, chuck, fallen)
+                        continue
                     if run.band_ok[idx].all():
                         got = _batch_by_bands(material, edges_of, run, c0, s0, s1, idx, None,
                                               removed_area, sweeper, toolpath, issues, notes)
