@@ -537,20 +537,20 @@ def test_threaded_stud_is_split_where_the_left_chamfer_gets_its_run_out(threaded
 
 
 def test_a_groove_that_appears_is_decided_at_the_control(tmp_path):
-    """The long pins' groove (from length 52) is one program: the operations that differ are
-    both written, the control picks them by ``IF [length LT 52]``, and either side's toolpath
-    is that variant's."""
+    """The long pins' groove (above length 52) is one program: the operations that differ are
+    both written, the control picks them by ``IF [length LE 52]`` (a pin of length 52 has
+    none, as the family says), and either side's toolpath is that variant's."""
     from hnc_cam.cli import main
     from hnc_cam.nc import run
     ctx, fam, pieces = _derive(FRESH / "grooved_pin.py")
-    assert len(pieces) == 1 and "length < 52" in pieces[0].decisions
+    assert len(pieces) == 1 and "length <= 52" in pieces[0].decisions
     f = tmp_path / "one.nc"
     assert main(["family", str(FRESH / "grooved_pin.py"), "--macro", "--check", "4",
                  "-o", str(f)]) == 0
     text = f.read_text()
-    assert "IF [#50 LT 52]" in text and "ELSE" in text
+    assert "IF [#50 LE 52]" in text and "ELSE" in text
     line = next(ln for ln in text.splitlines() if ln.endswith("(LENGTH)"))
-    for length in (48.5, 51.99, 52.01, 52.45):
+    for length in (48.5, 51.99, 52.0, 52.01, 52.45):
         t = text.replace(line, f"{line.split('=')[0]}={length} (LENGTH)")
         got = [m for m in run(t).moves if m.kind != "dwell"
                and (abs(m.end[0] - m.start[0]) > 1e-3 or abs(m.end[1] - m.start[1]) > 1e-3)]
@@ -898,7 +898,7 @@ def test_fanuc_decides_with_goto(tmp_path):
     assert main(["family", str(FRESH / "grooved_pin.py"), "--macro", "--dialect", "fanuc0it",
                  "--check", "3", "-o", str(out)]) == 0
     text = out.read_text()
-    assert "IF [#1 GE 52] GOTO 9001" in text and "N9001" in text and "N9002" in text
+    assert "IF [#1 GT 52] GOTO 9001" in text and "N9001" in text and "N9002" in text
 
 
 def test_fanuc_macro_of_nine_parameters_passes_its_check(tmp_path):
@@ -1172,7 +1172,7 @@ def test_a_way_point_without_a_program_takes_the_set_a_control_holds_beside_it()
         return 0 if a < 1.6 else 1
 
     p0, p1 = {"a": 1.0, "b": 3.0}, {"a": 2.0, "b": 3.5}
-    fa, fb = _refine(fam, ("p", "a"), p0, p1, lambda lab: lab == 0, {1}, side)
+    fa, fb, _ = _refine(fam, ("p", "a"), p0, p1, lambda lab: lab == 0, {1}, side)
     assert fa < 1.6 <= fb and fb - fa < 1 / 2000
     assert _roundest(fa, fb) == 1.6
     assert any(1.562 < a < 1.563 for a in calls)  # the failing point was met on the way

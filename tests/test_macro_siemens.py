@@ -106,13 +106,13 @@ def test_a_failing_check_stops_before_any_motion(tmp_path, bad):
 
 
 def test_a_decision_at_the_control_is_if_gotof(tmp_path):
-    """grooved_pin's groove appears from length 52: one 802 program, the control jumps over
+    """grooved_pin's groove appears above length 52: one 802 program, the control jumps over
     the alternative it does not cut (IF ... GOTOF), either side's toolpath the variant's."""
     out = _derive(tmp_path, FRESH / "grooved_pin.py", check=2)
     text = _folder_text(out)
-    assert re.search(r"^IF R\d+>=52 GOTOF MD\d+$", text, re.M)
+    assert re.search(r"^IF R\d+>52 GOTOF MD\d+$", text, re.M)
     stock = re.search(r"^; STOCK (\S+)", text, re.M).group(1)
-    for length in (48.5, 51.9, 52.1, 52.4):
+    for length in (48.5, 51.9, 52.0, 52.1, 52.4):
         got = run(_with(text, {"length": length}), file="<macro>", start="reference",
                   dialect="siemens802")
         ref = run(_variant(FRESH / "grooved_pin.py", stock, {"length": length}),

@@ -246,7 +246,7 @@ def _refine(fam: Any, f: tuple, p0: dict, p1: dict, test: Any, right: set,
     ``f`` (from ``p0``, else toward ``p1``), so that no other decision's boundary is crossed
     on the way, else along the straight way. A way that meets a sampled alternative of
     neither side (another decision's boundary) or where ``f`` does not move says nothing: None
-    when no way holds."""
+    when no way holds. Also the set just before the change."""
     own = _params_of(f) & set(fam.free)
     ways = []
     if own and own != set(fam.free):
@@ -285,12 +285,12 @@ def _refine(fam: Any, f: tuple, p0: dict, p1: dict, test: Any, right: set,
         else:
             fa, fb = _ev(f, at(a)), _ev(f, at(b))
             if abs(fb - fa) > 1e-12:
-                return fa, fb
+                return fa, fb, at(a)
     return None
 
 
 def _straight(fam: Any, f: tuple, p0: dict, p1: dict, test: Any,
-              side: Any) -> tuple[float, float]:
+              side: Any) -> tuple[float, float, dict]:
     """The feature ``f`` before and after the label changes along the straight way from
     ``p0`` to ``p1``, anything not passing ``test`` counted with ``p1``'s side."""
     a, b = 0.0, 1.0
@@ -304,7 +304,62 @@ def _straight(fam: Any, f: tuple, p0: dict, p1: dict, test: Any,
 
     def at(t: float) -> dict:
         return {k: (p0[k] + t * (p1[k] - p0[k]) if k in fam.free else p0[k]) for k in p0}
-    return _ev(f, at(a)), _ev(f, at(b))
+    return _ev(f, at(a)), _ev(f, at(b)), at(a)
+
+
+def _at_tie(fam: Any, f: tuple, c: float, op: str, fa: float, fb: float, qa: dict, test: Any,
+            right: set, side: Any) -> tuple[float, str]:
+    """The threshold ``f op c`` with the side the planner gives a set of the control's
+    precision (0.001) at which ``f`` is ``c`` itself: the set just left of the change
+    (``qa``) rounded, one of ``f``'s parameters moved to where ``f`` is ``c``. A round
+    threshold is often the planner's own (a groove from length 52, a split at the written
+    diameter 21.496), and a table row there is a natural one. A parameter compares exactly
+    (``<=`` or ``<``); a feature computed from several is moved half of its finest step at
+    that precision toward the side that does not take the tie, so that the control's
+    rounding of the expression does not decide it. Unchanged where no such set is in the
+    domain, or it makes no program."""
+    import math
+    base = {k: (round(v, 3) if k in fam.free else v) for k, v in qa.items()}
+    try:
+        f0 = _ev(f, base)
+    except (ValueError, ZeroDivisionError, OverflowError):
+        return c, op
+    steps, tie = [], None
+    for k in sorted(_params_of(f) & set(fam.free)):
+        q = dict(base, **{k: base[k] + 0.001})
+        try:
+            a = (_ev(f, q) - f0) / 0.001
+        except (ValueError, ZeroDivisionError, OverflowError):
+            continue
+        if not math.isfinite(a) or abs(a) < 1e-9:
+            continue
+        steps.append(abs(a) * 0.001)
+        if tie is not None:
+            continue
+        q[k] = round(base[k] + (c - f0) / a, 3)
+        if not fam.lo.get(k, -math.inf) <= q[k] <= fam.hi.get(k, math.inf):
+            continue
+        try:
+            if abs(_ev(f, q) - c) > 1e-9:
+                continue
+        except (ValueError, ZeroDivisionError, OverflowError):
+            continue
+        tie = q
+    if tie is None:
+        return c, op
+    lab = side(tie, tie, 0.0)
+    if lab is None:
+        return c, op
+    left = bool(test(lab))
+    if not left and not (lab in right or not right):
+        return c, op  # an alternative of neither side there
+    rising = fa < fb  # the left side below the threshold
+    if f[0] == "p":
+        return c, ("<=" if left else "<") if rising else (">=" if left else ">")
+    h = min(steps) / 2
+    if rising:
+        return (c + h if left else c - h), "<"
+    return (c - h if left else c + h), ">"
 
 
 #: the sets beside a refined threshold (within EDGE of its feature's span over the variants)
@@ -327,7 +382,36 @@ def _edge_holds(f: tuple, c: float, op: str, width: float, path: list[tuple], te
     ok = _edge_sets_hold(f, c, op, probe(list(path) + near, N_EDGE), test, right, side)
     if memo is not None:
         memo[key] = ok
+        if ok:
+            memo.setdefault(PROVEN, []).append((repr(tuple(path)), f, c, op))
     return ok
+
+
+#: the memo's entry of the cuts proven (their node's path, feature, threshold, comparison)
+PROVEN = "proven"
+
+
+def _proven_cut(memo: dict | None, path: tuple, idx: list[int], sets: list[dict],
+                labels: list[int]) -> tuple | None:
+    """A cut proven at this node (``path``) in an earlier round that still parts the node's
+    sampled sets ``idx`` into alternatives of disjoint sides: (feature, threshold, comparison,
+    left, right). More variants move the best-scored candidates; a cut bisected and proven
+    beside its threshold stays the planner's, where a candidate scored first on the new sets
+    may only pass its own proof by chance."""
+    if not memo:
+        return None
+    at = repr(tuple(path))
+    for where_, f, c, op in memo.get(PROVEN, ()):
+        if where_ != at:
+            continue
+        try:
+            left = [i for i in idx if _holds((op, f, ("c", c)), sets[i])]
+        except (ValueError, ZeroDivisionError, OverflowError):
+            continue
+        right = [i for i in idx if i not in set(left)]
+        if left and right and not {labels[i] for i in left} & {labels[i] for i in right}:
+            return f, c, op, left, right
+    return None
 
 
 def _edge_sets_hold(f: tuple, c: float, op: str, sets: list[dict], test: Any, right: set,
@@ -410,27 +494,40 @@ def _build(fam: Any, tr: Any, sets: list[dict], labels: list[int], side: Any,
                 found.append(((disjoint, gap / span), desc, f, order[k - 1], order[k], test,
                               order[:k], order[k:]))
         found.sort(key=lambda c: c[0], reverse=True)
+        kept = _proven_cut(getattr(probe, "memo", None), path, idx, sets, labels)
+        if kept is not None:
+            f, c, op, lidx, ridx = kept
+            desc = next((d for d, g, _v in cols if g == f), None)
+            if desc is not None:
+                return _node(path, desc, f, c, op, lidx, ridx)
         best = None
         for cand in found[:TRIES]:  # (also where the tree is not strict: node by node)
             _score, desc, f, ia, ib, test, lidx, ridx = cand
             right = {labels[i] for i in ridx} - {labels[i] for i in lidx}
             ends = _refine(fam, f, sets[ia], sets[ib], test, right, side)
-            if ends is not None and probe is not None:
-                c, op = cut_of(*ends)
+            if ends is None:
+                continue
+            c, op = _at_tie(fam, f, *cut_of(ends[0], ends[1]), *ends, test, right, side)
+            if probe is not None:
                 width = EDGE * float(np.ptp([_ev(f, sets[i]) for i in range(len(sets))]))
                 if not _edge_holds(f, c, op, width, list(path), test, right, side, probe):
                     continue
-            if ends is not None:
-                best = cand
-                fa, fb = ends
-                break
+            best = cand
+            break
         if best is None and found and not strict:  # the best cut along the straight way
             best = found[0]
-            fa, fb = _straight(fam, best[2], sets[best[3]], sets[best[4]], best[5], side)
+            _score, desc, f, ia, ib, test, lidx, ridx = best
+            right = {labels[i] for i in ridx} - {labels[i] for i in lidx}
+            ends = _straight(fam, f, sets[ia], sets[ib], test, side)
+            c, op = _at_tie(fam, f, *cut_of(ends[0], ends[1]), *ends, test, right, side)
         if best is None:
             return None
         _score, desc, f, ia, ib, test, lidx, ridx = best
-        c, op = cut_of(fa, fb)
+        return _node(path, desc, f, c, op, lidx, ridx)
+
+    def _node(path: tuple, desc: str, f: tuple, c: float, op: str, lidx: list[int],
+              ridx: list[int]) -> Node | None:
+        idx = lidx + ridx
         cond = (op, f, ("c", c))
         yes, no = grow(lidx, path + (cond,)), grow(ridx, path + (("not", cond),))
         if yes is None or no is None:
