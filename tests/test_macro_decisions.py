@@ -107,3 +107,115 @@ def test_a_word_that_fits_nothing_after_a_kinked_one_decides_the_kink_first():
     assert "X19.22" in what
     # a word fitted as one law is no kink
     assert _kinked([Slot(1, 1, "fit", law_d1)], nb, sets) is None
+
+
+PIN = ROOT / "tests" / "data" / "families" / "pin.py"
+
+
+def test_pin_decides_its_g71_split_on_the_chamfers_end(tmp_path, capsys):
+    # the HNC-21T planner splits the G71 where the chamfer's end, d - 2 chamfer, is at most
+    # 21.496 (the spindle limit); the macro decides there, not on d (equal to it at chamfer
+    # 1 only): rows where the two disagree (d - 2 chamfer 21.519 at d 23.473, 21.494 at
+    # d 23.514) each follow their per-variant program
+    from hnc_cam.cli import main
+    table = tmp_path / "rows.csv"
+    table.write_text("d,chamfer\n23.473,0.977\n23.514,1.01\n23.45,1.0\n23.55,1.0\n")
+    out = tmp_path / "m"
+    rc = main(["family", str(PIN), "--macro", "--table", str(table), "--check", "20",
+               "-o", str(out) + "/"])
+    err = capsys.readouterr().err
+    assert rc == 0, err
+    (prog,) = out.glob("*.nc")
+    text = prog.read_text()
+    # one decision, on the chamfer's end (the first segment's end diameter) at the written
+    # 21.496, which takes the split (half the chamfer end's step at 0.001 mm above it)
+    conds = re.findall(r"\(([A-Z0-9 ]+) ([<>]=?) ([0-9.]+)\?\)", text)
+    assert [(c[0], float(c[2])) for c in conds] == [("SEGMENT 1 END X", 21.4965)], conds
+
+
+GROOVED_PIN = ROOT / "tests" / "data" / "families" / "grooved_pin.py"
+
+
+@pytest.mark.parametrize("family, rows, decision", [
+    # the groove comes from length 52 on (the family's `length > 52`): a row of length 52
+    # is a plain pin, 52.001 grooved
+    (GROOVED_PIN, "length\n52\n51.999\n52.001\n", ("LENGTH", "<=", 52.0)),
+    # the split at the written diameter 21.496 (the planner's `<=`): d - 2 chamfer = 21.496
+    # exactly, and one step either side of it
+    (PIN, "d,chamfer\n23.496,1\n23.495,1\n23.497,1\n23.498,1.001\n",
+     ("SEGMENT 1 END X", "<", 21.4965)),
+])
+def test_a_set_at_the_threshold_takes_the_planners_side(family, rows, decision, tmp_path,
+                                                        capsys):
+    from hnc_cam.cli import main
+    table = tmp_path / "rows.csv"
+    table.write_text(rows)
+    out = tmp_path / "m"
+    rc = main(["family", str(family), "--macro", "--table", str(table), "--check", "2",
+               "-o", str(out) + "/"])
+    err = capsys.readouterr().err
+    assert rc == 0, err
+    (prog,) = out.glob("*.nc")
+    conds = {(c[0], c[1], float(c[2])) for c in
+             re.findall(r"\(([A-Z0-9 ]+) ([<>]=?) ([0-9.]+)\?\)", prog.read_text())}
+    assert decision in conds, conds
+
+
+TAPER_PIN = ROOT / "tests" / "data" / "families" / "taper_pin.py"
+
+
+@pytest.mark.parametrize("dialect", ["hnc21t", "fanuc0it", "siemens802"])
+def test_a_shallow_taper_roughs_to_the_per_variant_passes(dialect, tmp_path, capsys):
+    # the roughing cycle's passes end on the 7 deg taper: its contour's words, exact in the
+    # macro, moved the passes' ends 0.001 mm along Z from the per-variant program's, which
+    # writes them to 0.001; the macro writes the cycle's contour rounded as the program
+    # does, and the row that showed it follows its per-variant program
+    from hnc_cam.cli import main
+    table = tmp_path / "rows.csv"
+    table.write_text("length,d1,d2,lt,chamfer\n58.253,21.364,28.624,29.724,1.033\n")
+    out = tmp_path / "m"
+    rc = main(["family", str(TAPER_PIN), "--macro", "--dialect", dialect, "--table",
+               str(table), "--check", "12", "-o", str(out) + "/"])
+    err = capsys.readouterr().err
+    assert rc == 0, err
+    assert "checked 13 parameter set(s): pass" in err
+
+
+SLEEVE = ROOT / "tests" / "data" / "families" / "sleeve.py"
+
+
+def test_a_g97_cycle_runs_at_its_tools_own_speed_floored(tmp_path, capsys):
+    # the boring cycle's G97 S is floor(150 m/min at the diameter it starts from), 1829 at
+    # bore 20.465 + 2 x 0.82 + 4 = 26.105 mm; a speed fitted to the sampled variants' whole
+    # rpm (149.955 rounded to nearest) gave 1828 there
+    from hnc_cam.cli import main
+    table = tmp_path / "rows.csv"
+    table.write_text("d,bore,lb,df,lf,c,ci\n34.997,20.465,21.322,50.357,7.624,0.952,0.82\n")
+    out = tmp_path / "m"
+    rc = main(["family", str(SLEEVE), "--macro", "--table", str(table), "--check", "12",
+               "-o", str(out) + "/"])
+    err = capsys.readouterr().err
+    assert rc == 0, err
+    (prog,) = out.glob("*.nc")
+    m = re.search(r"G97 S\[INT\[([0-9.]+)/ABS\[.*\]\]\] M03", prog.read_text())
+    assert m and float(m.group(1)) == pytest.approx(150000 / 3.141592653589793, abs=1e-5)
+
+
+def test_a_sketch_that_loses_an_expression_is_told_where(tmp_path, capsys):
+    # math imported inside sketch() is the real one: the journal's diameter, a root of the
+    # parameters, becomes a plain number there and no law fits its words; the refusal names
+    # the sketch's line
+    from hnc_cam.cli import main
+    src = PIN.read_text().replace(
+        "    s = Outline((0.0, 0.0))\n",
+        "    import math\n    k = math.sqrt(d * d - 40)\n    s = Outline((0.0, 0.0))\n", 1)
+    src = src.replace("s.line_to(d / 2, 0.0, chamfer=chamfer)",
+                      "s.line_to(k / 2, 0.0, chamfer=chamfer)")
+    fam = tmp_path / "pin_local_math.py"
+    fam.write_text(src)
+    line = next(i for i, ln in enumerate(src.splitlines(), 1) if "math.sqrt" in ln)
+    out = tmp_path / "m"
+    rc = main(["family", str(fam), "--macro", "--check", "2", "-o", str(out) + "/"])
+    err = capsys.readouterr().err
+    assert rc == 2 and not out.exists()
+    assert f"pin_local_math.py:{line}" in err, err

@@ -20,6 +20,8 @@ range, :func:`_cond` a check's condition.
 from __future__ import annotations
 
 import math
+import os
+import sys
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
@@ -130,7 +132,16 @@ class Sym:
     def __le__(self, o): return self._cmp("<=", o)
     def __gt__(self, o): return self._cmp(">", o)
     def __ge__(self, o): return self._cmp(">=", o)
-    def __float__(self): return self.v
+    def __float__(self):
+        # asked by the family's own code (``math.sqrt`` of the real ``math``, ``float()``),
+        # the expression is lost there: noted for the message of a word no law fits
+        f = sys._getframe(1)
+        if self.tr.file is not None and f.f_code.co_filename == self.tr.file:
+            at = f"{os.path.basename(self.tr.file)}:{f.f_lineno}"
+            if at not in self.tr.floated:
+                self.tr.floated.append(at)
+        return self.v
+
     def __format__(self, spec): return format(self.v, spec)
     def __str__(self): return format(self.v, "g")
     __hash__ = None  # type: ignore[assignment]
@@ -198,6 +209,10 @@ class _Trace:
     checks: list[Check] = field(default_factory=list)
     branches: list[tuple] = field(default_factory=list)  # (condition, nominal truth)
     segments: list[tuple] = field(default_factory=list)
+    #: the family's file, and where its sketch made a plain number of a traced one (a
+    #: ``math`` imported inside the function, ``float()``): "file:line", in order
+    file: str | None = None
+    floated: list[str] = field(default_factory=list)
 
     def take(self) -> list[tuple]:
         out = [c if v else ("not", c) for c, v in self.pending]
@@ -300,7 +315,7 @@ class _TraceOutline:
 def _trace(mod: Any, params: dict[str, Any], free: list[str] | None = None) -> _Trace:
     """Run ``mod.sketch`` with the ``free`` parameters (default: all) as symbols; the path's
     conditions, checks and segments."""
-    tr = _Trace()
+    tr = _Trace(file=getattr(mod, "__file__", None))
     syms = {k: (Sym(v, ("p", k), tr) if free is None or k in free else v)
             for k, v in params.items()}
     from .model import _n as fmt
@@ -722,6 +737,9 @@ class Lets:
     def __init__(self, var: dict[str, str], dialect: str = "hnc21t", first: int = 100,
                  last: int = 199, inline: int = 40, depth: int | None = None):
         self.var, self.dialect, self.next, self.last, self.inline = var, dialect, first, last, inline
+        #: the first variable of the control's range for temporaries (a branch's writer
+        #: starts further on)
+        self.base = first
         #: how a variable is named: ``#n`` (macro B), ``Rn`` (SINUMERIK 802)
         self.prefix = "R" if dialect == "siemens802" else "#"
         # FANUC nests brackets at most 5 deep (PS0118): 4 here, the word's own makes 5
@@ -754,16 +772,30 @@ class Lets:
         self._keep += [n, out]
         return out
 
-    def rounded(self, n: tuple) -> str:
+    def rounded(self, n: tuple, tie_free: bool = False) -> str:
         """``n`` rounded at the control to the 0.001 mm the per-variant program writes, as
         the planner rounds it (:func:`hnc_cam.units.round_written`: a half up, to a
         millionth of the digit): the floor of a positive number, ``INT`` (HNC-21T), ``FIX``
         (FANUC), ``TRUNC`` (802) of ``e*1000 + 1000000.500001``, less 1000000 (a coordinate
-        under 1000 mm)."""
+        under 1000 mm). ``tie_free``: ``n`` is never at a half of the digit, so any rounding
+        to nearest writes it alike: FANUC's ``ROUND`` (halves away from zero), else the
+        offset floor without the millionth and the offset taken off after the division,
+        short enough to stay in its word (no temporary)."""
         key = ("r", id(n))
         if key in self._memo:
             return self._memo[key]
         inner = self.expr(n)
+        if tie_free:
+            # no half to break: FANUC's ROUND, else the floor of the value moved positive
+            # (a coordinate under 1000 mm), the offset taken off after the division
+            form = ("[ROUND[{}*1000]/1000]" if self.dialect == "fanuc0it" else
+                    "(TRUNC({}*1000+1000000.5)/1000-1000)" if self.dialect == "siemens802"
+                    else "[INT[[{}*1000]+1000000.5]/1000-1000]")
+            s = form.format(inner)
+            if len(s) > self.inline or _depth(s) > self.depth:
+                s = form.format(self._assign(inner))
+            self._memo[key] = s
+            return s
         if not (inner.startswith(self.prefix) or _depth(inner) == 0):
             inner = self._assign(inner)  # FANUC nests brackets 5 deep at most
         if self.dialect == "siemens802":
@@ -785,11 +817,14 @@ class Lets:
         self._memo[id(n)] = name
         return name
 
+    def _full(self) -> str:
+        return (f"the macro needs more variables for its expressions than the control's "
+                f"range for them holds ({self.last - self.base + 1}: {self.prefix}{self.base}"
+                f"..{self.prefix}{self.last})")
+
     def _assign(self, s: str) -> str:
         if self.next > self.last:
-            raise PlanError(f"the macro needs more than {self.last - self.next + 1} "
-                            f"variables for its expressions (the control's range for them "
-                            f"ends at {self.prefix}{self.last})")
+            raise PlanError(self._full())
         name = f"{self.prefix}{self.next}"
         self.next += 1
         self.lines.append(f"{name}={s}")
@@ -799,6 +834,7 @@ class Lets:
         """A branch's writer: it sees what is assigned so far, its own temporaries start at
         the next free variable and stay its own (a sibling branch reuses those numbers)."""
         child = Lets(self.var, self.dialect, self.next, self.last, self.inline, self.depth)
+        child.base = self.base
         child._memo, child._keep = dict(self._memo), list(self._keep)
         return child
 
@@ -830,9 +866,7 @@ class Lets:
                            {"\0a": self._held(n[1]), "\0b": self._held(n[2])}, self.dialect)
         if len(s) > self.inline or _depth(s) > self.depth:
             if self.next > self.last:
-                raise PlanError(f"the macro needs more than {self.last - self.next + 1} "
-                                f"variables for its expressions (the control's range for them "
-                                f"ends at {self.prefix}{self.last})")
+                raise PlanError(self._full())
             name = f"{self.prefix}{self.next}"
             self.next += 1
             self.lines.append(f"{name}={s}")

@@ -65,7 +65,7 @@ def macro_command(args: argparse.Namespace) -> int:
     from .api import VerificationError, _load_machine, _load_tools, dialect_of
     from .command import _check_part_file, _check_tables, _options
     from .macro import load_family
-    from .macro_program import (Ctx, check_program, derive_pieces, family_stock,
+    from .macro_program import (Ctx, check_program, derive_pieces, family_stock, with_lost,
                                 fix_unmachinable, piece_of, render_program, sample)
 
     if getattr(args, "out", None):
@@ -119,13 +119,19 @@ def macro_command(args: argparse.Namespace) -> int:
         stock = family_stock(fam, fam.lo, fam.hi,
                              sample(fam, fam.trace, fam.lo, fam.hi, 20, "stock") + full_rows)
     ctx = Ctx(args.part, gen, stock, dia)
-    fixed = fix_unmachinable(ctx, fam)
+    try:
+        fixed = fix_unmachinable(ctx, fam)
+    except PlanError as e:
+        raise with_lost(fam, e) from None
     for i, r in enumerate(full_rows, 1):
         for k, why in fixed.items():
             if r[k] != fam.params[k]:
                 raise PartError(f"{args.table}: row {i} gives {k}={r[k]:g}: {k} stays at "
                                 f"{fam.params[k]:g} in the macro ({why})")
-    pieces = derive_pieces(ctx, fam)
+    try:
+        pieces = derive_pieces(ctx, fam)
+    except PlanError as e:
+        raise with_lost(fam, e) from None
     number = args.program_number if args.program_number is not None else 1
     if not 1 <= number <= 8999:
         raise PlanError(f"--program-number {number}: the macro program needs 1-8999 (its "

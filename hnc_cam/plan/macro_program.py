@@ -383,6 +383,9 @@ class Slot:
     #: written rounded to 0.001 at the control (a crossing: the tiny arc left beyond it has
     #: its centre set by the last digit of its ends)
     rounded: bool = False
+    #: no set of the control's precision puts the word at a half of the last digit (any
+    #: rounding to nearest writes it as the program does: FANUC's shorter ``ROUND``)
+    tie_free: bool = False
 
 
 def normal_features(tr: Any) -> list[tuple[str, tuple]]:
@@ -568,6 +571,87 @@ def _corner_crossing(tr: Any, allb: list[list[Block]], allp: list[dict], bi: int
                     if np.all(np.isfinite(v)) and np.max(np.abs(v - y)) <= TOL:
                         return node
     return None
+
+
+def _cycle_contour(text: str) -> set[tuple[int, str]]:
+    """The words (line, letter) of the contours the roughing cycles of ``text`` name
+    (``G71``/``G72`` ``P``..``Q``; the 802's contour subprograms, which LCYC95 roughs along
+    Z) whose last digit moves a pass's end by more than the comparison's 0.001 mm: the ends
+    of a line the passes cross at less than atan(1/2), 26.6 deg (a G71's: that near the Z
+    axis, not along it; a G72's: the X axis), and of an arc, with its radius and centre. A
+    pass ends where it meets the contour, so the radius's 0.00025 mm of a written diameter
+    moves the pass's end by it over the line's slope, more than 0.0005 mm below it."""
+    import re
+    lines = text.splitlines()
+    runs: list[tuple[list[Block], bool]] = []  # (a contour's blocks, passes along Z)
+    bs = blocks(text)
+    by_line = {b.line: b for b in bs}
+    sub: list[Block] | None = None
+    for i, ln in enumerate(lines, 1):
+        if ln.startswith("%_N_"):
+            sub = [] if ln.endswith("_SPF") else None
+            if sub is not None:
+                runs.append((sub, True))
+        elif sub is not None and i in by_line:
+            sub.append(by_line[i])
+    at: dict[str, int] = {}
+    for k, b in enumerate(bs):
+        m = re.match(r"\s*N(\d+)", b.raw)
+        if m:
+            at[m.group(1)] = k
+    for b in bs:
+        g = [float(w.text) for w in b.words if w.letter == "G"
+             and w.text.replace(".", "", 1).isdigit()]
+        if 71 in g or 72 in g:
+            pq = {w.letter: w.text for w in b.words if w.letter in "PQ"}
+            if pq.get("P") in at and pq.get("Q") in at:
+                runs.append((bs[at[pq["P"]]:at[pq["Q"]] + 1], 71 in g))
+    out: set[tuple[int, str]] = set()
+    for run, along_z in runs:
+        x = z = None
+        prev: Block | None = None
+        for b in run:
+            w = {v.letter: v for v in b.words}
+            try:
+                x1 = float(w["X"].text) if "X" in w else x
+                z1 = float(w["Z"].text) if "Z" in w else z
+                codes = {float(v.text) for v in b.words if v.letter == "G"}
+            except ValueError:
+                x, z, prev = None, None, b
+                continue
+            arc = bool(codes & {2.0, 3.0})
+            if x is not None and z is not None and x1 is not None and z1 is not None:
+                dr, dz = abs(x1 - x) / 2, abs(z1 - z)
+                cross, along = (dr, dz) if along_z else (dz, dr)
+                if arc or (cross > 1e-9 and 2 * cross < along):
+                    for blk in (prev, b):
+                        if blk is not None:
+                            out.update((blk.line, v.letter) for v in blk.words
+                                       if v.letter in ROUNDED_LETTERS)
+            x, z, prev = x1, z1, b
+    return out
+
+
+#: the words of a cycle's contour the macro writes rounded as the program does: its
+#: coordinates and an arc's radius and centre
+ROUNDED_LETTERS = ("X", "Z", "R", "I", "K", "CR")
+
+
+def _rounds_all(node: tuple, allp: list[dict], y: Any, free: list[str]) -> bool:
+    """The word's written values are its exact law written to 0.001 (the macro then writes
+    it rounded as the program does), and no set of the control's precision puts the law at
+    a half of the last digit (the planner's arithmetic breaks such a tie either way: the
+    exact value is then half a digit from the written one, a rounded one may be a whole)."""
+    try:
+        if not all(_rounds_to(_ev(node, p), float(b)) for p, b in zip(allp, y)):
+            return False
+        p0 = {k: (round(v, 3) if k in free else v) for k, v in allp[0].items()}
+        probes = [_ev(node, p) for p in allp]
+        for k in sorted(_params_of(node) & set(free)):
+            probes += [_ev(node, dict(p0, **{k: round(p0[k] + i / 1000, 3)})) for i in (1, 2, 3)]
+    except (ValueError, ZeroDivisionError, OverflowError):
+        return False
+    return not any(abs(abs(v * 1000 - math.floor(v * 1000)) - 0.5) < 1e-6 for v in probes)
 
 
 def _rounds_to(v: float, written: float) -> bool:
@@ -858,6 +942,7 @@ def _fit_blocks(ctx: Ctx, fam: Family, tr: Any, nominal: dict, lo: dict, hi: dic
     blocks among the nominal's core blocks (None: not the nominal's alternative)."""
     import numpy as np
     nb = allb[0]
+    contour = _cycle_contour(ctx.program(allp[0]))
     nodes, mat = _candidates(fam, tr, allp, lengths=ctx.dialect == "siemens802")
     nodes2 = mat2 = None
     cross = None
@@ -959,8 +1044,14 @@ def _fit_blocks(ctx: Ctx, fam: Family, tr: Any, nominal: dict, lo: dict, hi: dic
                              core(blocks(ctx.program(nominal)))) if law_at is not None else []
             raise PlanError(f"{fam.path}: the word {w.letter}{w.text} of the family's program "
                             f"(line {b.line}: {b.raw.strip()}) fits no exact expression of the "
-                            f"parameters (moved by {', '.join(movers) or 'several parameters together'}); "
-                            f"no macro is written")
+                            f"parameters (moved by {', '.join(movers) or 'several parameters together'})"
+                            f"; no macro is written")
+    # the shallow parts of a roughing cycle's contour as the program writes them
+    for sl in slots:
+        if (sl.kind == "fit" and not sl.rounded
+                and (nb[sl.block].line, nb[sl.block].words[sl.word].letter) in contour):
+            y = [vb[sl.block].words[sl.word].value for vb in allb]
+            sl.rounded = sl.tie_free = _rounds_all(sl.node, allp, y, fam.free)
     return slots
 
 
@@ -1390,7 +1481,7 @@ def derive_piece(ctx: Ctx, fam: Family, lo: dict, hi: dict, nominal: dict[str, A
         alt = rg.alts[0]
         for s in alt.slots:
             flat.append(Slot(line_ix[alt.blocks[s.block].line], s.word, s.kind, s.node,
-                             s.value, s.note, s.rounded))
+                             s.value, s.note, s.rounded, s.tie_free))
     pc = Piece(fam, tr, dict(lo), dict(hi), dict(nominal), text, nb, flat, sets,
                stock=ctx.stock)
     pc.regions = regions
@@ -1659,6 +1750,20 @@ def _central(fam: Family, lo: dict, hi: dict, extra: list[tuple], fallback: dict
     return ranked[min(pick, len(ranked) - 1)]
 
 
+def with_lost(fam: Family, e: PlanError) -> PlanError:
+    """``e`` telling, where the family's sketch made plain numbers of traced expressions
+    (the real ``math`` imported inside the function, ``float()``), where it did: the laws the
+    derivation misses there are the usual cause of its refusal."""
+    if not fam.trace.floated:
+        return e
+    msg, tail = str(e), "; no macro is written"
+    hint = (f" (the sketch turns an expression of the parameters into a plain number at "
+            f"{', '.join(fam.trace.floated)}: a math imported inside the function, float(); "
+            f"only the module's own math is traced)")
+    msg = msg[:-len(tail)] + hint + tail if msg.endswith(tail) else msg + hint
+    return PlanError(msg)
+
+
 def derive_pieces(ctx: Ctx, fam: Family, max_pieces: int = 12, **kw: Any) -> list[Piece]:
     """The fewest pieces (cut along one parameter at a time) that each hold one program."""
     todo = [(dict(fam.lo), dict(fam.hi), dict(fam.params), [], [])]
@@ -1877,36 +1982,45 @@ def _s_law(fam: Family, tr: Any, ps: list[dict], ys: list[float], vcs: list[floa
     order = list(range(at, len(ab))) + list(range(at - 1, -1, -1))
     xs = [_word_node(ab, words, bi, "X") for bi in order
           if _codes(ab[bi]) & {0.0, 1.0, 2.0, 3.0}] + list(pool)
-    for xn in xs:
-        if xn is None:
-            continue
-        try:
-            dx = [abs(_ev(xn, p)) for p in ps]
-        except (ValueError, ZeroDivisionError, OverflowError):
-            continue
-        if min(dx) <= 1e-6:
-            continue
-        for cap in (0.0, max(ys)):
-            for half in (0.5, 0.0):
-                # the surface speeds every variant's S allows (a capped one: at least the cap)
-                lo_v, hi_v = 0.0, math.inf
-                for d, y in zip(dx, ys):
-                    if cap and y >= cap:
-                        lo_v = max(lo_v, math.pi * d * (cap - half) / 1000.0)
-                    else:
-                        lo_v = max(lo_v, math.pi * d * (y - half) / 1000.0)
-                        hi_v = min(hi_v, math.pi * d * (y + 1 - half) / 1000.0)
-                if lo_v >= hi_v:
-                    continue
-                # the speed in force before the switch where it fits, else the roundest
-                vc = next((v for v in dict.fromkeys(vcs) if lo_v <= v < hi_v), None)
+    # the speed in force before the switch at any diameter first, then the roundest speed
+    # over the roundings and caps together: a speed the window of a few variants' whole rpm
+    # admits at one rounding (149.955 at INT[+0.5]) is off by one rpm at others where the
+    # planner floors 150
+    for own in (True, False):
+        for xn in xs:
+            if xn is None:
+                continue
+            try:
+                dx = [abs(_ev(xn, p)) for p in ps]
+            except (ValueError, ZeroDivisionError, OverflowError):
+                continue
+            if min(dx) <= 1e-6:
+                continue
+            windows = []
+            for cap in (0.0, max(ys)):
+                for half in (0.5, 0.0):
+                    # the surface speeds every variant's S allows (a capped one: at least
+                    # the cap)
+                    lo_v, hi_v = 0.0, math.inf
+                    for d, y in zip(dx, ys):
+                        if cap and y >= cap:
+                            lo_v = max(lo_v, math.pi * d * (cap - half) / 1000.0)
+                        else:
+                            lo_v = max(lo_v, math.pi * d * (y - half) / 1000.0)
+                            hi_v = min(hi_v, math.pi * d * (y + 1 - half) / 1000.0)
+                    if lo_v < hi_v:
+                        windows.append((cap, half, lo_v, hi_v))
+            tries = []
+            if own:
+                tries = [(cap, half, v) for cap, half, lo_v, hi_v in windows
+                         for v in dict.fromkeys(vcs) if lo_v <= v < hi_v]
+            else:
                 for nd in range(0, 4):
-                    if vc is not None:
-                        break
-                    c = math.ceil(lo_v * 10 ** nd) / 10 ** nd
-                    vc = c if c < hi_v else None
-                if vc is None:
-                    continue
+                    for cap, half, lo_v, hi_v in windows:
+                        c = math.ceil(lo_v * 10 ** nd) / 10 ** nd
+                        if c < hi_v:
+                            tries.append((cap, half, c))
+            for cap, half, vc in tries:
                 law = ("rpm", vc * 1000.0 / math.pi, xn, cap, half)
                 try:
                     if all(abs(_s_value(law, p) - y) < 1e-6 for p, y in zip(ps, ys)):
@@ -2171,7 +2285,7 @@ _LEAD_N = re.compile(r"^(\s*)N(\d+)")
 
 
 def _word(lets: Lets, s: Slot) -> str:
-    return lets.rounded(s.node) if s.rounded else lets.expr(s.node)
+    return lets.rounded(s.node, s.tie_free) if s.rounded else lets.expr(s.node)
 
 
 def _spin_vars(lets: Lets, alt: Alt) -> None:
