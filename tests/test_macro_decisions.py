@@ -22,6 +22,20 @@ def _family(tmp_path, capsys, *args):
     return rc, err, out
 
 
+def _rows(tmp_path, capsys, family, rows, *args):
+    """``family --macro`` of ``family`` with the table ``rows`` (CSV text): (exit code, stderr,
+    the program's text or None)."""
+    from hnc_cam.cli import main
+    table = tmp_path / "rows.csv"
+    table.write_text(rows)
+    out = tmp_path / "m"
+    rc = main(["family", str(family), "--macro", "--table", str(table), *args,
+               "-o", str(out) + "/"])
+    err = capsys.readouterr().err
+    progs = sorted(out.glob("*.nc")) if out.exists() else []
+    return rc, err, progs[0].read_text() if len(progs) == 1 else None
+
+
 def test_802_decides_the_grooves_speed_where_the_planner_does(tmp_path, capsys):
     # the groove's G96 S120 needs 3000 rpm at diameter 12.732: its bottom d - 2.24 is there
     # at d 14.972; below it the planner writes G97 S3000 (the 802's LIMS holds the rest)
@@ -117,16 +131,9 @@ def test_pin_decides_its_g71_split_on_the_chamfers_end(tmp_path, capsys):
     # 21.496 (the spindle limit); the macro decides there, not on d (equal to it at chamfer
     # 1 only): rows where the two disagree (d - 2 chamfer 21.519 at d 23.473, 21.494 at
     # d 23.514) each follow their per-variant program
-    from hnc_cam.cli import main
-    table = tmp_path / "rows.csv"
-    table.write_text("d,chamfer\n23.473,0.977\n23.514,1.01\n23.45,1.0\n23.55,1.0\n")
-    out = tmp_path / "m"
-    rc = main(["family", str(PIN), "--macro", "--table", str(table), "--check", "20",
-               "-o", str(out) + "/"])
-    err = capsys.readouterr().err
+    rc, err, text = _rows(tmp_path, capsys, PIN, "d,chamfer\n23.473,0.977\n23.514,1.01\n"
+                          "23.45,1.0\n23.55,1.0\n", "--check", "20")
     assert rc == 0, err
-    (prog,) = out.glob("*.nc")
-    text = prog.read_text()
     # one decision, on the chamfer's end (the first segment's end diameter) at the written
     # 21.496, which takes the split (half the chamfer end's step at 0.001 mm above it)
     conds = re.findall(r"\(([A-Z0-9 ]+) ([<>]=?) ([0-9.]+)\?\)", text)
@@ -147,17 +154,10 @@ GROOVED_PIN = ROOT / "tests" / "data" / "families" / "grooved_pin.py"
 ])
 def test_a_set_at_the_threshold_takes_the_planners_side(family, rows, decision, tmp_path,
                                                         capsys):
-    from hnc_cam.cli import main
-    table = tmp_path / "rows.csv"
-    table.write_text(rows)
-    out = tmp_path / "m"
-    rc = main(["family", str(family), "--macro", "--table", str(table), "--check", "2",
-               "-o", str(out) + "/"])
-    err = capsys.readouterr().err
+    rc, err, text = _rows(tmp_path, capsys, family, rows, "--check", "2")
     assert rc == 0, err
-    (prog,) = out.glob("*.nc")
     conds = {(c[0], c[1], float(c[2])) for c in
-             re.findall(r"\(([A-Z0-9 ]+) ([<>]=?) ([0-9.]+)\?\)", prog.read_text())}
+             re.findall(r"\(([A-Z0-9 ]+) ([<>]=?) ([0-9.]+)\?\)", text)}
     assert decision in conds, conds
 
 
@@ -170,13 +170,9 @@ def test_a_shallow_taper_roughs_to_the_per_variant_passes(dialect, tmp_path, cap
     # macro, moved the passes' ends 0.001 mm along Z from the per-variant program's, which
     # writes them to 0.001; the macro writes the cycle's contour rounded as the program
     # does, and the row that showed it follows its per-variant program
-    from hnc_cam.cli import main
-    table = tmp_path / "rows.csv"
-    table.write_text("length,d1,d2,lt,chamfer\n58.253,21.364,28.624,29.724,1.033\n")
-    out = tmp_path / "m"
-    rc = main(["family", str(TAPER_PIN), "--macro", "--dialect", dialect, "--table",
-               str(table), "--check", "12", "-o", str(out) + "/"])
-    err = capsys.readouterr().err
+    rc, err, _ = _rows(tmp_path, capsys, TAPER_PIN, "length,d1,d2,lt,chamfer\n"
+                       "58.253,21.364,28.624,29.724,1.033\n", "--dialect", dialect,
+                       "--check", "12")
     assert rc == 0, err
     assert "checked 13 parameter set(s): pass" in err
 
@@ -188,16 +184,10 @@ def test_a_g97_cycle_runs_at_its_tools_own_speed_floored(tmp_path, capsys):
     # the boring cycle's G97 S is floor(150 m/min at the diameter it starts from), 1829 at
     # bore 20.465 + 2 x 0.82 + 4 = 26.105 mm; a speed fitted to the sampled variants' whole
     # rpm (149.955 rounded to nearest) gave 1828 there
-    from hnc_cam.cli import main
-    table = tmp_path / "rows.csv"
-    table.write_text("d,bore,lb,df,lf,c,ci\n34.997,20.465,21.322,50.357,7.624,0.952,0.82\n")
-    out = tmp_path / "m"
-    rc = main(["family", str(SLEEVE), "--macro", "--table", str(table), "--check", "12",
-               "-o", str(out) + "/"])
-    err = capsys.readouterr().err
+    rc, err, text = _rows(tmp_path, capsys, SLEEVE, "d,bore,lb,df,lf,c,ci\n"
+                          "34.997,20.465,21.322,50.357,7.624,0.952,0.82\n", "--check", "12")
     assert rc == 0, err
-    (prog,) = out.glob("*.nc")
-    m = re.search(r"G97 S\[INT\[([0-9.]+)/ABS\[.*\]\]\] M03", prog.read_text())
+    m = re.search(r"G97 S\[INT\[([0-9.]+)/ABS\[.*\]\]\] M03", text)
     assert m and float(m.group(1)) == pytest.approx(150000 / 3.141592653589793, abs=1e-5)
 
 
