@@ -209,3 +209,25 @@ def test_a_sketch_that_loses_an_expression_is_told_where(tmp_path, capsys):
     err = capsys.readouterr().err
     assert rc == 2 and not out.exists()
     assert f"pin_local_math.py:{line}" in err, err
+
+
+ROLLER = ROOT / "tests" / "data" / "families" / "roller.py"
+
+
+def test_a_domed_grooved_roller_is_proven_in_the_802_form(tmp_path, capsys):
+    # a dome (an arc whose end is a root of the parameters), a square groove and a fillet,
+    # over d 28-34 and the groove at 18-24: every piece's program through the 802 reader,
+    # compared with its per-variant program and verified on 10 sets
+    from hnc_cam.cli import main
+    out = tmp_path / "m"
+    rc = main(["family", str(ROLLER), "--macro", "--dialect", "siemens802", "--check", "10",
+               "-o", str(out) + "/"])
+    err = capsys.readouterr().err
+    assert rc == 0, err
+    assert "checked 10 parameter set(s): pass" in err
+    # each piece's program with its contour subprogram, the dome an arc in it
+    names = sorted(p.name for p in out.iterdir())
+    mpf = [n for n in names if n.endswith(".MPF")]
+    assert mpf and all(n[:-4] + "_C1.SPF" in names for n in mpf), names
+    for n in mpf:
+        assert re.search(r"^N\d+ G[23] ", (out / (n[:-4] + "_C1.SPF")).read_text(), re.M)
