@@ -215,9 +215,9 @@ ROLLER = ROOT / "tests" / "data" / "families" / "roller.py"
 
 
 def test_a_domed_grooved_roller_is_proven_in_the_802_form(tmp_path, capsys):
-    # a dome (an arc whose end is a root of the parameters), a square groove and a fillet,
-    # over d 28-34 and the groove at 18-24: every piece's program through the 802 reader,
-    # compared with its per-variant program and verified on 10 sets
+    # a dome (an arc about the axis whose end is a root of the parameters), a square groove
+    # and a fillet, over d 28-34 and the groove at 18-24: every piece's program through the
+    # 802 reader, compared with its per-variant program and verified on 10 sets
     from hnc_cam.cli import main
     out = tmp_path / "m"
     rc = main(["family", str(ROLLER), "--macro", "--dialect", "siemens802", "--check", "10",

@@ -23,7 +23,7 @@ def sketch(length=70.0, d=30.0, dome=20.0, gz=20.0, gw=4.0, gd=1.5, ds=44.0, ls=
     h = dome - math.sqrt(dome * dome - (d / 2) ** 2)  # the dome's depth at the barrel
     require(h + 1 < gz and gz + gw + r < ls, "the groove must fit on the barrel")
     s = Outline((0.0, 0.0))
-    s.arc_to(d / 2, -h, radius=dome, cw=True)
+    s.arc_to(d / 2, -h, radius=dome, cw=False)
     s.line_to(d / 2, -gz)
     s.line_to(d / 2 - gd, -gz)
     s.line_to(d / 2 - gd, -gz - gw)
