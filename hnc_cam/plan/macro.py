@@ -134,7 +134,8 @@ class Sym:
     def __ge__(self, o): return self._cmp(">=", o)
     def __float__(self):
         # asked by the family's own code (``math.sqrt`` of the real ``math``, ``float()``),
-        # the expression is lost there: noted for the message of a word no law fits
+        # the expression is lost there: noted for a refusal of the derivation to name
+        # (:func:`macro_program.with_lost`)
         f = sys._getframe(1)
         if self.tr.file is not None and f.f_code.co_filename == self.tr.file:
             at = f"{os.path.basename(self.tr.file)}:{f.f_lineno}"
@@ -817,14 +818,11 @@ class Lets:
         self._memo[id(n)] = name
         return name
 
-    def _full(self) -> str:
-        return (f"the macro needs more variables for its expressions than the control's "
-                f"range for them holds ({self.last - self.base + 1}: {self.prefix}{self.base}"
-                f"..{self.prefix}{self.last})")
-
     def _assign(self, s: str) -> str:
         if self.next > self.last:
-            raise PlanError(self._full())
+            raise PlanError(f"the macro needs more variables for its expressions than the "
+                            f"control's range for them holds ({self.last - self.base + 1}: "
+                            f"{self.prefix}{self.base}..{self.prefix}{self.last})")
         name = f"{self.prefix}{self.next}"
         self.next += 1
         self.lines.append(f"{name}={s}")
@@ -865,12 +863,7 @@ class Lets:
                 s = render((k, ("p", "\0a"), ("p", "\0b")),
                            {"\0a": self._held(n[1]), "\0b": self._held(n[2])}, self.dialect)
         if len(s) > self.inline or _depth(s) > self.depth:
-            if self.next > self.last:
-                raise PlanError(self._full())
-            name = f"{self.prefix}{self.next}"
-            self.next += 1
-            self.lines.append(f"{name}={s}")
-            s = name
+            s = self._assign(s)
         self._memo[key] = s
         self._keep.append(n)
         return s

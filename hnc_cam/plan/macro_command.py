@@ -119,16 +119,13 @@ def macro_command(args: argparse.Namespace) -> int:
         stock = family_stock(fam, fam.lo, fam.hi,
                              sample(fam, fam.trace, fam.lo, fam.hi, 20, "stock") + full_rows)
     ctx = Ctx(args.part, gen, stock, dia)
-    try:
+    try:  # the derivation's refusal names where the sketch lost an expression
         fixed = fix_unmachinable(ctx, fam)
-    except PlanError as e:
-        raise with_lost(fam, e) from None
-    for i, r in enumerate(full_rows, 1):
-        for k, why in fixed.items():
-            if r[k] != fam.params[k]:
-                raise PartError(f"{args.table}: row {i} gives {k}={r[k]:g}: {k} stays at "
-                                f"{fam.params[k]:g} in the macro ({why})")
-    try:
+        for i, r in enumerate(full_rows, 1):
+            for k, why in fixed.items():
+                if r[k] != fam.params[k]:
+                    raise PartError(f"{args.table}: row {i} gives {k}={r[k]:g}: {k} stays "
+                                    f"at {fam.params[k]:g} in the macro ({why})")
         pieces = derive_pieces(ctx, fam)
     except PlanError as e:
         raise with_lost(fam, e) from None

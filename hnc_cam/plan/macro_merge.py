@@ -267,7 +267,7 @@ def _refine(fam: Any, f: tuple, p0: dict, p1: dict, test: Any, right: set,
         def on(lab: Any) -> int | None:  # 0 left, 1 right, None: an alternative of neither
             if lab is None:  # no program, or one no sampled set has: counted with the right
                 return 1
-            return 0 if test(lab) else 1 if lab in right or not right else None
+            return _on_side(lab, test, right)
         if q0 is not p0 and on(label(0.0)) != 0:
             continue
         if q1 is not p1 and on(label(1.0)) != 1:
@@ -348,11 +348,10 @@ def _at_tie(fam: Any, f: tuple, c: float, op: str, fa: float, fb: float, qa: dic
     if tie is None:
         return c, op
     lab = side(tie, tie, 0.0)
-    if lab is None:
-        return c, op
-    left = bool(test(lab))
-    if not left and not (lab in right or not right):
-        return c, op  # an alternative of neither side there
+    at = None if lab is None else _on_side(lab, test, right)
+    if at is None:
+        return c, op  # no program there, or an alternative of neither side
+    left = at == 0
     rising = fa < fb  # the left side below the threshold
     if f[0] == "p":
         return c, ("<=" if left else "<") if rising else (">=" if left else ">")
@@ -408,10 +407,17 @@ def _proven_cut(memo: dict | None, path: tuple, idx: list[int], sets: list[dict]
             left = [i for i in idx if _holds((op, f, ("c", c)), sets[i])]
         except (ValueError, ZeroDivisionError, OverflowError):
             continue
-        right = [i for i in idx if i not in set(left)]
+        lset = set(left)
+        right = [i for i in idx if i not in lset]
         if left and right and not {labels[i] for i in left} & {labels[i] for i in right}:
             return f, c, op, left, right
     return None
+
+
+def _on_side(lab: Any, test: Any, right: set) -> int | None:
+    """The side of a cut a label (not None) is on: 0 left (it passes ``test``), 1 right (one
+    of ``right``, or any where ``right`` is empty), None an alternative of neither side."""
+    return 0 if test(lab) else 1 if lab in right or not right else None
 
 
 def _edge_sets_hold(f: tuple, c: float, op: str, sets: list[dict], test: Any, right: set,
@@ -420,7 +426,7 @@ def _edge_sets_hold(f: tuple, c: float, op: str, sets: list[dict], test: Any, ri
         lab = side(q, q, 0.0)
         if lab is None:
             continue
-        on = 0 if test(lab) else 1 if lab in right or not right else None
+        on = _on_side(lab, test, right)
         if on is not None and (on == 0) != _holds((op, f, ("c", c)), q):
             return False
     return True
@@ -469,6 +475,12 @@ def _build(fam: Any, tr: Any, sets: list[dict], labels: list[int], side: Any,
         labs = {labels[i] for i in idx}
         if len(labs) == 1:
             return Node(leaf=labs.pop())
+        kept = _proven_cut(getattr(probe, "memo", None), path, idx, sets, labels)
+        if kept is not None:
+            f, c, op, lidx, ridx = kept
+            desc = next((d for d, g, _v in cols if g == f), None)
+            if desc is not None:
+                return _node(path, desc, f, c, op, lidx, ridx)
         found = []
         for desc, f, v in cols:
             order = sorted(idx, key=lambda i: v[i])
@@ -494,12 +506,6 @@ def _build(fam: Any, tr: Any, sets: list[dict], labels: list[int], side: Any,
                 found.append(((disjoint, gap / span), desc, f, order[k - 1], order[k], test,
                               order[:k], order[k:]))
         found.sort(key=lambda c: c[0], reverse=True)
-        kept = _proven_cut(getattr(probe, "memo", None), path, idx, sets, labels)
-        if kept is not None:
-            f, c, op, lidx, ridx = kept
-            desc = next((d for d, g, _v in cols if g == f), None)
-            if desc is not None:
-                return _node(path, desc, f, c, op, lidx, ridx)
         best = None
         for cand in found[:TRIES]:  # (also where the tree is not strict: node by node)
             _score, desc, f, ia, ib, test, lidx, ridx = cand

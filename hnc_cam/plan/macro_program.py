@@ -35,6 +35,7 @@ compared with the per-variant program's.
 """
 from __future__ import annotations
 
+import functools
 import math
 import random
 import re
@@ -573,15 +574,16 @@ def _corner_crossing(tr: Any, allb: list[list[Block]], allp: list[dict], bi: int
     return None
 
 
-def _cycle_contour(text: str) -> set[tuple[int, str]]:
+@functools.lru_cache(maxsize=64)
+def _cycle_contour(text: str) -> frozenset[tuple[int, str]]:
     """The words (line, letter) of the contours the roughing cycles of ``text`` name
     (``G71``/``G72`` ``P``..``Q``; the 802's contour subprograms, which LCYC95 roughs along
     Z) whose last digit moves a pass's end by more than the comparison's 0.001 mm: the ends
     of a line the passes cross at less than atan(1/2), 26.6 deg (a G71's: that near the Z
     axis, not along it; a G72's: the X axis), and of an arc, with its radius and centre. A
     pass ends where it meets the contour, so the radius's 0.00025 mm of a written diameter
-    moves the pass's end by it over the line's slope, more than 0.0005 mm below it."""
-    import re
+    moves the pass's end by it over the line's slope, more than 0.0005 mm below it. (Read
+    once per program: every alternative's fit asks for its first variant's.)"""
     lines = text.splitlines()
     runs: list[tuple[list[Block], bool]] = []  # (a contour's blocks, passes along Z)
     bs = blocks(text)
@@ -596,9 +598,9 @@ def _cycle_contour(text: str) -> set[tuple[int, str]]:
             sub.append(by_line[i])
     at: dict[str, int] = {}
     for k, b in enumerate(bs):
-        m = re.match(r"\s*N(\d+)", b.raw)
+        m = _LEAD_N.match(b.raw)
         if m:
-            at[m.group(1)] = k
+            at[m.group(2)] = k
     for b in bs:
         g = [float(w.text) for w in b.words if w.letter == "G"
              and w.text.replace(".", "", 1).isdigit()]
@@ -629,7 +631,7 @@ def _cycle_contour(text: str) -> set[tuple[int, str]]:
                             out.update((blk.line, v.letter) for v in blk.words
                                        if v.letter in ROUNDED_LETTERS)
             x, z, prev = x1, z1, b
-    return out
+    return frozenset(out)
 
 
 #: the words of a cycle's contour the macro writes rounded as the program does: its
@@ -1986,30 +1988,32 @@ def _s_law(fam: Family, tr: Any, ps: list[dict], ys: list[float], vcs: list[floa
     # over the roundings and caps together: a speed the window of a few variants' whole rpm
     # admits at one rounding (149.955 at INT[+0.5]) is off by one rpm at others where the
     # planner floors 150
+    wins: list[tuple] = []  # (diameter's law, windows of the surface speed)
+    for xn in xs:
+        if xn is None:
+            continue
+        try:
+            dx = [abs(_ev(xn, p)) for p in ps]
+        except (ValueError, ZeroDivisionError, OverflowError):
+            continue
+        if min(dx) <= 1e-6:
+            continue
+        windows = []
+        for cap in (0.0, max(ys)):
+            for half in (0.5, 0.0):
+                # the surface speeds every variant's S allows (a capped one: at least the cap)
+                lo_v, hi_v = 0.0, math.inf
+                for d, y in zip(dx, ys):
+                    if cap and y >= cap:
+                        lo_v = max(lo_v, math.pi * d * (cap - half) / 1000.0)
+                    else:
+                        lo_v = max(lo_v, math.pi * d * (y - half) / 1000.0)
+                        hi_v = min(hi_v, math.pi * d * (y + 1 - half) / 1000.0)
+                if lo_v < hi_v:
+                    windows.append((cap, half, lo_v, hi_v))
+        wins.append((xn, windows))
     for own in (True, False):
-        for xn in xs:
-            if xn is None:
-                continue
-            try:
-                dx = [abs(_ev(xn, p)) for p in ps]
-            except (ValueError, ZeroDivisionError, OverflowError):
-                continue
-            if min(dx) <= 1e-6:
-                continue
-            windows = []
-            for cap in (0.0, max(ys)):
-                for half in (0.5, 0.0):
-                    # the surface speeds every variant's S allows (a capped one: at least
-                    # the cap)
-                    lo_v, hi_v = 0.0, math.inf
-                    for d, y in zip(dx, ys):
-                        if cap and y >= cap:
-                            lo_v = max(lo_v, math.pi * d * (cap - half) / 1000.0)
-                        else:
-                            lo_v = max(lo_v, math.pi * d * (y - half) / 1000.0)
-                            hi_v = min(hi_v, math.pi * d * (y + 1 - half) / 1000.0)
-                    if lo_v < hi_v:
-                        windows.append((cap, half, lo_v, hi_v))
+        for xn, windows in wins:
             tries = []
             if own:
                 tries = [(cap, half, v) for cap, half, lo_v, hi_v in windows
